@@ -1,0 +1,362 @@
+//! Everything of `flight_plan.h` before the `nav_on_*_block` functions: banner, includes,
+//! variables, `<header>` text, reference and waypoint tables, blocks table, altitude constants,
+//! sectors, variable definitions and ABI bindings, `auto_nav_init` (GENERATOR_FACTS.md §4, §8, §10).
+
+use crate::ast::{AbiBinding, FlightPlan, VariableDecl, WpFrame};
+use crate::expr::ocaml_float_text;
+use crate::passes::size::Fps;
+use crate::passes::{lower, CompileError};
+
+use super::geo::{self, Geo, Utm};
+use super::geoid::geoid_height;
+use super::{Flavor, EmitOptions, Writer, HEADER_MARKER};
+
+/// One row of the waypoint tables (the implicit `dummy` waypoint is row 0).
+struct WpRow {
+    name: String,
+    /// Local x/y relative to the reference UTM (after upstream's `%.2f` round trip for lat/lon).
+    x: f64,
+    y: f64,
+    /// The ALT column of `WAYPOINTS_UTM`, a text.
+    alt_text: String,
+    alt: f64,
+    global: bool,
+    /// Geodetic position when already known (LTP frame).
+    geo: Option<Geo>,
+}
+
+fn parse_alt(text: &str, what: &str, span: crate::ast::Span) -> Result<f64, CompileError> {
+    text.trim().parse::<f64>().map_err(|_| CompileError::new(format!("{what}: altitude '{text}' is not a number"), span))
+}
+
+fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, CompileError> {
+    let ground = plan.ground_alt.value;
+    let ltp = matches!(plan.wp_frame.as_ref().map(|f| f.value), Some(WpFrame::Ltp));
+    let plan_alt = plan.alt.text.value.clone();
+    let mut out = vec![WpRow {
+        name: "dummy".into(),
+        x: 0.0,
+        y: 0.0,
+        alt: parse_alt(&plan_alt, "flight plan", plan.span)?,
+        alt_text: plan_alt.clone(),
+        global: false,
+        geo: None,
+    }];
+    let ecef0 = geo::ecef_of_geo(ref_geo, ground);
+    for w in &plan.waypoints {
+        let alt_text = match (&w.alt, &w.height) {
+            (Some(a), _) => a.text.value.clone(),
+            (None, Some(h)) => ocaml_float_text(h.value + ground),
+            (None, None) => plan_alt.clone(),
+        };
+        let alt = parse_alt(&alt_text, &format!("waypoint '{}'", w.name.value), w.span)?;
+        let latlon = match (&w.lat, &w.lon) {
+            (Some(la), Some(lo)) => Some((la.value, lo.value)),
+            _ => None,
+        };
+        let (x, y, g) = match (latlon, ltp) {
+            (Some(_), true) => {
+                return Err(CompileError::new(
+                    format!(
+                        "waypoint '{}': lat/lon waypoints are not supported with wp_frame=\"ltp\" \
+                         (upstream crashes here, quirk 10)",
+                        w.name.value
+                    ),
+                    w.span,
+                ))
+            }
+            (Some((la, lo)), false) => {
+                // Projected in the reference zone, then printed "%.2f" and parsed back.
+                let u = geo::utm_of(geo::geo_of_deg(la, lo), Some(utm0.zone));
+                let x: f64 = format!("{:.2}", u.x - utm0.x).parse().unwrap_or(0.0);
+                let y: f64 = format!("{:.2}", u.y - utm0.y).parse().unwrap_or(0.0);
+                (x, y, None)
+            }
+            (None, _) => {
+                let (Some(x), Some(y)) = (&w.x, &w.y) else {
+                    return Err(CompileError::new(format!("waypoint '{}' needs x/y or lat/lon", w.name.value), w.span));
+                };
+                if ltp {
+                    let ecef = geo::ecef_of_ned(ecef0, [y.value, x.value, -(alt - ground)]);
+                    let (g, _) = geo::geo_of_ecef(ecef);
+                    let u = geo::utm_of(g, Some(utm0.zone));
+                    (u.x - utm0.x, u.y - utm0.y, Some(g))
+                } else {
+                    (x.value, y.value, None)
+                }
+            }
+        };
+        out.push(WpRow { name: w.name.value.clone(), x, y, alt_text, alt, global: latlon.is_some(), geo: g });
+    }
+    Ok(out)
+}
+
+fn is_c_suffix(name: &str) -> bool {
+    name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+fn capitalize(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_ascii_uppercase().to_string() + c.as_str(),
+        None => String::new(),
+    }
+}
+
+/// C field types of the ABI messages bound with `vars` (from Paparazzi's `conf/abi.xml`, class
+/// `airborne`). Only messages seen in the corpus are known; others need the handler form.
+fn abi_field_types(msg: &str) -> Option<&'static [&'static str]> {
+    match msg {
+        "RANGE_FORCEFIELD" => Some(&["float", "float", "float"]),
+        _ => None,
+    }
+}
+
+pub(super) fn top(w: &mut Writer, plan: &FlightPlan, fps: &Fps, opts: &EmitOptions) -> Result<(), CompileError> {
+    let ground = plan.ground_alt.value;
+    let ref_geo = Geo { lat: geo::rad_of_deg(plan.lat0.value), lon: geo::rad_of_deg(plan.lon0.value) };
+    let utm0 = geo::utm_of(ref_geo, None);
+    let wps = rows(plan, ref_geo, utm0)?;
+
+    w.raw(&format!("/* This file has been generated by gen_flight_plan from {} */", opts.source_path));
+    w.raw(&format!("/* Version {} */", opts.version));
+    w.raw("/* Please DO NOT EDIT */");
+    w.raw("");
+    w.raw("#ifndef FLIGHT_PLAN_H");
+    w.raw("#define FLIGHT_PLAN_H");
+    w.raw("");
+    for inc in ["std.h", "generated/modules.h", "modules/core/abi.h", "autopilot.h"] {
+        w.raw(&format!("#include \"{inc}\""));
+    }
+    w.raw("");
+    for v in &plan.variables {
+        if let VariableDecl::Var(v) = v {
+            let ty = v.var_type.as_ref().map(|t| t.value.as_str()).unwrap_or("float");
+            w.raw(&format!("extern {ty} {};", v.var.value));
+        }
+    }
+    w.raw("");
+    if let Some(h) = &plan.header {
+        match w.flavor {
+            Flavor::DropIn => w.out.push_str(&h.text),
+            Flavor::Instrumented => w.out.push_str(HEADER_MARKER),
+        }
+        w.out.push_str("\n\n");
+    }
+    w.raw(&format!("#define FLIGHT_PLAN_NAME \"{}\"", plan.name.value));
+    w.raw(&format!("#define NAV_DEFAULT_ALT {:.0} /* nominal altitude of the flight plan */", plan.alt.value));
+    w.raw(&format!("#define NAV_UTM_EAST0 {:.0}", utm0.x));
+    w.raw(&format!("#define NAV_UTM_NORTH0 {:.0}", utm0.y));
+    w.raw(&format!("#define NAV_UTM_ZONE0 {}", utm0.zone));
+    w.raw(&format!("#define NAV_LAT0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lat)));
+    w.raw(&format!("#define NAV_LON0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lon)));
+    w.raw(&format!("#define NAV_ALT0 {:.0} /* mm above msl */", 1000.0 * ground));
+    w.raw(&format!(
+        "#define NAV_MSL0 {:.0} /* mm, EGM96 geoid-height (msl) over ellipsoid */",
+        1000.0 * geoid_height(ref_geo.lat, ref_geo.lon)
+    ));
+    w.raw(&format!("#define QFU {:.1}", plan.qfu.as_ref().map(|q| q.value).unwrap_or(0.0)));
+    for (i, r) in wps.iter().enumerate() {
+        if is_c_suffix(&r.name) {
+            w.raw(&format!("#define WP_{} {i}", r.name));
+        }
+    }
+    waypoint_tables(w, &wps, ref_geo, utm0, ground);
+    w.raw(&format!("#define NB_WAYPOINT {}", wps.len()));
+    w.raw("#define FP_BLOCKS { \\");
+    for b in &fps.plan().blocks {
+        w.raw(&format!(" \"{}\" , \\", b.name));
+    }
+    w.raw("} ");
+    w.raw(&format!("#define NB_BLOCK {}", fps.nb_block()));
+    let sh = plan.security_height.value;
+    let hmh = plan.home_mode_height.as_ref().map(|h| h.value.max(sh)).unwrap_or(sh);
+    w.raw(&format!("#define GROUND_ALT {}", ocaml_float_text(ground)));
+    w.raw(&format!("#define GROUND_ALT_CM {:.0}", 100.0 * ground));
+    w.raw(&format!("#define SECURITY_HEIGHT {}", ocaml_float_text(sh)));
+    w.raw(&format!("#define SECURITY_ALT {}", ocaml_float_text(sh + ground)));
+    w.raw(&format!("#define HOME_MODE_HEIGHT {}", ocaml_float_text(hmh)));
+    w.raw(&format!("#define MAX_DIST_FROM_HOME {}", ocaml_float_text(plan.max_dist_from_home.value)));
+    if let Some(g) = &plan.geofence_max_alt {
+        w.raw(&format!("#define GEOFENCE_MAX_ALTITUDE {}", ocaml_float_text(g.value)));
+    }
+    if let Some(g) = &plan.geofence_max_height {
+        w.raw(&format!("#define GEOFENCE_MAX_HEIGHT {}", ocaml_float_text(g.value)));
+    }
+    w.raw("");
+    w.raw("");
+    w.raw("#ifndef FBW");
+    w.raw("");
+    sectors(w, plan)?;
+    if let Some(s) = &plan.geofence_sector {
+        w.raw("");
+        w.raw(&format!("#define InGeofenceSector(_x, _y) Inside{}(_x, _y)", capitalize(&s.value)));
+    }
+    w.raw("");
+    w.raw("#endif");
+    w.raw("");
+    w.raw("#ifdef NAV_C");
+    w.raw("");
+    variables_and_abi(w, plan)?;
+    Ok(())
+}
+
+fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, ground: f64) {
+    let _ = ref_geo;
+    w.raw("#define WAYPOINTS_UTM { \\");
+    for r in wps {
+        w.raw(&format!(" {{{:.1}, {:.1}, {}}},\\", r.x, r.y, r.alt_text));
+    }
+    w.raw("};");
+    // Upstream takes the ENU origin from the reference UTM converted back to geodetic.
+    let ecef0 = geo::ecef_of_geo(geo::of_utm(utm0), ground);
+    let geo_of = |r: &WpRow| r.geo.unwrap_or_else(|| geo::of_utm(Utm { x: utm0.x + r.x, y: utm0.y + r.y, zone: utm0.zone }));
+    w.raw("#define WAYPOINTS_ENU { \\");
+    for r in wps {
+        let ned = geo::ned_of_ecef(ecef0, geo::ecef_of_geo(geo_of(r), r.alt));
+        w.raw(&format!(" {{{:.2}, {:.2}, {:.2}}}, /* ENU in meters  */ \\", ned[1], ned[0], -ned[2]));
+    }
+    w.raw("};");
+    w.raw("#define WAYPOINTS_LLA { \\");
+    for r in wps {
+        let g = geo_of(r);
+        w.raw(&format!(
+            " {{.lat={}, .lon={}, .alt={:.0}}}, /* 1e7deg, 1e7deg, mm (above NAV_MSL0, local msl={:.2}m) */ \\",
+            geo::e7_of_rad(g.lat),
+            geo::e7_of_rad(g.lon),
+            1000.0 * r.alt,
+            geoid_height(g.lat, g.lon)
+        ));
+    }
+    w.raw("};");
+    w.raw("#define WAYPOINTS_LLA_WGS84 { \\");
+    for r in wps {
+        let g = geo_of(r);
+        w.raw(&format!(
+            " {{.lat={}, .lon={}, .alt={:.0}}}, /* 1e7deg, 1e7deg, mm (above WGS84 ref ellipsoid) */ \\",
+            geo::e7_of_rad(g.lat),
+            geo::e7_of_rad(g.lon),
+            1000.0 * (r.alt + geoid_height(g.lat, g.lon))
+        ));
+    }
+    w.raw("};");
+    w.raw("#define WAYPOINTS_GLOBAL { \\");
+    for r in wps {
+        w.raw(if r.global { " TRUE, \\" } else { " FALSE, \\" });
+    }
+    w.raw("};");
+}
+
+fn sectors(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
+    for s in &plan.sectors {
+        if s.sector_type.is_some() {
+            return Err(CompileError::new(
+                format!("sector '{}': typed (dynamic) sectors are not supported by the header generator", s.name.value),
+                s.span,
+            ));
+        }
+        let up = s.name.value.to_uppercase();
+        let ids: Vec<String> = s.corners.iter().map(|c| c.id.upstream_index().to_string()).collect();
+        w.raw(&format!("#define SECTOR_{up}_NB {}", ids.len()));
+        w.raw(&format!("#define SECTOR_{up} {{ {} }}", ids.join(", ")));
+        w.raw(&format!("static inline bool Inside{}(float _x, float _y) {{", capitalize(&s.name.value)));
+        w.right();
+        w.line("uint8_t i, j;");
+        w.line("bool c = false;");
+        w.line(&format!("const uint8_t nb_pts = SECTOR_{up}_NB;"));
+        w.line(&format!("const uint8_t wps_id[] = SECTOR_{up};"));
+        w.raw("");
+        w.line("for (i = 0, j = nb_pts - 1; i < nb_pts; j = i++) {");
+        w.right();
+        w.line("if (((WaypointY(wps_id[i]) > _y) != (WaypointY(wps_id[j]) > _y)) &&");
+        w.line("   (_x < (WaypointX(wps_id[j])-WaypointX(wps_id[i])) * (_y-WaypointY(wps_id[i])) / (WaypointY(wps_id[j])-WaypointY(wps_id[i])) + WaypointX(wps_id[i]))) {");
+        w.right();
+        w.line("if (c == TRUE) { c = FALSE; } else { c = TRUE; }");
+        w.left();
+        w.line("}");
+        w.left();
+        w.line("}");
+        w.line("return c;");
+        w.left();
+        w.raw("}");
+        w.raw("");
+    }
+    Ok(())
+}
+
+fn abi_vars(a: &AbiBinding) -> Result<Option<Vec<(String, &'static str)>>, CompileError> {
+    let Some(vars) = &a.vars else { return Ok(None) };
+    let types = abi_field_types(&a.name.value).ok_or_else(|| {
+        CompileError::new(
+            format!("ABI message '{}': its field types are unknown (bind it with handler=... instead)", a.name.value),
+            a.span,
+        )
+    })?;
+    if types.len() != vars.len() {
+        return Err(CompileError::new(
+            format!("ABI message '{}' has {} fields but {} vars are given", a.name.value, types.len(), vars.len()),
+            a.span,
+        ));
+    }
+    Ok(Some(vars.iter().cloned().zip(types.iter().copied()).collect()))
+}
+
+fn variables_and_abi(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
+    let mut callbacks = Vec::new();
+    for v in &plan.variables {
+        match v {
+            VariableDecl::Var(v) => {
+                let ty = v.var_type.as_ref().map(|t| t.value.as_str()).unwrap_or("float");
+                let init = v.init.as_ref().map(|t| t.value.as_str()).unwrap_or("0");
+                w.raw(&format!("{ty} {} = {init};", v.var.value));
+            }
+            VariableDecl::Abi(a) => {
+                w.raw(&format!("static abi_event FP_{}_ev;", a.name.value));
+                if let Some(fields) = abi_vars(a)? {
+                    for (var, ty) in &fields {
+                        if var != "_" {
+                            w.raw(&format!("static {ty} {var};"));
+                        }
+                    }
+                    callbacks.push((a.name.value.clone(), fields));
+                }
+            }
+        }
+    }
+    w.raw("");
+    for (name, fields) in &callbacks {
+        let mut params = vec!["uint8_t sender_id __attribute__((unused))".to_string()];
+        for (i, (var, ty)) in fields.iter().enumerate() {
+            if var == "_" {
+                params.push(format!("{ty} _unused_{i} __attribute__((unused))"));
+            } else {
+                params.push(format!("{ty} _{var}"));
+            }
+        }
+        w.raw(&format!("static void FP_{name}_cb({}) {{", params.join(", ")));
+        for (var, _) in fields.iter().filter(|(v, _)| v != "_") {
+            w.raw(&format!("  {var} = _{var};"));
+        }
+        w.raw("}");
+        w.raw("");
+    }
+    w.raw("static inline void auto_nav_init(void) {");
+    w.right();
+    for v in &plan.variables {
+        if let VariableDecl::Abi(a) = v {
+            let code = lower::abi_bind(a);
+            let s = w.stmt(&code);
+            w.line(&s);
+        }
+    }
+    w.left();
+    w.raw("}");
+    w.raw("");
+    Ok(())
+}
+
+pub(super) fn bottom(w: &mut Writer) {
+    w.raw("#endif // NAV_C");
+    w.raw("");
+    w.raw("#endif // FLIGHT_PLAN_H");
+}

@@ -1,0 +1,131 @@
+//! FP: the flight plan as the paper's Fig. 1 structure (`flight_plan`, `fp_block`, `fp_stage`),
+//! extended with every stage kind of the DTD and with the C text of each external action
+//! already composed (the pre-processor's job in the VFPG architecture).
+//!
+//! This is the input of the three passes *and* of the reference interpreter
+//! ([`crate::semantics`]). It knows nothing of XML: block references are indices, waypoints are
+//! upstream indices, and every piece of C the plan runs is a [`Code`] or [`Cond`] text.
+
+use serde::Serialize;
+
+use crate::ast::Span;
+
+/// Index of a block (0-based, upstream numbering; the implicit `HOME` block is last).
+pub type BlockIx = usize;
+
+/// One C statement the plan executes (an external action in the paper's trace model).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Code {
+    /// The statement text, without the terminating `;`.
+    pub text: String,
+    /// Whether upstream prints a `;` after it (`Goto3D(..)` is the one exception).
+    pub semi: bool,
+}
+
+impl Code {
+    pub fn stmt(text: impl Into<String>) -> Code {
+        Code { text: text.into(), semi: true }
+    }
+}
+
+/// A C condition (evaluated by the oracle in the semantics).
+pub type Cond = String;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Fp {
+    pub blocks: Vec<FpBlock>,
+    /// Global exceptions, tested at every call before the current block runs.
+    pub exceptions: Vec<FpException>,
+    /// VFPG extension: block changes that must not happen.
+    pub forbidden: Vec<FpForbidden>,
+    /// Statements of `auto_nav_init()` (ABI bindings), run once before the first call.
+    pub init: Vec<Code>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FpException {
+    pub cond: Cond,
+    pub target: BlockIx,
+    /// Raw C run before the deroute.
+    pub exec: Option<Code>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FpForbidden {
+    pub from: BlockIx,
+    pub to: BlockIx,
+    pub only_when: Option<Cond>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FpBlock {
+    pub name: String,
+    pub pre_call: Option<Code>,
+    pub post_call: Option<Code>,
+    pub on_enter: Option<Code>,
+    pub on_exit: Option<Code>,
+    pub exceptions: Vec<FpException>,
+    pub stages: Vec<FpStage>,
+    pub span: Span,
+}
+
+/// Stages. `While`, `Set`, `Call`, `Deroute`, `Return` and `Nav` are the paper's; `For` is kept
+/// as its own kind because upstream compiles it with `int8_t` counters (quirk 3) that a
+/// translation to `while` would not reproduce.
+#[derive(Debug, Clone, Serialize)]
+pub enum FpStage {
+    While { cond: Cond, body: Vec<FpStage>, span: Span },
+    For { var: String, from: String, to: String, body: Vec<FpStage>, span: Span },
+    /// `set`: the assignment `var = value`.
+    Set { code: Code, span: Span },
+    /// `call` / `call_once`. `loop_` true: call until it returns false (the call is a
+    /// condition); false: call once (the call is code).
+    Call { fun: String, loop_: bool, brk: bool, until: Option<Cond>, span: Span },
+    Deroute { target: BlockIx, span: Span },
+    /// `reset` is the raw `reset_stage` text; the runtime restarts at stage 0 iff it equals 1.
+    Return { reset: String, span: Span },
+    Nav(Box<NavStage>),
+}
+
+/// A navigation stage. Generic shape of upstream's code for `go`, `stay`, `circle`, ...:
+///
+/// ```text
+/// [init: lines; NextStageAndBreak]            (eight, oval, survey_rectangle: own stage)
+/// pre; [before]
+/// if (approach) { post; NextStageAndBreakFrom(wp) } else { lines }   (go)
+/// lines                                                              (others)
+/// if (until) { post; NextStageAndBreak }
+/// post; break
+/// ```
+#[derive(Debug, Clone, Serialize)]
+pub struct NavStage {
+    /// Stage tag (`go`, `circle`, ...), for tables and messages.
+    pub kind: &'static str,
+    /// Lines of the separate init stage (`nav_eight_init()`, survey init), if any.
+    pub init: Option<Vec<Code>>,
+    pub pre_call: Option<Code>,
+    /// `go` without `wp`: the `waypoints[0].x/y = ...` assignments, before the approach test.
+    pub before: Vec<Code>,
+    /// `go`: the approach condition and the waypoint remembered as `last_wp`.
+    pub approach: Option<(Cond, usize)>,
+    pub lines: Vec<Code>,
+    pub until: Option<Cond>,
+    pub post_call: Option<Code>,
+    /// `follow`, `xyz` and `home` have no until test in upstream's output.
+    pub span: Span,
+}
+
+impl FpStage {
+    pub fn span(&self) -> Span {
+        match self {
+            FpStage::While { span, .. }
+            | FpStage::For { span, .. }
+            | FpStage::Set { span, .. }
+            | FpStage::Call { span, .. }
+            | FpStage::Deroute { span, .. }
+            | FpStage::Return { span, .. } => *span,
+            FpStage::Nav(n) => n.span,
+        }
+    }
+}

@@ -1,0 +1,73 @@
+//! The three-pass compiler of the VFPG paper (§III-A), each pass with its own IR:
+//!
+//! ```text
+//! AST --lower--> FP --extend--> FPE --size::verify--> FPS --emit--> C
+//! ```
+//!
+//! * [`lower`]: composes the C text of every stage (the paper's pre-processor);
+//! * [`extend`]: numbers stages, flattens `while`/`for` bodies, splits two-step navigation
+//!   stages into init + main, adds the loop-back (`END_WHILE`) stages;
+//! * [`size`]: checks ≤ 256 blocks, ≤ 256 stages per block and consecutive numbering, and
+//!   returns [`size::Fps`], whose block and stage numbers are `u8` newtypes that only this pass
+//!   can create: an ill-sized plan has no FPS value;
+//! * generation is [`crate::emit`], which only accepts an FPS.
+
+pub mod extend;
+pub mod fp;
+pub mod lower;
+pub mod size;
+
+use serde::Serialize;
+
+use crate::ast::{FlightPlan, Span};
+use crate::front::{Diagnostic, Diagnostics, ErrorKind};
+
+/// A compile-time error of the back end, located in the plan when possible.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompileError {
+    pub message: String,
+    pub span: Option<Span>,
+    pub kind: CompileErrorKind,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum CompileErrorKind {
+    /// Attributes that cannot produce code (upstream's generator-level failures).
+    Generation,
+    /// More than 256 blocks or stages, or numbering not consecutive (size verification).
+    Size,
+}
+
+impl CompileError {
+    pub fn new(message: impl Into<String>, span: Span) -> Self {
+        CompileError { message: message.into(), span: Some(span), kind: CompileErrorKind::Generation }
+    }
+    pub fn size(message: impl Into<String>, span: Option<Span>) -> Self {
+        CompileError { message: message.into(), span, kind: CompileErrorKind::Size }
+    }
+    /// As front-end diagnostics, so the CLI renders them with a source snippet.
+    pub fn to_diagnostics(&self, plan: &FlightPlan) -> Diagnostics {
+        let kind = match self.kind {
+            CompileErrorKind::Generation => ErrorKind::Conflict,
+            CompileErrorKind::Size => ErrorKind::NumberOutOfRange,
+        };
+        let mut d = Diagnostic::error(kind, self.message.clone(), self.span);
+        d.locate(&plan.sources);
+        Diagnostics { items: vec![d], sources: plan.sources.clone() }
+    }
+}
+
+impl std::fmt::Display for CompileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for CompileError {}
+
+/// Runs lower, extend and size verification.
+pub fn compile(plan: &FlightPlan) -> Result<size::Fps, CompileError> {
+    let fp = lower::lower(plan)?;
+    let fpe = extend::extend(&fp);
+    size::verify(fpe)
+}

@@ -1,0 +1,464 @@
+//! Reference semantics of FPL: the executable definition that the compiled C is tested
+//! against. It follows the VFPG paper's big-step rules (IR-1..IR-9) over the FP structure
+//! ([`crate::passes::fp`]), extended to every stage kind, with the Paparazzi 2024-10 runtime
+//! behaviour for block changes (GENERATOR_FACTS.md section 5).
+//!
+//! State (Definition 1): current block and *remaining stages* (a continuation: a stack of
+//! [`Item`]s), last block and last remaining stages, plus the `for` counters (`int8_t` in C).
+//! Trace (Definition 2): [`trace::Event`]s. Conditions and non-literal values come from an
+//! [`oracle::Oracle`] (the paper's `evalc`).
+//!
+//! Stage numbers are computed here from the FP structure with upstream's counting rule,
+//! independently of [`crate::passes::extend`], so the differential test also checks the
+//! numbering the emitter uses.
+//!
+//! **Totality.** [`Interp::step`] runs a loop over the remaining stages. Every iteration either
+//! ends the call (a *break* stage, a block change, an exception) or moves to a later stage,
+//! except a loop-back (`END_WHILE`/`END_FOR`), which goes to its loop test; a loop test either
+//! ends the call or jumps past its own loop-back. So each stage of the block is visited at most
+//! twice per call, and the loop is bounded by `2 * stages + 2` iterations. The bound is also
+//! enforced ([`StepError::Diverged`]), so `step` terminates even if that argument were wrong.
+
+pub mod oracle;
+pub mod trace;
+
+use std::collections::HashMap;
+
+use crate::passes::fp::{BlockIx, Code, Fp, FpStage, NavStage};
+use oracle::Oracle;
+use trace::{Event, Observation, Run, StepRecord};
+
+/// A position in the remaining stages of a block.
+#[derive(Debug, Clone, Copy)]
+pub enum Item<'p> {
+    /// A source stage not started yet (for two-step navigation stages: its init step, IR-9).
+    Stage(&'p FpStage),
+    /// The test of a `for` loop (after its init).
+    ForTest(&'p FpStage),
+    /// The loop-back stage after a `while`/`for` body.
+    LoopBack(&'p FpStage),
+    /// The main step of a two-step navigation stage (IR-9 turned `init` to false).
+    NavMain(&'p FpStage),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepError {
+    /// The in-call loop exceeded its bound (a bug: see the module documentation).
+    Diverged { block: usize },
+}
+
+#[derive(Debug, Clone)]
+pub struct State<'p> {
+    pub block: BlockIx,
+    /// Remaining stages, top of the stack = next to run.
+    pub remaining: Vec<Item<'p>>,
+    pub last_block: BlockIx,
+    pub last_remaining: Vec<Item<'p>>,
+    /// `for` counters (`_var_v`, `_var_v_to`) keyed by (block, init stage number).
+    pub counters: HashMap<(BlockIx, usize), (i8, i8)>,
+}
+
+/// The interpreter of one plan.
+pub struct Interp<'p> {
+    fp: &'p Fp,
+    /// First stage number of every stage (keyed by address: stages never move).
+    first: HashMap<*const FpStage, usize>,
+    /// Number of the default stage of each block.
+    ends: Vec<usize>,
+    pub state: State<'p>,
+    calls: usize,
+}
+
+/// Number of stage slots a stage uses (GENERATOR_FACTS.md section 6).
+fn slots(s: &FpStage) -> usize {
+    match s {
+        FpStage::While { body, .. } => 1 + body.iter().map(slots).sum::<usize>() + 1,
+        FpStage::For { body, .. } => 2 + body.iter().map(slots).sum::<usize>() + 1,
+        FpStage::Nav(n) if n.init.is_some() => 2,
+        _ => 1,
+    }
+}
+
+fn number_stages(stages: &[FpStage], next: &mut usize, first: &mut HashMap<*const FpStage, usize>) {
+    for s in stages {
+        first.insert(s as *const FpStage, *next);
+        match s {
+            FpStage::While { body, .. } => {
+                *next += 1;
+                number_stages(body, next, first);
+                *next += 1;
+            }
+            FpStage::For { body, .. } => {
+                *next += 2;
+                number_stages(body, next, first);
+                *next += 1;
+            }
+            other => *next += slots(other),
+        }
+    }
+}
+
+fn push_list<'p>(stack: &mut Vec<Item<'p>>, stages: &'p [FpStage]) {
+    for s in stages.iter().rev() {
+        stack.push(Item::Stage(s));
+    }
+}
+
+/// How a stage ended within the call.
+enum Flow {
+    /// Continue with the next remaining stage in the same call.
+    Continue,
+    /// End of the call (`break`, a block change).
+    Break,
+}
+
+impl<'p> Interp<'p> {
+    /// The initial environment `e0`: block 0, all its stages, last position (0, stage 0).
+    pub fn new(fp: &'p Fp) -> Self {
+        let mut first = HashMap::new();
+        let mut ends = Vec::with_capacity(fp.blocks.len());
+        for b in &fp.blocks {
+            let mut next = 0;
+            number_stages(&b.stages, &mut next, &mut first);
+            ends.push(next);
+        }
+        let full0 = Self::full_of(fp, 0);
+        let state = State { block: 0, remaining: full0.clone(), last_block: 0, last_remaining: full0, counters: HashMap::new() };
+        Interp { fp, first, ends, state, calls: 0 }
+    }
+
+    fn full_of(fp: &'p Fp, block: BlockIx) -> Vec<Item<'p>> {
+        let mut v = Vec::new();
+        if let Some(b) = fp.blocks.get(block) {
+            push_list(&mut v, &b.stages);
+        }
+        v
+    }
+
+    /// Events of `auto_nav_init()`.
+    pub fn init_events(&self) -> Vec<Event> {
+        self.fp.init.iter().map(|c| Event::Code { text: c.text.clone() }).collect()
+    }
+
+    fn item_number(&self, item: &Item<'p>) -> usize {
+        let key = |s: &&FpStage| *s as *const FpStage;
+        match item {
+            Item::Stage(s) => self.first.get(&key(s)).copied().unwrap_or(0),
+            Item::ForTest(s) | Item::NavMain(s) => self.first.get(&key(s)).copied().unwrap_or(0) + 1,
+            Item::LoopBack(s) => self.first.get(&key(s)).copied().unwrap_or(0) + slots(s) - 1,
+        }
+    }
+
+    fn stage_number(&self, block: BlockIx, remaining: &[Item<'p>]) -> usize {
+        match remaining.last() {
+            Some(top) => self.item_number(top),
+            None => self.ends.get(block).copied().unwrap_or(0),
+        }
+    }
+
+    /// The C-visible state: `nav_block`, `nav_stage`, `last_block`, `last_stage`.
+    pub fn observe(&self) -> Observation {
+        let s = &self.state;
+        Observation {
+            block: s.block,
+            stage: self.stage_number(s.block, &s.remaining),
+            last_block: s.last_block,
+            last_stage: self.stage_number(s.last_block, &s.last_remaining),
+        }
+    }
+
+    fn code(ev: &mut Vec<Event>, c: &Code) {
+        ev.push(Event::Code { text: c.text.clone() });
+    }
+
+    fn cond(ev: &mut Vec<Event>, oracle: &mut dyn Oracle, text: &str) -> bool {
+        let value = oracle.cond(text);
+        ev.push(Event::Cond { text: text.to_string(), value });
+        value
+    }
+
+    /// VFPG forbidden deroutes: the first matching entry whose `only_when` holds forbids.
+    fn forbidden(&self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, from: BlockIx, to: BlockIx) -> bool {
+        for f in &self.fp.forbidden {
+            if f.from == from && f.to == to {
+                match &f.only_when {
+                    None => return true,
+                    Some(c) => {
+                        if Self::cond(ev, oracle, c) {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// `goto_block` (2024-10 `nav_goto_block`): remembers the position only on a real change,
+    /// runs the exit hook of the old block, then initialises the new one (stage 0, enter hook).
+    fn goto_block(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, target: BlockIx) {
+        if self.forbidden(ev, oracle, self.state.block, target) {
+            return;
+        }
+        if target != self.state.block {
+            self.state.last_block = self.state.block;
+            self.state.last_remaining = self.state.remaining.clone();
+        }
+        if let Some(c) = &self.fp.blocks[self.state.block].on_exit {
+            Self::code(ev, c);
+        }
+        let nb = self.fp.blocks.len();
+        let target = target.min(nb.saturating_sub(1));
+        self.state.block = target;
+        self.state.remaining = Self::full_of(self.fp, target);
+        if let Some(c) = &self.fp.blocks[target].on_enter {
+            Self::code(ev, c);
+        }
+    }
+
+    /// `Return(x)`: back to the last position (stage 0 when `x` is 1); last is not updated.
+    fn do_return(&mut self, ev: &mut Vec<Event>, reset: &str) {
+        if let Some(c) = &self.fp.blocks[self.state.block].on_exit {
+            Self::code(ev, c);
+        }
+        let reset = match reset.trim() {
+            "TRUE" | "true" => true,
+            t => oracle::literal_value(t) == Some(1),
+        };
+        self.state.block = self.state.last_block;
+        self.state.remaining =
+            if reset { Self::full_of(self.fp, self.state.last_block) } else { self.state.last_remaining.clone() };
+        if let Some(c) = &self.fp.blocks[self.state.block].on_enter {
+            Self::code(ev, c);
+        }
+    }
+
+    /// Exceptions (IR-1/IR-2): `true` when one was raised (the call ends).
+    fn exceptions(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, list: &'p [crate::passes::fp::FpException]) -> bool {
+        for e in list {
+            if self.state.block != e.target && Self::cond(ev, oracle, &e.cond) {
+                if let Some(x) = &e.exec {
+                    Self::code(ev, x);
+                }
+                self.goto_block(ev, oracle, e.target);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// One `auto_nav()` call.
+    pub fn step(&mut self, oracle: &mut dyn Oracle) -> Result<StepRecord, StepError> {
+        self.calls += 1;
+        let before = self.observe();
+        let mut ev = Vec::new();
+        let fp = self.fp;
+        if !self.exceptions(&mut ev, oracle, &fp.exceptions) {
+            let b = self.state.block;
+            let block = &fp.blocks[b];
+            if let Some(c) = &block.pre_call {
+                Self::code(&mut ev, c);
+            }
+            if !self.exceptions(&mut ev, oracle, &block.exceptions) {
+                self.run_stages(&mut ev, oracle, b)?;
+                if let Some(c) = &block.post_call {
+                    Self::code(&mut ev, c);
+                }
+            }
+        }
+        Ok(StepRecord { call: self.calls, before, events: ev, after: self.observe() })
+    }
+
+    /// Runs `n` calls from the current state.
+    pub fn run(&mut self, oracle: &mut dyn Oracle, n: usize) -> Result<Run, StepError> {
+        let mut run = Run { init: if self.calls == 0 { self.init_events() } else { Vec::new() }, steps: Vec::new() };
+        for _ in 0..n {
+            run.steps.push(self.step(oracle)?);
+        }
+        Ok(run)
+    }
+
+    fn run_stages(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, b: BlockIx) -> Result<(), StepError> {
+        let bound = 2 * self.ends.get(b).copied().unwrap_or(0) + 2;
+        for _ in 0..bound {
+            let Some(top) = self.state.remaining.last().copied() else {
+                // IR-3 / IR-4: no stage left, next block (the last block re-enters itself).
+                let nb = self.fp.blocks.len();
+                let next = if b + 1 < nb { b + 1 } else { b };
+                self.goto_block(ev, oracle, next);
+                return Ok(());
+            };
+            match self.exec(ev, oracle, b, top) {
+                Flow::Continue => {}
+                Flow::Break => return Ok(()),
+            }
+        }
+        Err(StepError::Diverged { block: b })
+    }
+
+    fn pop(&mut self) {
+        self.state.remaining.pop();
+    }
+
+    fn exec(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, b: BlockIx, item: Item<'p>) -> Flow {
+        match item {
+            Item::Stage(s) => self.exec_stage(ev, oracle, b, s),
+            Item::LoopBack(s) => {
+                // Goto the loop test: the while stage itself, or the for test.
+                self.pop();
+                match s {
+                    FpStage::For { .. } => self.state.remaining.push(Item::ForTest(s)),
+                    _ => self.state.remaining.push(Item::Stage(s)),
+                }
+                Flow::Continue
+            }
+            Item::ForTest(s) => {
+                let FpStage::For { body, .. } = s else { return Flow::Break };
+                let key = (b, self.item_number(&Item::Stage(s)));
+                let (i, to) = self.state.counters.get(&key).copied().unwrap_or((0, 0));
+                let i = i.wrapping_add(1);
+                self.state.counters.insert(key, (i, to));
+                self.pop();
+                if i > to {
+                    Flow::Continue
+                } else {
+                    self.state.remaining.push(Item::LoopBack(s));
+                    push_list(&mut self.state.remaining, body);
+                    Flow::Break
+                }
+            }
+            Item::NavMain(s) => match s {
+                FpStage::Nav(n) => self.exec_nav(ev, oracle, n),
+                _ => Flow::Break,
+            },
+        }
+    }
+
+    fn exec_stage(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, b: BlockIx, s: &'p FpStage) -> Flow {
+        match s {
+            FpStage::While { cond, body, .. } => {
+                self.pop();
+                if Self::cond(ev, oracle, cond) {
+                    // IR-6: the body, then the loop-back that re-tests.
+                    self.state.remaining.push(Item::LoopBack(s));
+                    push_list(&mut self.state.remaining, body);
+                    Flow::Break
+                } else {
+                    // IR-7
+                    Flow::Continue
+                }
+            }
+            FpStage::For { var: _, from, to, .. } => {
+                let vf = oracle.value(from);
+                ev.push(Event::Value { text: from.clone(), value: vf });
+                let vt = oracle.value(to);
+                ev.push(Event::Value { text: to.clone(), value: vt });
+                // C: `_var = from - 1; _var_to = to;` on int8_t (modulo 256, as gcc does).
+                let i = (vf as i32).wrapping_sub(1) as i8;
+                let t = vt as i32 as i8;
+                let key = (b, self.item_number(&Item::Stage(s)));
+                self.state.counters.insert(key, (i, t));
+                self.pop();
+                self.state.remaining.push(Item::ForTest(s));
+                Flow::Continue
+            }
+            FpStage::Set { code, .. } => {
+                // IR-5
+                Self::code(ev, code);
+                self.pop();
+                Flow::Continue
+            }
+            FpStage::Call { fun, loop_: true, brk, until, .. } => {
+                if !Self::cond(ev, oracle, fun) {
+                    self.pop();
+                    if *brk {
+                        Flow::Break
+                    } else {
+                        Flow::Continue
+                    }
+                } else {
+                    if let Some(u) = until {
+                        if Self::cond(ev, oracle, u) {
+                            self.pop();
+                        }
+                    }
+                    Flow::Break
+                }
+            }
+            FpStage::Call { fun, loop_: false, brk, .. } => {
+                ev.push(Event::Code { text: fun.clone() });
+                self.pop();
+                if *brk {
+                    Flow::Break
+                } else {
+                    Flow::Continue
+                }
+            }
+            FpStage::Deroute { target, .. } => {
+                // The deroute stays the current stage while saved as last (quirk 1).
+                self.goto_block(ev, oracle, *target);
+                Flow::Break
+            }
+            FpStage::Return { reset, .. } => {
+                self.do_return(ev, reset);
+                Flow::Break
+            }
+            FpStage::Nav(n) => {
+                if let Some(lines) = &n.init {
+                    // IR-9: the init step, then the stage continues as NAV(mode, false).
+                    for c in lines {
+                        Self::code(ev, c);
+                    }
+                    self.pop();
+                    self.state.remaining.push(Item::NavMain(s));
+                    Flow::Break
+                } else {
+                    self.exec_nav(ev, oracle, n)
+                }
+            }
+        }
+    }
+
+    /// IR-8, with upstream's code shape: every navigation stage ends the call.
+    fn exec_nav(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, n: &'p NavStage) -> Flow {
+        if let Some(c) = &n.pre_call {
+            Self::code(ev, c);
+        }
+        for c in &n.before {
+            Self::code(ev, c);
+        }
+        let mut run_lines = true;
+        if let Some((cond, _wp)) = &n.approach {
+            if Self::cond(ev, oracle, cond) {
+                if let Some(c) = &n.post_call {
+                    Self::code(ev, c);
+                }
+                self.pop();
+                return Flow::Break;
+            }
+            // the lines are the else branch
+            for c in &n.lines {
+                Self::code(ev, c);
+            }
+            run_lines = false;
+        }
+        if run_lines {
+            for c in &n.lines {
+                Self::code(ev, c);
+            }
+        }
+        if let Some(u) = &n.until {
+            if Self::cond(ev, oracle, u) {
+                if let Some(c) = &n.post_call {
+                    Self::code(ev, c);
+                }
+                self.pop();
+                return Flow::Break;
+            }
+        }
+        if let Some(c) = &n.post_call {
+            Self::code(ev, c);
+        }
+        Flow::Break
+    }
+}

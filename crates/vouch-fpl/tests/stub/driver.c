@@ -1,0 +1,34 @@
+/*
+ * vouch stub driver: runs a generated (instrumented) flight_plan.h step by step.
+ * usage: driver ANSWERS_FILE STEPS
+ * Prints "init", the events of auto_nav_init(), then for each call "step N", its events and
+ * "S block stage last_block last_stage". The Rust interpreter prints the same format.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include "fp_stub.h"
+#define NAV_C
+#include "flight_plan.h"
+
+void stub_oracle_load(const char *path, FILE *out);
+int stub_table_sizes_ok(void);
+
+int main(int argc, char **argv)
+{
+  long steps, i;
+  if (argc != 3) { fprintf(stderr, "usage: %s ANSWERS STEPS\n", argv[0]); return 2; }
+  steps = strtol(argv[2], NULL, 10);
+  stub_oracle_load(argv[1], stdout);
+  if (!stub_table_sizes_ok()) { fprintf(stderr, "waypoint/block tables have wrong sizes\n"); return 3; }
+  /* initial state of common_flight_plan_init(): everything 0, no hooks */
+  nav_block = 0; nav_stage = 0; last_block = 0; last_stage = 0;
+  printf("init\n");
+  auto_nav_init();
+  for (i = 1; i <= steps; i++) {
+    printf("step %ld\n", i);
+    auto_nav();
+    printf("S %u %u %u %u\n", (unsigned)nav_block, (unsigned)nav_stage, (unsigned)last_block,
+           (unsigned)last_stage);
+  }
+  return 0;
+}

@@ -1,0 +1,431 @@
+//! The proxy core: per-frame admission (signing, inspector), byte-exact forwarding, enforce-mode
+//! answers, STATUSTEXT alerts, violations log, tlog recording and counters.
+
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::thread::JoinHandle;
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+use serde::Serialize;
+use serde_json::json;
+
+use super::frame::{split_datagram, FrameRef, Piece};
+use super::link::{self, Egress, Origin, Received};
+use super::messages::{encode_v2, statustext, SEVERITY_WARNING};
+use super::{Endpoint, Inspector, Reply, Side, Verdict};
+use crate::signing::{timestamp_now, SigReject, Signer, SigningKey, Verifier, SETUP_SIGNING_ID};
+
+/// Everything `vouch mav guard` is told on its command line.
+pub struct GuardConfig {
+    pub gcs: Endpoint,
+    pub vehicle: Endpoint,
+    /// Drop violating frames and answer instead of only reporting.
+    pub enforce: bool,
+    /// Send a STATUSTEXT to the GCS for each violation.
+    pub alert_gcs: bool,
+    /// Violations log, one JSON object per line.
+    pub log_path: Option<PathBuf>,
+    /// Recording of every received frame (8-byte big-endian µs timestamp + frame), both ways.
+    pub tlog_path: Option<PathBuf>,
+    pub signing: Option<SigningConfig>,
+}
+
+/// MAVLink 2 signing: frames from the GCS side must carry a valid signature; optionally the
+/// guard (re)signs what it forwards to the vehicle.
+pub struct SigningConfig {
+    pub key: SigningKey,
+    pub sign_to_vehicle: bool,
+    /// Link id the guard signs with toward the vehicle.
+    pub link_id: u8,
+}
+
+/// Most STATUSTEXT alerts per second: a violation flood must not flood the pilot's link too.
+const MAX_ALERTS_PER_SECOND: u64 = 5;
+/// Most signing rejections written to the violations log (all are counted).
+const MAX_LOGGED_SIG_REJECTS: u64 = 100;
+
+#[derive(Default)]
+struct Counters {
+    rx: [AtomicU64; 2],
+    forwarded: [AtomicU64; 2],
+    violations: AtomicU64,
+    dropped_violations: AtomicU64,
+    malformed: AtomicU64,
+    dropped_malformed: AtomicU64,
+    junk_bytes: AtomicU64,
+    signing_rejected: AtomicU64,
+    setup_signing_dropped: AtomicU64,
+    replies_sent: AtomicU64,
+    alerts_sent: AtomicU64,
+    alerts_suppressed: AtomicU64,
+}
+
+/// Counters at one moment, printed at shutdown.
+#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+pub struct CounterSnapshot {
+    pub frames_from_gcs: u64,
+    pub frames_from_vehicle: u64,
+    pub forwarded_to_vehicle: u64,
+    pub forwarded_to_gcs: u64,
+    pub violations: u64,
+    pub dropped_violations: u64,
+    pub malformed: u64,
+    pub dropped_malformed: u64,
+    pub junk_bytes: u64,
+    pub signing_rejected: u64,
+    pub setup_signing_dropped: u64,
+    pub replies_sent: u64,
+    pub alerts_sent: u64,
+    pub alerts_suppressed: u64,
+}
+
+struct Core {
+    enforce: bool,
+    alert_gcs: bool,
+    inspector: Mutex<Box<dyn Inspector>>,
+    verifier: Option<Mutex<Verifier>>,
+    signer: Option<Mutex<Signer>>,
+    egress: [OnceLock<Arc<Egress>>; 2],
+    counters: Counters,
+    log: Option<Mutex<BufWriter<File>>>,
+    tlog: Option<Mutex<BufWriter<File>>>,
+    own_seq: AtomicU8,
+    /// Vehicle (sysid, compid) from its first HEARTBEAT, packed as sysid << 8 | compid + 1
+    /// (0 = not seen yet); alerts are sent in the vehicle's name so GCSs display them.
+    vehicle_ids: AtomicU64,
+    alert_window: Mutex<(Instant, u64)>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+fn unix_micros() -> u64 {
+    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0)
+}
+
+/// Accepted byte ranges of one datagram; contiguous ranges merge so that a datagram whose frames
+/// are all accepted is sent once, exactly as received.
+#[derive(Default)]
+struct Ranges {
+    v: Vec<(usize, usize)>,
+}
+
+impl Ranges {
+    fn push(&mut self, a: usize, b: usize) {
+        match self.v.last_mut() {
+            Some(last) if last.1 == a => last.1 = b,
+            _ => self.v.push((a, b)),
+        }
+    }
+}
+
+impl Core {
+    fn out(&self, side: Side) -> Option<&Arc<Egress>> {
+        self.egress[side.index()].get()
+    }
+
+    fn on_received(&self, side: Side, origin: Origin, rx: Received<'_>) {
+        match rx {
+            Received::Datagram(d) => self.on_datagram(side, origin, d),
+            Received::StreamFrame(f) => {
+                if self.admit(side, origin, f) {
+                    self.forward(side, f, true);
+                }
+            }
+            Received::Oversized(n) => {
+                self.counters.junk_bytes.fetch_add(n as u64, Ordering::Relaxed);
+            }
+            Received::StreamJunk(j) => {
+                self.counters.junk_bytes.fetch_add(j.len() as u64, Ordering::Relaxed);
+                if self.junk_passes() {
+                    self.forward(side, j, false);
+                }
+            }
+        }
+    }
+
+    /// Monitor mode without signing is a transparent relay: bytes that are no frame pass as well.
+    fn junk_passes(&self) -> bool {
+        !self.enforce && self.verifier.is_none()
+    }
+
+    fn on_datagram(&self, side: Side, origin: Origin, d: &[u8]) {
+        let mut keep = Ranges::default();
+        split_datagram(d, |p| match p {
+            Piece::Frame(a, b) => {
+                if self.admit(side, origin, &d[a..b]) {
+                    keep.push(a, b);
+                }
+            }
+            Piece::Garbage(a, b) => {
+                self.counters.junk_bytes.fetch_add((b - a) as u64, Ordering::Relaxed);
+                if self.junk_passes() {
+                    keep.push(a, b);
+                }
+            }
+        });
+        let resign = side == Side::Gcs && self.signer.is_some();
+        for &(a, b) in &keep.v {
+            self.forward(side, &d[a..b], resign);
+        }
+    }
+
+    /// Sends bytes received on `from` to the other side; `framed` says they are whole frames
+    /// (re-signed toward the vehicle when configured), counted per frame.
+    fn forward(&self, from: Side, bytes: &[u8], framed: bool) {
+        let Some(out) = self.out(from.other()) else { return };
+        if from == Side::Gcs && framed {
+            if let Some(signer) = &self.signer {
+                let mut buf = Vec::with_capacity(bytes.len() + 16 * 13);
+                let mut one = Vec::with_capacity(280);
+                let mut s = lock(signer);
+                split_datagram(bytes, |p| {
+                    if let Piece::Frame(a, b) = p {
+                        if let Some(fr) = FrameRef::new(&bytes[a..b]) {
+                            if s.sign_into(&fr, timestamp_now(), &mut one) {
+                                buf.extend_from_slice(&one);
+                            }
+                        }
+                    }
+                });
+                drop(s);
+                if !buf.is_empty() {
+                    out.send_all(&buf);
+                }
+                return;
+            }
+        }
+        out.send_all(bytes);
+    }
+
+    /// Decides whether one complete frame goes on. Side effects: counters, log, tlog, alerts,
+    /// enforce-mode answers.
+    fn admit(&self, side: Side, origin: Origin, bytes: &[u8]) -> bool {
+        let c = &self.counters;
+        c.rx[side.index()].fetch_add(1, Ordering::Relaxed);
+        let Some(fr) = FrameRef::new(bytes) else { return !self.enforce };
+        if let Some(t) = &self.tlog {
+            let mut t = lock(t);
+            let _ = t.write_all(&unix_micros().to_be_bytes()).and_then(|_| t.write_all(bytes));
+        }
+        if side == Side::Gcs {
+            if let Some(v) = &self.verifier {
+                if let Err(why) = lock(v).check(&fr, timestamp_now()) {
+                    let n = c.signing_rejected.fetch_add(1, Ordering::Relaxed);
+                    if n < MAX_LOGGED_SIG_REJECTS {
+                        self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(), "action": "dropped",
+                            "kind": "signing", "reason": why.as_str(), "sysid": fr.sysid(), "compid": fr.compid(),
+                            "msgid": fr.msgid()}));
+                    }
+                    let _: SigReject = why;
+                    return false;
+                }
+            }
+        }
+        if fr.is_v2() && fr.msgid() == SETUP_SIGNING_ID {
+            // It carries a secret key: never forwarded, whatever the mode (MAVLink signing spec).
+            c.setup_signing_dropped.fetch_add(1, Ordering::Relaxed);
+            return false;
+        }
+        if side == Side::Vehicle && fr.msgid() == 0 && self.vehicle_ids.load(Ordering::Relaxed) == 0 {
+            let packed = (u64::from(fr.sysid()) << 8 | u64::from(fr.compid())) + 1;
+            self.vehicle_ids.store(packed, Ordering::Relaxed);
+        }
+        let verdict = lock(&self.inspector).inspect(side, fr);
+        match verdict {
+            Verdict::Accept => {
+                c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
+                true
+            }
+            Verdict::Malformed(_) => {
+                c.malformed.fetch_add(1, Ordering::Relaxed);
+                if self.enforce {
+                    c.dropped_malformed.fetch_add(1, Ordering::Relaxed);
+                    false
+                } else {
+                    c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
+                    true
+                }
+            }
+            Verdict::Violation(f) => {
+                c.violations.fetch_add(1, Ordering::Relaxed);
+                let action = if self.enforce { "dropped" } else { "forwarded" };
+                self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(), "action": action,
+                    "kind": "violation", "summary": f.summary, "sysid": fr.sysid(), "compid": fr.compid(),
+                    "msgid": fr.msgid(), "frame": hex(bytes), "violation": f.record}));
+                if self.alert_gcs {
+                    self.alert(&f.summary);
+                }
+                if self.enforce {
+                    c.dropped_violations.fetch_add(1, Ordering::Relaxed);
+                    for r in &f.replies {
+                        self.send_reply(r, side, origin);
+                    }
+                    false
+                } else {
+                    c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
+                    true
+                }
+            }
+        }
+    }
+
+    /// Sends a guard-made message. An answer to the side the violating frame came from goes back
+    /// to exactly that peer; one to the other side goes to all its peers.
+    fn send_reply(&self, r: &Reply, from: Side, origin: Origin) {
+        let Some(out) = self.out(r.to) else { return };
+        let seq = self.own_seq.fetch_add(1, Ordering::Relaxed);
+        let mut frame = encode_v2(r.msgid, r.crc_extra, &r.payload, r.sysid, r.compid, seq);
+        if r.to == Side::Vehicle {
+            if let Some(signer) = &self.signer {
+                let mut signed = Vec::with_capacity(frame.len() + 13);
+                if let Some(fr) = FrameRef::new(&frame) {
+                    if lock(signer).sign_into(&fr, timestamp_now(), &mut signed) {
+                        frame = signed;
+                    }
+                }
+            }
+        }
+        let ok = if r.to == from { out.send_to(origin, &frame) } else { out.send_all(&frame) > 0 };
+        if ok {
+            self.counters.replies_sent.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    fn alert(&self, summary: &str) {
+        {
+            let mut w = lock(&self.alert_window);
+            if w.0.elapsed().as_secs() >= 1 {
+                *w = (Instant::now(), 0);
+            }
+            if w.1 >= MAX_ALERTS_PER_SECOND {
+                self.counters.alerts_suppressed.fetch_add(1, Ordering::Relaxed);
+                return;
+            }
+            w.1 += 1;
+        }
+        let packed = self.vehicle_ids.load(Ordering::Relaxed);
+        let (sysid, compid) = if packed == 0 { (1, 1) } else { (((packed - 1) >> 8) as u8, (packed - 1) as u8) };
+        let r = statustext(SEVERITY_WARNING, &format!("vouch: {summary}"), sysid, compid);
+        let Some(out) = self.out(Side::Gcs) else { return };
+        let seq = self.own_seq.fetch_add(1, Ordering::Relaxed);
+        if out.send_all(&encode_v2(r.msgid, r.crc_extra, &r.payload, sysid, compid, seq)) > 0 {
+            self.counters.alerts_sent.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    fn log_line(&self, v: serde_json::Value) {
+        if let Some(l) = &self.log {
+            let mut l = lock(l);
+            // one complete line per record, flushed: a killed guard leaves a readable log
+            let mut line = v.to_string();
+            line.push('\n');
+            let _ = l.write_all(line.as_bytes()).and_then(|_| l.flush());
+        }
+    }
+
+    fn snapshot(&self) -> CounterSnapshot {
+        let c = &self.counters;
+        let g = |a: &AtomicU64| a.load(Ordering::Relaxed);
+        CounterSnapshot {
+            frames_from_gcs: g(&c.rx[0]),
+            frames_from_vehicle: g(&c.rx[1]),
+            forwarded_to_vehicle: g(&c.forwarded[1]),
+            forwarded_to_gcs: g(&c.forwarded[0]),
+            violations: g(&c.violations),
+            dropped_violations: g(&c.dropped_violations),
+            malformed: g(&c.malformed),
+            dropped_malformed: g(&c.dropped_malformed),
+            junk_bytes: g(&c.junk_bytes),
+            signing_rejected: g(&c.signing_rejected),
+            setup_signing_dropped: g(&c.setup_signing_dropped),
+            replies_sent: g(&c.replies_sent),
+            alerts_sent: g(&c.alerts_sent),
+            alerts_suppressed: g(&c.alerts_suppressed),
+        }
+    }
+}
+
+fn hex(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
+
+/// A guard that is running; dropping it without [`RunningGuard::stop`] leaves threads running
+/// until process exit.
+pub struct RunningGuard {
+    core: Arc<Core>,
+    stop: Arc<AtomicBool>,
+    threads: Vec<JoinHandle<()>>,
+    /// Local address of the GCS endpoint (useful with port 0).
+    pub gcs_addr: Option<SocketAddr>,
+    pub vehicle_addr: Option<SocketAddr>,
+}
+
+impl RunningGuard {
+    pub fn counters(&self) -> CounterSnapshot {
+        self.core.snapshot()
+    }
+
+    /// Stops the readers (within one poll interval), flushes the logs and returns the counters.
+    pub fn stop(self) -> CounterSnapshot {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in self.threads {
+            let _ = t.join();
+        }
+        for w in [&self.core.tlog, &self.core.log].into_iter().flatten() {
+            let _ = lock(w).flush();
+        }
+        self.core.snapshot()
+    }
+}
+
+/// Opens both endpoints and starts forwarding.
+pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<RunningGuard> {
+    let create = |p: &Option<PathBuf>| -> io::Result<Option<Mutex<BufWriter<File>>>> {
+        p.as_ref().map(|p| File::create(p).map(|f| Mutex::new(BufWriter::new(f)))).transpose()
+    };
+    let core = Arc::new(Core {
+        enforce: cfg.enforce,
+        alert_gcs: cfg.alert_gcs,
+        inspector: Mutex::new(inspector),
+        verifier: cfg.signing.as_ref().map(|s| Mutex::new(Verifier::new(s.key.clone()))),
+        signer: cfg
+            .signing
+            .as_ref()
+            .filter(|s| s.sign_to_vehicle)
+            .map(|s| Mutex::new(Signer::new(s.key.clone(), s.link_id))),
+        egress: [OnceLock::new(), OnceLock::new()],
+        counters: Counters::default(),
+        log: create(&cfg.log_path)?,
+        tlog: create(&cfg.tlog_path)?,
+        own_seq: AtomicU8::new(0),
+        vehicle_ids: AtomicU64::new(0),
+        alert_window: Mutex::new((Instant::now(), 0)),
+    });
+    let stop = Arc::new(AtomicBool::new(false));
+    let mut threads = vec![];
+    let mut addrs = [None, None];
+    for (side, ep) in [(Side::Gcs, &cfg.gcs), (Side::Vehicle, &cfg.vehicle)] {
+        let c = core.clone();
+        let handler: link::Handler = Arc::new(move |origin, rx| c.on_received(side, origin, rx));
+        let opened = match link::open(ep, side.as_str(), handler, stop.clone()) {
+            Ok(o) => o,
+            Err(e) => {
+                stop.store(true, Ordering::Relaxed);
+                threads.into_iter().for_each(|t: JoinHandle<()>| {
+                    let _ = t.join();
+                });
+                return Err(io::Error::new(e.kind(), format!("{} endpoint {ep}: {e}", side.as_str())));
+            }
+        };
+        let _ = core.egress[side.index()].set(opened.egress);
+        addrs[side.index()] = opened.local_addr;
+        threads.extend(opened.threads);
+    }
+    Ok(RunningGuard { core, stop, threads, gcs_addr: addrs[0], vehicle_addr: addrs[1] })
+}

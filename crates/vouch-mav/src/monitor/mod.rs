@@ -1,0 +1,243 @@
+//! The runtime monitor: feeds on decoded messages in order, keeps concurrent sessions of every
+//! loaded protocol, and answers each message with Accept, Ignore or Violation.
+//!
+//! Hot path: one table lookup tells whether any protocol mentions the message; telemetry that no
+//! protocol mentions only updates the tracked vehicle state. Sessions live in a small vector and
+//! are matched by participants and key fields; stepping uses a reusable scratch buffer.
+
+pub mod eval;
+mod explain;
+pub mod offline;
+mod report;
+mod session;
+pub mod step;
+
+pub use report::{Reply, Violation, ViolationKind};
+pub use session::{ProtocolStats, Summary};
+
+use std::sync::Arc;
+
+use crate::codec::{Frame, MessageView};
+use crate::dialect::Dialect;
+use crate::protocol::ir::{FieldLoc, ProtocolSet, RoleKind};
+use crate::protocol::{load_protocols, stdlib, ProtocolError};
+use crate::vehicle_state::VehicleTracker;
+use eval::Val;
+use session::Session;
+
+/// Which side of the link a frame was read from. Offline (tlogs) use `Unknown`: the monitor then
+/// infers roles from HEARTBEAT types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    Gcs,
+    Vehicle,
+    Unknown,
+}
+
+/// The monitor's answer for one message.
+#[derive(Debug, Clone)]
+pub enum Verdict {
+    /// The message advanced or opened a session.
+    Accept,
+    /// No protocol is concerned with this message.
+    Ignore,
+    Violation(Box<Violation>),
+}
+
+impl Verdict {
+    pub fn is_violation(&self) -> bool {
+        matches!(self, Verdict::Violation(_))
+    }
+}
+
+pub struct Monitor {
+    dialect: Arc<Dialect>,
+    set: ProtocolSet,
+    consts: Vec<f64>,
+    /// Message index → protocols whose alphabet contains it.
+    by_msg: Vec<Vec<u16>>,
+    /// Message index → locations of target_system / target_component.
+    targets: Vec<Option<(FieldLoc, FieldLoc)>>,
+    tracker: VehicleTracker,
+    sessions: Vec<Session>,
+    roles: Vec<((u8, u8), RoleKind)>,
+    stats: Vec<ProtocolStats>,
+    messages: u64,
+    relevant: u64,
+    violations: u64,
+    scratch: Vec<Val>,
+    last_sweep_us: u64,
+    serial: u64,
+}
+
+/// How often (µs of message time) idle sessions are looked for.
+const SWEEP_US: u64 = 100_000;
+
+impl Monitor {
+    pub fn new(dialect: Arc<Dialect>, set: ProtocolSet) -> Monitor {
+        let n = dialect.messages().len();
+        let mut by_msg = vec![Vec::new(); n];
+        for (pi, p) in set.protocols.iter().enumerate() {
+            for &m in &p.alphabet {
+                by_msg[usize::from(m)].push(pi as u16);
+            }
+        }
+        let loc = |m: &crate::dialect::MessageDef, f: &str| {
+            m.field(f).map(|d| FieldLoc { ty: d.ty, offset: d.offset, text_len: 0, enum_name: None })
+        };
+        let targets = dialect
+            .messages()
+            .iter()
+            .map(|m| Some((loc(m, "target_system")?, loc(m, "target_component")?)))
+            .collect();
+        let stats = set.protocols.iter().map(|p| ProtocolStats::new(&p.name)).collect();
+        let consts = set.consts.iter().map(|c| c.value).collect();
+        let tracker = VehicleTracker::new(&dialect, set.params.clone());
+        Monitor {
+            dialect,
+            set,
+            consts,
+            by_msg,
+            targets,
+            tracker,
+            sessions: Vec::new(),
+            roles: Vec::new(),
+            stats,
+            messages: 0,
+            relevant: 0,
+            violations: 0,
+            scratch: Vec::new(),
+            last_sweep_us: 0,
+            serial: 0,
+        }
+    }
+
+    /// A monitor running protocol sources `(file name, text)`; `overrides` sets constants.
+    pub fn from_sources(
+        dialect: Arc<Dialect>,
+        sources: &[(String, String)],
+        overrides: &[(String, f64)],
+    ) -> Result<Monitor, ProtocolError> {
+        let set = load_protocols(&dialect, sources, overrides)?;
+        Ok(Monitor::new(dialect, set))
+    }
+
+    /// A monitor running the standard library of protocols.
+    pub fn with_stdlib(dialect: Arc<Dialect>, overrides: &[(String, f64)]) -> Result<Monitor, ProtocolError> {
+        Self::from_sources(dialect, &stdlib::sources(), overrides)
+    }
+
+    pub fn dialect(&self) -> &Arc<Dialect> {
+        &self.dialect
+    }
+
+    pub fn protocols(&self) -> &ProtocolSet {
+        &self.set
+    }
+
+    pub fn vehicles(&self) -> &VehicleTracker {
+        &self.tracker
+    }
+
+    /// Checks one frame. Frames of unknown messages are ignored.
+    pub fn on_frame(&mut self, frame: &Frame, origin: Origin, time_us: u64) -> Verdict {
+        let dialect = Arc::clone(&self.dialect);
+        match MessageView::of_frame(frame, &dialect) {
+            Some(view) => self.observe(&view, frame.sysid, frame.compid, origin, time_us),
+            None => {
+                self.messages += 1;
+                Verdict::Ignore
+            }
+        }
+    }
+
+    /// Checks one decoded message sent by `sysid/compid` at `time_us`.
+    pub fn observe(&mut self, msg: &MessageView, sysid: u8, compid: u8, origin: Origin, time_us: u64) -> Verdict {
+        self.messages += 1;
+        self.tracker.observe(sysid, compid, msg);
+        if let Some(is_gcs) = self.tracker.heartbeat_is_gcs(msg) {
+            self.learn_role(sysid, compid, if is_gcs { RoleKind::Gcs } else { RoleKind::Vehicle });
+        }
+        if time_us >= self.last_sweep_us + SWEEP_US {
+            self.last_sweep_us = time_us;
+            if !self.sessions.is_empty() {
+                self.expire(time_us);
+            }
+        }
+        let idx = usize::from(msg.index);
+        if self.by_msg.get(idx).is_none_or(|v| v.is_empty()) {
+            return Verdict::Ignore;
+        }
+        self.relevant += 1;
+        let kind = self.kind_of(sysid, compid, origin);
+        let target = self.targets[idx].as_ref().map(|(s, c)| {
+            let s = eval::read_loc(msg.payload, s);
+            let c = eval::read_loc(msg.payload, c);
+            let n = |v: Val| if let Val::Num(x) = v { x as u8 } else { 0 };
+            (n(s), n(c))
+        });
+        let verdict = self.dispatch(msg, sysid, compid, kind, target, time_us);
+        if !verdict.is_violation() {
+            self.tracker.apply_param_set(msg);
+        } else {
+            self.violations += 1;
+        }
+        verdict
+    }
+
+    fn learn_role(&mut self, sysid: u8, compid: u8, kind: RoleKind) {
+        match self.roles.iter_mut().find(|(ids, _)| *ids == (sysid, compid)) {
+            Some(r) => r.1 = kind,
+            None => self.roles.push(((sysid, compid), kind)),
+        }
+    }
+
+    /// Role kind of a sender: the link side if known, else its heartbeat, else a convention
+    /// (ground stations use high system ids or the mission-planner component 190).
+    fn kind_of(&self, sysid: u8, compid: u8, origin: Origin) -> RoleKind {
+        match origin {
+            Origin::Gcs => return RoleKind::Gcs,
+            Origin::Vehicle => return RoleKind::Vehicle,
+            Origin::Unknown => {}
+        }
+        if let Some((_, k)) = self.roles.iter().find(|(ids, _)| *ids == (sysid, compid)) {
+            return *k;
+        }
+        if let Some((_, k)) = self.roles.iter().find(|(ids, _)| ids.0 == sysid) {
+            return *k;
+        }
+        if sysid >= 200 || compid == 190 { RoleKind::Gcs } else { RoleKind::Vehicle }
+    }
+
+    /// Ends sessions idle past their protocol's timeout (completed if their state allows it).
+    pub fn expire(&mut self, now_us: u64) {
+        let mut i = 0;
+        while i < self.sessions.len() {
+            let s = &self.sessions[i];
+            let p = &self.set.protocols[s.proto];
+            if p.timeout_us.is_some_and(|t| now_us.saturating_sub(s.last_us) > t) {
+                self.close(i, false);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Ends every open session (end of a recording). Sessions in a completable state count as
+    /// completed, the others as unfinished.
+    pub fn finish(&mut self) {
+        while !self.sessions.is_empty() {
+            self.close(self.sessions.len() - 1, true);
+        }
+    }
+
+    pub fn summary(&self) -> Summary {
+        Summary {
+            messages: self.messages,
+            relevant: self.relevant,
+            violations: self.violations,
+            open_sessions: self.sessions.len() as u64,
+            protocols: self.stats.clone(),
+        }
+    }
+}

@@ -1,0 +1,348 @@
+//! Sessions: matching a message to open sessions, opening new ones, closing them, and turning
+//! failed steps into violation reports.
+
+use super::eval::{holds, read_loc, Env, Val};
+use super::report::Violation;
+use super::step::{step, StepInput, StepResult};
+use super::{Monitor, Verdict};
+use crate::codec::MessageView;
+use crate::protocol::ir::{Protocol, RoleKind, StateId};
+
+/// An open session of one protocol.
+#[derive(Debug, Clone)]
+pub(crate) struct Session {
+    pub proto: usize,
+    pub state: StateId,
+    /// (system id, component id) per role; 0 = not bound yet (wildcard).
+    pub ids: [(u8, u8); 2],
+    pub keys: Vec<Val>,
+    pub vars: Vec<Val>,
+    pub last_us: u64,
+    pub serial: u64,
+}
+
+/// Counters of one protocol.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct ProtocolStats {
+    pub name: String,
+    pub started: u64,
+    pub completed: u64,
+    /// Ended by their timeout, or replaced by a new session, in a state that is not complete.
+    pub abandoned: u64,
+    /// Still open at the end of the input in a state that is not complete.
+    pub unfinished: u64,
+    pub violations: u64,
+}
+
+impl ProtocolStats {
+    pub fn new(name: &str) -> Self {
+        ProtocolStats { name: name.to_string(), ..Default::default() }
+    }
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Summary {
+    pub messages: u64,
+    /// Messages that at least one protocol mentions.
+    pub relevant: u64,
+    pub violations: u64,
+    pub open_sessions: u64,
+    pub protocols: Vec<ProtocolStats>,
+}
+
+impl Summary {
+    pub fn protocol(&self, name: &str) -> Option<&ProtocolStats> {
+        self.protocols.iter().find(|p| p.name == name)
+    }
+}
+
+fn role_of_kind(p: &Protocol, k: RoleKind) -> usize {
+    if p.roles[0].1 == k { 0 } else { 1 }
+}
+
+fn vehicle_sys(p: &Protocol, ids: &[(u8, u8); 2]) -> u8 {
+    ids[role_of_kind(p, RoleKind::Vehicle)].0
+}
+
+impl Monitor {
+    pub(super) fn dispatch(
+        &mut self,
+        msg: &MessageView,
+        sysid: u8,
+        compid: u8,
+        kind: RoleKind,
+        target: Option<(u8, u8)>,
+        time_us: u64,
+    ) -> Verdict {
+        let idx = usize::from(msg.index);
+        let mut accepted = false;
+        let mut violations: Vec<Violation> = Vec::new();
+        let mut mismatched: [u64; 4] = [0; 4];
+        let mut n_mismatched = 0usize;
+        let mut orphan: Option<(usize, usize)> = None;
+        for k in 0..self.by_msg[idx].len() {
+            let p = usize::from(self.by_msg[idx][k]);
+            let mut mismatch_here = None;
+            let mut took_here = false;
+            let mut i = 0;
+            while i < self.sessions.len() {
+                if self.sessions[i].proto != p {
+                    i += 1;
+                    continue;
+                }
+                let Some(role) = self.participant(i, sysid, compid, target, kind) else {
+                    i += 1;
+                    continue;
+                };
+                if !self.keys_match(i, msg) {
+                    i += 1;
+                    continue;
+                }
+                match self.step_session(i, role, msg) {
+                    StepResult::Took { next, .. } => {
+                        accepted = true;
+                        took_here = true;
+                        let s = &mut self.sessions[i];
+                        s.last_us = time_us;
+                        let o = 1 - role;
+                        s.ids[role] = (sysid, compid);
+                        if let Some((ts, tc)) = target {
+                            if s.ids[o].0 == 0 && ts != 0 {
+                                s.ids[o].0 = ts;
+                            }
+                            if s.ids[o].1 == 0 && tc != 0 {
+                                s.ids[o].1 = tc;
+                            }
+                        }
+                        match next {
+                            Some(st) => s.state = st,
+                            None => {
+                                self.stats[p].completed += 1;
+                                self.sessions.swap_remove(i);
+                                continue;
+                            }
+                        }
+                    }
+                    r @ (StepResult::Refused { .. } | StepResult::Invariant { .. }) => {
+                        took_here = true;
+                        violations.push(self.session_violation(i, role, msg, r, time_us));
+                    }
+                    StepResult::Mismatch => {
+                        mismatch_here = Some(self.sessions[i].serial);
+                        if n_mismatched < mismatched.len() {
+                            mismatched[n_mismatched] = self.sessions[i].serial;
+                            n_mismatched += 1;
+                        }
+                    }
+                }
+                i += 1;
+            }
+            // A start is tried when no session of this protocol took the message. Keyed protocols
+            // keep one session per key: the new one replaces a session that had no use for the
+            // message (e.g. MISSION_COUNT sent again). Unkeyed protocols may run several
+            // sessions at once (e.g. outstanding parameter reads).
+            if self.set.protocols[p].keys.is_empty() {
+                mismatch_here = None;
+            }
+            if !took_here {
+                match self.try_start(p, msg, sysid, compid, kind, target, time_us) {
+                    Some(Ok(started)) => {
+                        accepted = true;
+                        // A new start replaces a session of the same participants and keys that
+                        // could not use this message (e.g. MISSION_COUNT sent again).
+                        if let Some(serial) = mismatch_here {
+                            if serial != started {
+                                if let Some(j) = self.sessions.iter().position(|s| s.serial == serial) {
+                                    self.close(j, false);
+                                }
+                            }
+                        }
+                    }
+                    Some(Err(v)) => violations.push(*v),
+                    None => {
+                        let proto = &self.set.protocols[p];
+                        if let Some(si) = proto.strict.iter().position(|s| {
+                            proto.roles[s.from].1 == kind && s.msgs.contains(&msg.index)
+                        }) {
+                            orphan.get_or_insert((p, si));
+                        }
+                    }
+                }
+            }
+        }
+        // Sessions that had no use for a message another protocol accepted are over if their
+        // state is complete (e.g. a download without the optional closing ACK).
+        if accepted {
+            for &serial in &mismatched[..n_mismatched] {
+                if let Some(j) = self.sessions.iter().position(|s| s.serial == serial) {
+                    if self.completable(j) {
+                        self.close(j, false);
+                    }
+                }
+            }
+        }
+        if !violations.is_empty() {
+            let mut first = violations.remove(0);
+            for v in &violations {
+                if let Some(p) = self.stats.iter_mut().find(|s| s.name == v.protocol) {
+                    p.violations += 1;
+                }
+            }
+            if let Some(p) = self.stats.iter_mut().find(|s| s.name == first.protocol) {
+                p.violations += 1;
+            }
+            first.others = violations;
+            return Verdict::Violation(Box::new(first));
+        }
+        if accepted {
+            return Verdict::Accept;
+        }
+        if let Some((p, si)) = orphan {
+            self.stats[p].violations += 1;
+            return Verdict::Violation(Box::new(self.orphan_violation(p, si, msg, sysid, compid, target, time_us)));
+        }
+        Verdict::Ignore
+    }
+
+    /// Which role of session `i` sent this message, if the message belongs to its participants.
+    fn participant(&self, i: usize, sysid: u8, compid: u8, target: Option<(u8, u8)>, kind: RoleKind) -> Option<usize> {
+        let s = &self.sessions[i];
+        let p = &self.set.protocols[s.proto];
+        (0..2).find(|&r| {
+            let (ss, sc) = s.ids[r];
+            let sender_ok = if ss == 0 { p.roles[r].1 == kind } else { ss == sysid && (sc == 0 || sc == compid) };
+            if !sender_ok {
+                return false;
+            }
+            let (os, oc) = s.ids[1 - r];
+            match target {
+                Some((ts, tc)) => (ts == 0 || os == 0 || ts == os) && (tc == 0 || oc == 0 || tc == oc),
+                None => true,
+            }
+        })
+    }
+
+    fn keys_match(&self, i: usize, msg: &MessageView) -> bool {
+        let s = &self.sessions[i];
+        let p = &self.set.protocols[s.proto];
+        p.keys.iter().enumerate().all(|(k, key)| match key.locs.iter().find(|(m, _)| *m == msg.index) {
+            Some((_, loc)) => s.keys[k] == Val::Unknown || s.keys[k] == read_loc(msg.payload, loc),
+            None => true,
+        })
+    }
+
+    fn step_session(&mut self, i: usize, role: usize, msg: &MessageView) -> StepResult {
+        let Monitor { sessions, set, tracker, scratch, consts, .. } = self;
+        let s = &mut sessions[i];
+        let p = &set.protocols[s.proto];
+        let input = StepInput {
+            msg,
+            role,
+            consts,
+            keys: &s.keys,
+            vehicle: tracker.state(vehicle_sys(p, &s.ids)),
+        };
+        step(p, s.state, &input, &mut s.vars, scratch)
+    }
+
+    /// Opens a session if the message starts protocol `p`: `Some(Ok(serial))`, `Some(Err(report))`
+    /// when its refinement fails, `None` when the message starts nothing.
+    #[allow(clippy::too_many_arguments)]
+    fn try_start(
+        &mut self,
+        p: usize,
+        msg: &MessageView,
+        sysid: u8,
+        compid: u8,
+        kind: RoleKind,
+        target: Option<(u8, u8)>,
+        time_us: u64,
+    ) -> Option<Result<u64, Box<Violation>>> {
+        let proto = &self.set.protocols[p];
+        let role = role_of_kind(proto, kind);
+        let mut ids = [(0u8, 0u8); 2];
+        ids[role] = (sysid, compid);
+        if let Some(t) = target {
+            ids[1 - role] = t;
+        }
+        let keys: Vec<Val> = proto
+            .keys
+            .iter()
+            .map(|k| k.locs.iter().find(|(m, _)| *m == msg.index).map(|(_, l)| read_loc(msg.payload, l)).unwrap_or(Val::Unknown))
+            .collect();
+        // Cheap pre-check so that most messages allocate nothing here.
+        if !proto.states[0].transitions.iter().any(|t| t.from == role && t.msgs.iter().any(|l| l.msg == msg.index)) {
+            return None;
+        }
+        let mut vars = vec![Val::Unknown; proto.var_names.len()];
+        let input = StepInput {
+            msg,
+            role,
+            consts: &self.consts,
+            keys: &keys,
+            vehicle: self.tracker.state(vehicle_sys(proto, &ids)),
+        };
+        let r = step(proto, 0, &input, &mut vars, &mut self.scratch);
+        match r {
+            StepResult::Mismatch => None,
+            StepResult::Took { next, .. } => {
+                self.stats[p].started += 1;
+                self.serial += 1;
+                match next {
+                    None => self.stats[p].completed += 1,
+                    Some(state) => self.sessions.push(Session {
+                        proto: p,
+                        state,
+                        ids,
+                        keys,
+                        vars,
+                        last_us: time_us,
+                        serial: self.serial,
+                    }),
+                }
+                Some(Ok(self.serial))
+            }
+            r => {
+                let s = Session { proto: p, state: 0, ids, keys, vars, last_us: time_us, serial: 0 };
+                Some(Err(Box::new(self.violation_for(&s, role, msg, r, time_us, true))))
+            }
+        }
+    }
+
+    fn completable(&self, i: usize) -> bool {
+        let s = &self.sessions[i];
+        let p = &self.set.protocols[s.proto];
+        match &p.states[s.state].complete_when {
+            None => false,
+            Some(pred) => {
+                let env = Env {
+                    payload: &[],
+                    fields: &[],
+                    vars: &s.vars,
+                    consts: &self.consts,
+                    keys: &s.keys,
+                    vehicle: self.tracker.state(vehicle_sys(p, &s.ids)),
+                };
+                holds(pred, &env)
+            }
+        }
+    }
+
+    /// Removes session `i`, counting it as completed (state complete), unfinished (`at_end`) or abandoned.
+    pub(super) fn close(&mut self, i: usize, at_end: bool) {
+        let done = self.completable(i);
+        let s = self.sessions.swap_remove(i);
+        let st = &mut self.stats[s.proto];
+        if done {
+            st.completed += 1;
+        } else if at_end {
+            st.unfinished += 1;
+        } else {
+            st.abandoned += 1;
+        }
+    }
+
+    fn session_violation(&self, i: usize, role: usize, msg: &MessageView, r: StepResult, time_us: u64) -> Violation {
+        self.violation_for(&self.sessions[i], role, msg, r, time_us, false)
+    }
+}

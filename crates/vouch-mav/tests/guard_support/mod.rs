@@ -1,0 +1,68 @@
+//! Shared helpers of the guard tests: loopback sockets with bounded waits, and frames produced by
+//! pymavlink 2.4.50 (MAVLINK20=1) so that the expected bytes do not come from the code under test.
+#![allow(dead_code)]
+
+use std::net::{SocketAddr, UdpSocket};
+use std::time::{Duration, Instant};
+
+/// HEARTBEAT from 255/230 (type 6 GCS, autopilot 8), unsigned, seq 0: pymavlink
+/// `heartbeat_encode(6, 8, 0, 0, 0)`.
+pub const GCS_HEARTBEAT: &str = "fd09000000ffe60000000000000006080000038751";
+/// STATUSTEXT{4, "vouch: hi"} from 1/191: pymavlink `statustext_encode(4, b"vouch: hi")`.
+pub const STATUSTEXT_FRAME: &str = "fd0a00000001bffd000004766f7563683a20686985e7";
+/// Signed frames, key bytes 0..=31, link id 7, timestamps 300000000000 and +1 (pymavlink signing).
+pub const SIGNED_MISSION_COUNT: &str = "fd04010000ffe62c000064000101f8be0700b864d94500f16e608ca27f";
+pub const SIGNED_HEARTBEAT: &str = "fd09010000ffe600000000000000060800000360a90701b864d945008f9956aa9a36";
+
+pub fn hex(s: &str) -> Vec<u8> {
+    (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("test hex")).collect()
+}
+
+pub fn key_0_to_31() -> [u8; 32] {
+    let mut k = [0u8; 32];
+    for (i, b) in k.iter_mut().enumerate() {
+        *b = i as u8;
+    }
+    k
+}
+
+pub fn udp() -> UdpSocket {
+    let s = UdpSocket::bind("127.0.0.1:0").expect("bind loopback");
+    s.set_read_timeout(Some(Duration::from_millis(50))).expect("timeout");
+    s
+}
+
+/// The guard binds `0.0.0.0:port` for udpout sockets; tests always talk to 127.0.0.1.
+pub fn loopback(a: SocketAddr) -> SocketAddr {
+    SocketAddr::from(([127, 0, 0, 1], a.port()))
+}
+
+/// Receives datagrams for at most `wait`, returning all of them.
+pub fn drain(s: &UdpSocket, wait: Duration) -> Vec<Vec<u8>> {
+    let end = Instant::now() + wait;
+    let mut out = vec![];
+    let mut buf = [0u8; 2048];
+    while Instant::now() < end {
+        if let Ok((n, _)) = s.recv_from(&mut buf) {
+            out.push(buf[..n].to_vec());
+        }
+    }
+    out
+}
+
+/// Receives one datagram within `wait`.
+pub fn recv_one(s: &UdpSocket, wait: Duration) -> Option<Vec<u8>> {
+    let end = Instant::now() + wait;
+    let mut buf = [0u8; 2048];
+    while Instant::now() < end {
+        if let Ok((n, _)) = s.recv_from(&mut buf) {
+            return Some(buf[..n].to_vec());
+        }
+    }
+    None
+}
+/// COMMAND_LONG DO_PARACHUTE (208) RELEASE (param1 = 2) to 1/1 from 255/230:
+/// pymavlink `command_long_encode(1, 1, 208, 0, 2, 0, 0, 0, 0, 0, 0)`.
+pub const PARACHUTE_RELEASE: &str = "fd20000000ffe64c000000000040000000000000000000000000000000000000000000000000d0000101a15d";
+/// HEARTBEAT from the vehicle 1/1 (quadrotor, ArduPilot): `heartbeat_encode(2, 3, 0, 0, 4)`.
+pub const VEHICLE_HEARTBEAT: &str = "fd0900000001010000000000000002030004034ad7";

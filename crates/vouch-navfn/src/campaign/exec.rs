@@ -1,0 +1,210 @@
+//! Running one case with the campaign's observer: the search-trace properties are checked while
+//! NavFn runs (through the core's zero-cost `SearchObserver` hook), and the per-cycle trace is
+//! recorded when asked for.
+
+use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
+use crate::campaign::trace::{Trace, TraceDetail, TraceRecorder};
+use crate::checks::{check_plan, PlanView, Violation as PlanViolation};
+use crate::core::{Algo, Cell, CycleView, NavFn, PathStartView, PropagationEnd, PropagationEndView, SearchObserver, POT_HIGH};
+use crate::suite_run::{CaseError, CaseOutcome, CaseRunner};
+
+/// Which call sequence (golden/README.md "Modes"); the campaign runs cell-level modes only.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum RunMode {
+    /// The paper's harness: A*, no swap, `calcPath(4*nx)`.
+    Paper,
+    /// The planner's cell-level call sequence with `atStart` Dijkstra.
+    NavfnDijkstra,
+    /// The planner's cell-level call sequence with A*.
+    NavfnAstar,
+}
+
+impl RunMode {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "paper" => Some(RunMode::Paper),
+            "navfn" | "navfn-dijkstra" | "dijkstra" => Some(RunMode::NavfnDijkstra),
+            "navfn-astar" | "astar" => Some(RunMode::NavfnAstar),
+            _ => None,
+        }
+    }
+    /// `--mode`/`--algo` arguments of the oracle contract.
+    pub fn oracle_args(self) -> &'static [&'static str] {
+        match self {
+            RunMode::Paper => &["--mode", "paper"],
+            RunMode::NavfnDijkstra => &["--mode", "navfn", "--algo", "dijkstra"],
+            RunMode::NavfnAstar => &["--mode", "navfn", "--algo", "astar"],
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            RunMode::Paper => "paper",
+            RunMode::NavfnDijkstra => "navfn-dijkstra",
+            RunMode::NavfnAstar => "navfn-astar",
+        }
+    }
+}
+
+/// First violation of a search-trace property.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Violation {
+    pub property: String,
+    pub detail: String,
+}
+
+/// The observer of one case: property checks, optional trace.
+pub struct CaseObserver<'a> {
+    /// NavFn costs as set-up leaves them (border ring 254).
+    costs: &'a [u8],
+    pub violations: Vec<Violation>,
+    pub trace: Option<TraceRecorder>,
+    pub end: Option<(PropagationEnd, usize)>,
+    /// Potential of the NavFn start cell when path extraction began.
+    pub pot_at_path_start: Option<f32>,
+    /// Largest total buffer occupancy seen (the paper's 10,000 capacity is never approached).
+    pub max_occupancy: usize,
+}
+
+impl<'a> CaseObserver<'a> {
+    pub fn new(costs: &'a [u8], trace: Option<TraceDetail>) -> Self {
+        CaseObserver {
+            costs,
+            violations: Vec::new(),
+            trace: trace.map(TraceRecorder::new),
+            end: None,
+            pot_at_path_start: None,
+            max_occupancy: 0,
+        }
+    }
+
+    fn check_buffer(&mut self, cycle: usize, name: &str, cells: &[i32]) {
+        if !self.violations.is_empty() {
+            return; // the first violation is enough; keep the hot loop cheap
+        }
+        for &c in cells {
+            let bad = usize::try_from(c).ok().and_then(|i| self.costs.get(i)).is_none_or(|&cost| cost >= OBSTACLE);
+            if bad {
+                self.violations.push(Violation {
+                    property: "obstacle_free_queues".into(),
+                    detail: format!("cycle {cycle}: {name} buffer holds cell {c} of cost ≥ 254"),
+                });
+                return;
+            }
+        }
+    }
+}
+
+impl SearchObserver for CaseObserver<'_> {
+    fn on_cycle(&mut self, v: &CycleView<'_>) {
+        self.max_occupancy = self.max_occupancy.max(v.current.len() + v.next.len() + v.overflow.len());
+        self.check_buffer(v.cycle, "current", v.current);
+        self.check_buffer(v.cycle, "next", v.next);
+        self.check_buffer(v.cycle, "overflow", v.overflow);
+        if let Some(t) = &mut self.trace {
+            t.on_cycle(v);
+        }
+    }
+    fn on_propagation_end(&mut self, v: &PropagationEndView<'_>) {
+        self.end = Some((v.end, v.cycles));
+        // Pushes of the last cycle are only visible here.
+        self.check_buffer(v.cycles, "current (final)", v.current);
+        self.check_buffer(v.cycles, "next (final)", v.next);
+        self.check_buffer(v.cycles, "overflow (final)", v.overflow);
+        if let Some(t) = &mut self.trace {
+            t.on_propagation_end(v);
+        }
+    }
+    fn on_path_start(&mut self, v: &PathStartView<'_>) {
+        self.pot_at_path_start = v.potential.get(v.start_cell).copied();
+    }
+}
+
+/// Everything the campaign keeps of one run.
+#[derive(Clone, Debug)]
+pub struct CaseRun {
+    pub outcome: CaseOutcome,
+    /// How propagation ended and after how many cycles.
+    pub end: Option<(PropagationEnd, usize)>,
+    pub violations: Vec<Violation>,
+    pub trace: Option<Trace>,
+    pub max_occupancy: usize,
+}
+
+/// NavFn start and goal of a case in `mode` (the planner sequence swaps them).
+pub fn navfn_ends(mode: RunMode, c: &Case) -> (Cell, Cell) {
+    let from = Cell::new(c.x0 as usize, c.y0 as usize);
+    let to = Cell::new(c.x1 as usize, c.y1 as usize);
+    match mode {
+        RunMode::Paper => (from, to),
+        _ => (to, from),
+    }
+}
+
+/// Run one case of `m` on `runner`. `set_up_costs` must be `m.costs` with the border stamped.
+pub fn run_case(
+    runner: &mut CaseRunner,
+    m: &SuiteMap,
+    set_up_costs: &[u8],
+    case: &Case,
+    mode: RunMode,
+    trace: Option<TraceDetail>,
+) -> Result<CaseRun, CaseError> {
+    let mut obs = CaseObserver::new(set_up_costs, trace);
+    let (w, h) = (m.width as usize, m.height as usize);
+    let from = Cell::new(case.x0 as usize, case.y0 as usize);
+    let to = Cell::new(case.x1 as usize, case.y1 as usize);
+    let outcome = match mode {
+        RunMode::Paper => runner.run_paper(&m.costs, w, h, from, to, &mut obs)?,
+        RunMode::NavfnDijkstra => {
+            runner.run_navfn(&m.costs, w, h, crate::suite_run::CostInput::Raw, Algo::Dijkstra, from, to, &mut obs)?
+        }
+        RunMode::NavfnAstar => {
+            runner.run_navfn(&m.costs, w, h, crate::suite_run::CostInput::Raw, Algo::Astar, from, to, &mut obs)?
+        }
+    };
+    let mut violations = std::mem::take(&mut obs.violations);
+    // No path without finite potential (the paper's (¬PathComputed) W NonInfinitePotAtInit):
+    // a non-empty path implies the start potential was finite when extraction began.
+    if outcome.len > 0 && !obs.pot_at_path_start.is_some_and(|p| p < POT_HIGH) {
+        violations.push(Violation {
+            property: "no_path_without_finite_potential".into(),
+            detail: format!("path of {} points from a start of potential {:?}", outcome.len, obs.pot_at_path_start),
+        });
+    }
+    Ok(CaseRun {
+        outcome,
+        end: obs.end,
+        violations,
+        trace: obs.trace.map(|t| t.trace),
+        max_occupancy: obs.max_occupancy,
+    })
+}
+
+/// Names of the run-time plan checks of the core (`crate::checks`), one per property.
+pub const PLAN_CHECKS: [&str; 5] =
+    ["valid_path", "finite_potential_path", "position_safe", "progress", "path_end_points"];
+
+fn plan_check_name(v: &PlanViolation) -> &'static str {
+    match v {
+        PlanViolation::PoseInObstacle { .. } => "valid_path",
+        PlanViolation::PoseOnUnreachedCell { .. } => "finite_potential_path",
+        PlanViolation::PotentialOnObstacle { .. } | PlanViolation::SizeMismatch { .. } => "position_safe",
+        PlanViolation::NoProgress { .. } => "progress",
+        PlanViolation::WrongFirstPoint { .. } | PlanViolation::WrongLastPoint { .. } => "path_end_points",
+    }
+}
+
+/// The core's run-time plan checks (the paper's Dafny properties `ValidPath`,
+/// `FinitePotentialPath`, `PositionSafe`, `Progress`, plus the end points) on the last plan of
+/// `nav`, as campaign violations (one per property, the first of each).
+pub fn plan_checks(nav: &NavFn) -> Vec<Violation> {
+    let report = check_plan(&PlanView::of(nav));
+    let mut out: Vec<Violation> = Vec::new();
+    for v in &report.violations {
+        let name = plan_check_name(v);
+        if !out.iter().any(|o| o.property == name) {
+            out.push(Violation { property: name.into(), detail: v.to_string() });
+        }
+    }
+    out
+}

@@ -1,0 +1,228 @@
+//! Optimality analysis: a cost model shared by a grid optimum and NavFn's path.
+//!
+//! **Cost model** (documented in docs/navfn-campaign.md):
+//! * The map is the NavFn cost array (50..=253 traversable, 254 obstacle; the border is 254).
+//! * A *grid path* moves between 8-connected traversable cells. A move from cell `a` to cell `b`
+//!   costs `len(a,b) · (cost[a] + cost[b]) / 2`, with `len` = 1 (orthogonal) or √2 (diagonal).
+//!   Diagonal moves between two obstacle corners are allowed, because NavFn's grid-following
+//!   fallback may take them too; the optimum is therefore a lower bound for such paths.
+//! * The **optimum** is the least grid-path cost from start to goal (Dijkstra in f64).
+//! * NavFn's path (a polyline of float points) costs `Σ |p_{i+1} − p_i| · (c(p_i) + c(p_{i+1})) / 2`
+//!   where `c(p)` is the cost of the cell `(round(x), round(y))` (half away from zero).
+//!   On a grid path this is exactly the grid cost, so the two are comparable.
+//! * Any-angle paths can be cheaper than the 8-connected optimum by up to the octile/Euclidean
+//!   ratio (≤ 8.24 %), so small negative excesses are expected on open maps.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use crate::campaign::grid::OBSTACLE;
+
+const SQRT2: f64 = std::f64::consts::SQRT_2;
+
+/// Result of the grid optimum: cost and the cell sequence (start first), or `None` if the goal
+/// is not 8-connected to the start.
+#[derive(Clone, Debug)]
+pub struct Optimum {
+    pub cost: f64,
+    pub cells: Vec<(u32, u32)>,
+}
+
+#[derive(PartialEq)]
+struct Entry {
+    cost: f64,
+    cell: usize,
+}
+impl Eq for Entry {}
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        // Min-heap on cost; ties by cell index for determinism.
+        o.cost.total_cmp(&self.cost).then_with(|| o.cell.cmp(&self.cell))
+    }
+}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+/// 8-connected Dijkstra from `source` under the campaign cost model. Stops early once `target`
+/// is settled (if given). Returns the distance and predecessor arrays (`INFINITY`/`usize::MAX`
+/// for cells not reached). Obstacle sources reach nothing.
+pub fn dijkstra(costs: &[u8], w: usize, h: usize, source: usize, target: Option<usize>) -> (Vec<f64>, Vec<usize>) {
+    let n = w * h;
+    let mut dist = vec![f64::INFINITY; n];
+    let mut prev = vec![usize::MAX; n];
+    if source >= n || costs.len() != n || costs[source] >= OBSTACLE {
+        return (dist, prev);
+    }
+    let mut heap = BinaryHeap::new();
+    dist[source] = 0.0;
+    heap.push(Entry { cost: 0.0, cell: source });
+    while let Some(Entry { cost, cell }) = heap.pop() {
+        if cost > dist[cell] {
+            continue;
+        }
+        if Some(cell) == target {
+            break;
+        }
+        let (x, y) = ((cell % w) as i64, (cell / w) as i64);
+        for dy in -1i64..=1 {
+            for dx in -1i64..=1 {
+                if dx == 0 && dy == 0 {
+                    continue;
+                }
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let nb = ny as usize * w + nx as usize;
+                if costs[nb] >= OBSTACLE {
+                    continue;
+                }
+                let len = if dx != 0 && dy != 0 { SQRT2 } else { 1.0 };
+                let c = cost + len * (f64::from(costs[cell]) + f64::from(costs[nb])) / 2.0;
+                if c < dist[nb] {
+                    dist[nb] = c;
+                    prev[nb] = cell;
+                    heap.push(Entry { cost: c, cell: nb });
+                }
+            }
+        }
+    }
+    (dist, prev)
+}
+
+/// Least grid-path cost and cells from `start` to `goal` (start first), or `None` if the goal
+/// is not 8-connected to the start or either end is an obstacle or outside the map.
+/// `start == goal` gives cost 0 with a one-cell path.
+pub fn grid_optimum(costs: &[u8], w: u32, h: u32, start: (u32, u32), goal: (u32, u32)) -> Option<Optimum> {
+    let (wu, hu) = (w as usize, h as usize);
+    if start.0 >= w || start.1 >= h || goal.0 >= w || goal.1 >= h {
+        return None;
+    }
+    let s = start.1 as usize * wu + start.0 as usize;
+    let g = goal.1 as usize * wu + goal.0 as usize;
+    let (dist, prev) = dijkstra(costs, wu, hu, s, Some(g));
+    if costs.get(g).is_none_or(|&c| c >= OBSTACLE) || !dist[g].is_finite() {
+        return None;
+    }
+    let mut cells = vec![(goal.0, goal.1)];
+    let mut c = g;
+    while c != s {
+        c = prev[c];
+        cells.push(((c % wu) as u32, (c / wu) as u32));
+    }
+    cells.reverse();
+    Some(Optimum { cost: dist[g], cells })
+}
+
+/// Cost of the cell a float point lies in (nearest cell centre), 254 outside the map.
+fn point_cell_cost(costs: &[u8], w: u32, h: u32, p: (f32, f32)) -> f64 {
+    let (x, y) = (p.0.round(), p.1.round());
+    if x < 0.0 || y < 0.0 || x >= w as f32 || y >= h as f32 {
+        return f64::from(OBSTACLE);
+    }
+    f64::from(costs[y as usize * w as usize + x as usize])
+}
+
+/// Cost of a float polyline in the campaign model (see module doc).
+pub fn path_cost(costs: &[u8], w: u32, h: u32, path: &[(f32, f32)]) -> f64 {
+    let mut total = 0.0;
+    for seg in path.windows(2) {
+        let (a, b) = (seg[0], seg[1]);
+        let dx = f64::from(b.0) - f64::from(a.0);
+        let dy = f64::from(b.1) - f64::from(a.1);
+        let len = (dx * dx + dy * dy).sqrt();
+        total += len * (point_cell_cost(costs, w, h, a) + point_cell_cost(costs, w, h, b)) / 2.0;
+    }
+    total
+}
+
+/// Shape statistics of one path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Shape {
+    /// Turns sharper than 90° (consecutive non-zero segments with negative dot product).
+    pub obtuse_turns: u32,
+    /// The sharpest turn, degrees (0 = straight on, 180 = reversal).
+    pub max_turn_deg: f64,
+    /// Points equal (exact float equality of both coordinates) to the point two before —
+    /// NavFn's own oscillation criterion.
+    pub oscillations: u32,
+}
+
+/// Turn and oscillation statistics of a path.
+pub fn path_shape(path: &[(f32, f32)]) -> Shape {
+    let mut s = Shape::default();
+    for i in 2..path.len() {
+        if path[i] == path[i - 2] {
+            s.oscillations += 1;
+        }
+    }
+    // Drop zero-length segments so that a repeated point does not hide a turn.
+    let mut pts: Vec<(f64, f64)> = Vec::with_capacity(path.len());
+    for p in path {
+        let q = (f64::from(p.0), f64::from(p.1));
+        if pts.last() != Some(&q) {
+            pts.push(q);
+        }
+    }
+    for w in pts.windows(3) {
+        let u = (w[1].0 - w[0].0, w[1].1 - w[0].1);
+        let v = (w[2].0 - w[1].0, w[2].1 - w[1].1);
+        let dot = u.0 * v.0 + u.1 * v.1;
+        let nu = (u.0 * u.0 + u.1 * u.1).sqrt();
+        let nv = (v.0 * v.0 + v.1 * v.1).sqrt();
+        let cos = (dot / (nu * nv)).clamp(-1.0, 1.0);
+        let deg = cos.acos().to_degrees();
+        if deg > s.max_turn_deg {
+            s.max_turn_deg = deg;
+        }
+        if dot < 0.0 {
+            s.obtuse_turns += 1;
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn optimum_on_free_3x3_interior_is_octile() {
+        // 5x5 map, border 254, interior 50: corner to corner of the interior = 2 diagonals.
+        let mut c = vec![50u8; 25];
+        for i in 0..5 {
+            c[i] = 254;
+            c[20 + i] = 254;
+            c[i * 5] = 254;
+            c[i * 5 + 4] = 254;
+        }
+        let o = grid_optimum(&c, 5, 5, (1, 1), (3, 3)).expect("reachable");
+        assert!((o.cost - 2.0 * SQRT2 * 50.0).abs() < 1e-9);
+        assert_eq!(o.cells.len(), 3);
+        assert!(grid_optimum(&c, 5, 5, (1, 1), (0, 0)).is_none());
+        let same = grid_optimum(&c, 5, 5, (2, 2), (2, 2)).expect("trivial");
+        assert_eq!(same.cost, 0.0);
+    }
+
+    #[test]
+    fn path_cost_of_grid_path_equals_grid_cost() {
+        let c = vec![50u8, 100, 150, 200];
+        let p = [(0.0f32, 0.0f32), (1.0, 0.0), (1.0, 1.0)];
+        // (50+100)/2 + (100+200)/2 = 75 + 150
+        assert!((path_cost(&c, 2, 2, &p) - 225.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn shape_counts_reversal_and_oscillation() {
+        let p = [(0.0f32, 0.0f32), (1.0, 0.0), (0.0, 0.0), (0.0, 1.0)];
+        let s = path_shape(&p);
+        assert_eq!(s.oscillations, 1);
+        assert_eq!(s.obtuse_turns, 1);
+        assert!((s.max_turn_deg - 180.0).abs() < 1e-9);
+        let straight = path_shape(&[(0.0, 0.0), (0.5, 0.0), (1.0, 0.0)]);
+        assert_eq!(straight, Shape::default());
+    }
+}

@@ -1,0 +1,419 @@
+//! The campaign report: mergeable per-category statistics, counterexamples, JSON, shards,
+//! `report merge`, and the human summary table.
+//!
+//! Every statistic is a count, a sum, a maximum or a fixed-bin histogram, so that the report
+//! of N shards merged equals (up to float summation order) the report of one unsharded run.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::{Deserialize, Serialize};
+
+/// `--shard I/N`: this process handles the cases whose global index `g` (file order over the
+/// sorted suite tree, then case order) satisfies `g % N == I`. Round-robin keeps shards
+/// balanced even though maps differ in size, and needs no coordination between machines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    pub index: u32,
+    pub count: u32,
+}
+
+impl Shard {
+    pub const ALL: Shard = Shard { index: 0, count: 1 };
+
+    /// Parse `I/N` with `0 <= I < N`.
+    pub fn parse(s: &str) -> Result<Shard, String> {
+        let (i, n) = s.split_once('/').ok_or_else(|| format!("shard `{s}`: expected I/N, e.g. 0/4"))?;
+        let index: u32 = i.trim().parse().map_err(|_| format!("shard `{s}`: bad index `{i}`"))?;
+        let count: u32 = n.trim().parse().map_err(|_| format!("shard `{s}`: bad count `{n}`"))?;
+        if count == 0 || index >= count {
+            return Err(format!("shard `{s}`: need 0 <= I < N"));
+        }
+        Ok(Shard { index, count })
+    }
+
+    pub fn owns(self, global_case: u64) -> bool {
+        global_case % u64::from(self.count) == u64::from(self.index)
+    }
+}
+
+/// Pass/fail counter of one check.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PassFail {
+    pub pass: u64,
+    pub fail: u64,
+}
+
+impl PassFail {
+    pub fn record(&mut self, ok: bool) {
+        if ok {
+            self.pass += 1
+        } else {
+            self.fail += 1
+        }
+    }
+    fn merge(&mut self, o: &PassFail) {
+        self.pass += o.pass;
+        self.fail += o.fail;
+    }
+}
+
+/// Histogram bins of the optimality ratio `navfn_cost / optimal_cost`.
+pub const RATIO_BINS: [f64; 9] = [0.95, 1.0, 1.01, 1.05, 1.0825, 1.10, 1.25, 1.5, 2.0];
+
+/// Optimality statistics over cases where NavFn found a path and start ≠ goal.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct OptimalityStats {
+    /// Paths compared with the optimum.
+    pub compared: u64,
+    pub navfn_cost_sum: f64,
+    pub optimal_cost_sum: f64,
+    /// Largest `navfn − optimal` and the smallest (negative: any-angle path beat the grid).
+    pub excess_max: f64,
+    pub excess_min: f64,
+    pub ratio_max: f64,
+    /// Counts of ratios below each of [`RATIO_BINS`], plus one more for "≥ last".
+    pub ratio_hist: Vec<u64>,
+    /// Paths with at least one turn sharper than 90° (oscillating paths excluded, as in the paper).
+    pub obtuse_paths: u64,
+    /// Paths in which NavFn's oscillation test fired (recorded points, found or not).
+    pub oscillating_paths: u64,
+    /// Found paths that are counterexamples to optimality (ratio above the threshold).
+    pub suboptimal_paths: u64,
+}
+
+impl OptimalityStats {
+    pub fn record(&mut self, navfn: f64, optimal: f64) {
+        if self.ratio_hist.is_empty() {
+            self.ratio_hist = vec![0; RATIO_BINS.len() + 1];
+            self.excess_min = f64::INFINITY;
+        }
+        self.compared += 1;
+        self.navfn_cost_sum += navfn;
+        self.optimal_cost_sum += optimal;
+        let excess = navfn - optimal;
+        self.excess_max = self.excess_max.max(excess);
+        self.excess_min = self.excess_min.min(excess);
+        let ratio = if optimal > 0.0 { navfn / optimal } else { 1.0 };
+        self.ratio_max = self.ratio_max.max(ratio);
+        let bin = RATIO_BINS.iter().position(|&b| ratio < b).unwrap_or(RATIO_BINS.len());
+        self.ratio_hist[bin] += 1;
+    }
+
+    fn merge(&mut self, o: &OptimalityStats) {
+        if o.compared > 0 {
+            if self.ratio_hist.is_empty() {
+                self.ratio_hist = vec![0; RATIO_BINS.len() + 1];
+                self.excess_min = f64::INFINITY;
+            }
+            for (a, b) in self.ratio_hist.iter_mut().zip(&o.ratio_hist) {
+                *a += b;
+            }
+            self.excess_max = self.excess_max.max(o.excess_max);
+            self.excess_min = self.excess_min.min(o.excess_min);
+            self.ratio_max = self.ratio_max.max(o.ratio_max);
+        }
+        self.compared += o.compared;
+        self.navfn_cost_sum += o.navfn_cost_sum;
+        self.optimal_cost_sum += o.optimal_cost_sum;
+        self.obtuse_paths += o.obtuse_paths;
+        self.oscillating_paths += o.oscillating_paths;
+        self.suboptimal_paths += o.suboptimal_paths;
+    }
+}
+
+/// Outcome counts (golden/README.md "Outcome statistics").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Outcomes {
+    pub found: u64,
+    pub start_is_goal: u64,
+    /// Start not reached and not 4-connected to the goal (truly unreachable).
+    pub unreachable: u64,
+    /// Start connected but not reached: the propagation cycle limit cut the search short.
+    pub cycle_limit: u64,
+    /// Start reached but `calcPath` failed (iterations exhausted, oscillation exit, …).
+    pub path_failed: u64,
+}
+
+impl Outcomes {
+    fn merge(&mut self, o: &Outcomes) {
+        self.found += o.found;
+        self.start_is_goal += o.start_is_goal;
+        self.unreachable += o.unreachable;
+        self.cycle_limit += o.cycle_limit;
+        self.path_failed += o.path_failed;
+    }
+}
+
+/// Everything counted for one category.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CategoryStats {
+    pub maps: u64,
+    pub cases: u64,
+    pub outcomes: Outcomes,
+    /// Search-trace, final-state and run-time checks: name → pass/fail.
+    pub checks: BTreeMap<String, PassFail>,
+    /// Metamorphic relations: name → held/violated (approximate ones are findings, not failures).
+    pub metamorphic: BTreeMap<String, PassFail>,
+    pub optimality: OptimalityStats,
+    /// Differential comparison with an oracle (when one was given): equal / different cases.
+    pub oracle: PassFail,
+    /// CPU time spent in this category's cases, summed over threads (seconds).
+    pub cpu_seconds: f64,
+    pub max_buffer_occupancy: u64,
+}
+
+impl CategoryStats {
+    pub fn check(&mut self, name: &str, ok: bool) {
+        self.checks.entry(name.to_string()).or_default().record(ok);
+    }
+    pub fn relation(&mut self, name: &str, ok: bool) {
+        self.metamorphic.entry(name.to_string()).or_default().record(ok);
+    }
+    pub fn merge(&mut self, o: &CategoryStats) {
+        self.maps += o.maps;
+        self.cases += o.cases;
+        self.outcomes.merge(&o.outcomes);
+        for (k, v) in &o.checks {
+            self.checks.entry(k.clone()).or_default().merge(v);
+        }
+        for (k, v) in &o.metamorphic {
+            self.metamorphic.entry(k.clone()).or_default().merge(v);
+        }
+        self.optimality.merge(&o.optimality);
+        self.oracle.merge(&o.oracle);
+        self.cpu_seconds += o.cpu_seconds;
+        self.max_buffer_occupancy = self.max_buffer_occupancy.max(o.max_buffer_occupancy);
+    }
+}
+
+/// One noteworthy case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Finding {
+    /// `check_failed`, `relation_failed`, `oracle_mismatch`, `suboptimal`, `obtuse`, `oscillation`.
+    pub kind: String,
+    pub category: String,
+    pub map: String,
+    pub case: u64,
+    /// `[x0, y0, x1, y1]`.
+    pub coords: [u32; 4],
+    pub detail: String,
+    /// Ratio navfn/optimal for optimality findings (used to rank them).
+    pub score: f64,
+    /// PNG written for it, if any.
+    pub picture: Option<String>,
+}
+
+/// How many findings of each kind a report keeps (the worst ones by score).
+pub const FINDINGS_PER_KIND: usize = 25;
+
+/// The JSON report.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Report {
+    pub suite: String,
+    pub mode: String,
+    /// Shards merged into this report (one entry per shard run).
+    pub shards: Vec<Shard>,
+    pub cases: u64,
+    /// Wall time of each shard run, seconds.
+    pub wall_seconds: Vec<f64>,
+    pub threads: Vec<usize>,
+    pub categories: BTreeMap<String, CategoryStats>,
+    pub findings: Vec<Finding>,
+}
+
+impl Report {
+    pub fn total(&self) -> CategoryStats {
+        let mut t = CategoryStats::default();
+        for c in self.categories.values() {
+            t.merge(c);
+        }
+        t
+    }
+
+    /// Number of failed hard checks (search-trace properties, exact relations, oracle).
+    pub fn failures(&self) -> u64 {
+        let t = self.total();
+        let checks: u64 = t.checks.values().map(|p| p.fail).sum();
+        let exact: u64 = t.metamorphic.iter().filter(|(k, _)| !k.starts_with("approx")).map(|(_, p)| p.fail).sum();
+        checks + exact + t.oracle.fail
+    }
+
+    /// Keep the [`FINDINGS_PER_KIND`] highest-scoring findings of each kind, in a stable order.
+    pub fn trim_findings(&mut self) {
+        self.findings.sort_by(|a, b| {
+            a.kind
+                .cmp(&b.kind)
+                .then(b.score.total_cmp(&a.score))
+                .then(a.category.cmp(&b.category))
+                .then(a.map.cmp(&b.map))
+                .then(a.case.cmp(&b.case))
+        });
+        let mut kept = Vec::new();
+        let mut count: BTreeMap<String, usize> = BTreeMap::new();
+        for f in self.findings.drain(..) {
+            let n = count.entry(f.kind.clone()).or_default();
+            if *n < FINDINGS_PER_KIND {
+                *n += 1;
+                kept.push(f);
+            }
+        }
+        self.findings = kept;
+    }
+
+    /// `vouch navfn report merge`: join shard reports of the same suite and mode.
+    pub fn merge(reports: &[Report]) -> Result<Report, String> {
+        let first = reports.first().ok_or("no reports to merge")?;
+        let mut out = Report { suite: first.suite.clone(), mode: first.mode.clone(), ..Report::default() };
+        for r in reports {
+            if r.suite != first.suite || r.mode != first.mode {
+                return Err(format!("cannot merge a report of `{}` ({}) with one of `{}` ({})", r.suite, r.mode, first.suite, first.mode));
+            }
+            for s in &r.shards {
+                if out.shards.contains(s) {
+                    return Err(format!("shard {}/{} appears twice", s.index, s.count));
+                }
+            }
+            out.shards.extend(r.shards.iter().copied());
+            out.cases += r.cases;
+            out.wall_seconds.extend(r.wall_seconds.iter().copied());
+            out.threads.extend(r.threads.iter().copied());
+            for (k, v) in &r.categories {
+                let e = out.categories.entry(k.clone()).or_default();
+                // A map seen by several shards is counted once per shard; keep the largest.
+                let maps = e.maps.max(v.maps);
+                e.merge(v);
+                e.maps = maps;
+            }
+            out.findings.extend(r.findings.iter().cloned());
+        }
+        out.shards.sort_by_key(|s| (s.count, s.index));
+        out.trim_findings();
+        Ok(out)
+    }
+
+    /// Whether the shards form a complete partition (every index of one count present once).
+    pub fn complete(&self) -> bool {
+        let Some(n) = self.shards.first().map(|s| s.count) else { return false };
+        self.shards.len() == n as usize && self.shards.iter().all(|s| s.count == n)
+    }
+}
+
+fn pct(part: u64, whole: u64) -> String {
+    if whole == 0 {
+        "-".into()
+    } else {
+        format!("{:.2}%", 100.0 * part as f64 / whole as f64)
+    }
+}
+
+/// The human summary: one row per category and a total row, then the checks.
+pub fn summary_table(r: &Report) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7} {:>7} {:>7} {:>7} {:>8}",
+        "category", "maps", "cases", "found", "s=g", "unrch", "cyclim", "pfail", "checks", "relation", "excess%", "ratioMx", "obtuse", "oscill", "cpu_s"
+    );
+    let mut rows: Vec<(String, CategoryStats)> = r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+    rows.push(("TOTAL".into(), r.total()));
+    for (name, c) in &rows {
+        let checks_fail: u64 = c.checks.values().map(|p| p.fail).sum();
+        let checks_all: u64 = c.checks.values().map(|p| p.pass + p.fail).sum();
+        let rel_fail: u64 = c.metamorphic.iter().filter(|(k, _)| !k.starts_with("approx")).map(|(_, p)| p.fail).sum();
+        let o = &c.optimality;
+        let excess = if o.optimal_cost_sum > 0.0 { 100.0 * (o.navfn_cost_sum / o.optimal_cost_sum - 1.0) } else { 0.0 };
+        let _ = writeln!(
+            s,
+            "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7.2} {:>7.3} {:>7} {:>7} {:>8.3}",
+            name,
+            c.maps,
+            c.cases,
+            c.outcomes.found,
+            c.outcomes.start_is_goal,
+            c.outcomes.unreachable,
+            c.outcomes.cycle_limit,
+            c.outcomes.path_failed,
+            if checks_fail == 0 { format!("ok{}", if checks_all == 0 { "?" } else { "" }) } else { format!("{checks_fail}F") },
+            if rel_fail == 0 { "ok".to_string() } else { format!("{rel_fail}F") },
+            excess,
+            o.ratio_max,
+            pct(o.obtuse_paths, c.cases),
+            pct(o.oscillating_paths, c.cases),
+            c.cpu_seconds,
+        );
+    }
+    let t = r.total();
+    let _ = writeln!(s, "\nchecks (pass / fail):");
+    for (k, v) in &t.checks {
+        let _ = writeln!(s, "  {k:<34} {:>9} / {}", v.pass, v.fail);
+    }
+    if !t.metamorphic.is_empty() {
+        let _ = writeln!(s, "metamorphic relations (held / violated; `approx_*` are findings, not failures):");
+        for (k, v) in &t.metamorphic {
+            let _ = writeln!(s, "  {k:<34} {:>9} / {}", v.pass, v.fail);
+        }
+    }
+    if t.oracle.pass + t.oracle.fail > 0 {
+        let _ = writeln!(s, "oracle: {} equal, {} different", t.oracle.pass, t.oracle.fail);
+    }
+    let o = &t.optimality;
+    let _ = writeln!(
+        s,
+        "optimality: {} paths compared; obtuse turns in {} paths ({} of all cases; paper 1.91 %), oscillation in {} ({}; paper 0.13 %); {} paths above the counterexample ratio",
+        o.compared,
+        o.obtuse_paths,
+        pct(o.obtuse_paths, t.cases),
+        o.oscillating_paths,
+        pct(o.oscillating_paths, t.cases),
+        o.suboptimal_paths
+    );
+    if !o.ratio_hist.is_empty() {
+        let mut line = String::from("  ratio navfn/optimal:");
+        let mut lo = "0".to_string();
+        for (i, n) in o.ratio_hist.iter().enumerate() {
+            let hi = RATIO_BINS.get(i).map(|b| format!("{b}")).unwrap_or_else(|| "inf".into());
+            let _ = write!(line, " [{lo},{hi}):{n}");
+            lo = hi;
+        }
+        let _ = writeln!(s, "{line}");
+        let _ = writeln!(s, "  excess navfn−optimal: min {:.1}, max {:.1}", o.excess_min, o.excess_max);
+    }
+    let wall: f64 = r.wall_seconds.iter().copied().fold(0.0, f64::max);
+    let _ = writeln!(s, "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}", r.cases, r.shards.len(), wall, r.threads);
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_parse_and_ownership_partition_cases() {
+        assert!(Shard::parse("3/3").is_err());
+        assert!(Shard::parse("x").is_err());
+        let shards: Vec<Shard> = (0..4).map(|i| Shard::parse(&format!("{i}/4")).expect("valid")).collect();
+        for g in 0..1000u64 {
+            assert_eq!(shards.iter().filter(|s| s.owns(g)).count(), 1);
+        }
+    }
+
+    #[test]
+    fn merge_adds_counts_and_rejects_duplicates() {
+        let mut a = Report { suite: "s".into(), mode: "paper".into(), shards: vec![Shard { index: 0, count: 2 }], cases: 3, ..Report::default() };
+        let mut c = CategoryStats { maps: 1, cases: 3, ..Default::default() };
+        c.check("x", true);
+        c.optimality.record(110.0, 100.0);
+        a.categories.insert("free".into(), c);
+        let mut b = a.clone();
+        b.shards = vec![Shard { index: 1, count: 2 }];
+        let m = Report::merge(&[a.clone(), b]).expect("merges");
+        assert!(m.complete());
+        assert_eq!(m.cases, 6);
+        let f = &m.categories["free"];
+        assert_eq!(f.checks["x"], PassFail { pass: 2, fail: 0 });
+        assert_eq!(f.optimality.compared, 2);
+        assert_eq!(f.maps, 1);
+        assert!(Report::merge(&[a.clone(), a]).is_err());
+    }
+}

@@ -1,0 +1,113 @@
+//! Reading and writing suites in the paper's format (SEMANTICS.md §9):
+//! `<dir>/<category>/<map>/test.txt` + the map file it names (W·H bytes of NavFn costs).
+//!
+//! Reading goes through the core's reader (`maps::suite`); this module adds the category/map
+//! labels the campaign reports by, and the writer used by `suite gen`.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use crate::campaign::grid::{Case, SuiteMap};
+use crate::maps::{find_test_files, read_suite_file, MapError, SuiteFile};
+
+#[derive(Debug, thiserror::Error)]
+pub enum SuiteIoError {
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error(transparent)]
+    Map(#[from] MapError),
+    #[error("{path}:{line}: case {number}: a point lies outside the {width}x{height} map")]
+    Outside { path: PathBuf, line: usize, number: usize, width: usize, height: usize },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> SuiteIoError + '_ {
+    move |source| SuiteIoError::Io { path: path.to_path_buf(), source }
+}
+
+/// Convert the core reader's result into the campaign IR (cells truncated like the harness).
+pub fn from_suite_file(f: &SuiteFile, category: &str, name: &str) -> Result<SuiteMap, SuiteIoError> {
+    let mut cases = Vec::with_capacity(f.cases.len());
+    for c in &f.cases {
+        let ([x0, y0], [x1, y1]) = c.cells(f.width, f.height).ok_or_else(|| SuiteIoError::Outside {
+            path: f.test_path.clone(),
+            line: c.line,
+            number: c.number,
+            width: f.width,
+            height: f.height,
+        })?;
+        cases.push(Case::new(x0 as u32, y0 as u32, x1 as u32, y1 as u32));
+    }
+    Ok(SuiteMap {
+        category: category.to_string(),
+        name: name.to_string(),
+        width: f.width as u32,
+        height: f.height as u32,
+        costs: f.map.clone(),
+        cases,
+    })
+}
+
+/// Parse one `test.txt` (and load its map) with the core's reader (same comment rule, same
+/// located errors). `category` and `name` label the result.
+pub fn read_test_file(test_txt: &Path, category: &str, name: &str) -> Result<SuiteMap, SuiteIoError> {
+    let f = read_suite_file(test_txt)?;
+    from_suite_file(&f, category, name)
+}
+
+/// One map of a suite tree, not yet loaded.
+#[derive(Clone, Debug)]
+pub struct SuiteEntry {
+    pub category: String,
+    pub name: String,
+    pub test_txt: PathBuf,
+}
+
+/// List every `test.txt` under `dir` in sorted order (deterministic: shards depend on it).
+/// The category is the grand-parent folder name, the map name the parent folder name.
+pub fn list_suite(dir: &Path) -> Result<Vec<SuiteEntry>, SuiteIoError> {
+    let files = find_test_files(dir, "test.txt")?;
+    if files.is_empty() {
+        return Err(MapError::file(dir, "no test.txt found below this folder").into());
+    }
+    let name_of = |p: Option<&Path>| p.and_then(|p| p.file_name()).map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "-".into());
+    Ok(files
+        .into_iter()
+        .map(|t| {
+            let map_dir = t.parent();
+            SuiteEntry { category: name_of(map_dir.and_then(Path::parent)), name: name_of(map_dir), test_txt: t }
+        })
+        .collect())
+}
+
+/// Read a whole suite tree.
+pub fn read_suite(dir: &Path) -> Result<Vec<SuiteMap>, SuiteIoError> {
+    list_suite(dir)?.iter().map(|e| read_test_file(&e.test_txt, &e.category, &e.name)).collect()
+}
+
+/// The text of a `test.txt` for `m` (map file `map.bin`).
+pub fn test_txt_text(m: &SuiteMap) -> String {
+    let mut s = format!("{} {}\nmap.bin\n\n", m.width, m.height);
+    for c in &m.cases {
+        s.push_str(&format!("{} {} {} {}\n", c.x0, c.y0, c.x1, c.y1));
+    }
+    s
+}
+
+/// Write `m` as `<dir>/<category>/<name>/{test.txt,map.bin}`; returns the test file path.
+pub fn write_map(dir: &Path, m: &SuiteMap) -> Result<PathBuf, SuiteIoError> {
+    let d = dir.join(&m.category).join(&m.name);
+    fs::create_dir_all(&d).map_err(io_err(&d))?;
+    let bin = d.join("map.bin");
+    fs::write(&bin, &m.costs).map_err(io_err(&bin))?;
+    let t = d.join("test.txt");
+    fs::write(&t, test_txt_text(m)).map_err(io_err(&t))?;
+    Ok(t)
+}
+
+/// Write a whole suite.
+pub fn write_suite(dir: &Path, maps: &[SuiteMap]) -> Result<(), SuiteIoError> {
+    for m in maps {
+        write_map(dir, m)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,280 @@
+//! The NavFn numeric core: potential propagation (Dijkstra with the `atStart` stop, and A*)
+//! and path extraction, bit-exact with nav2's `navfn.cpp` (see `shared/navfn/SEMANTICS.md`).
+//!
+//! Memory layout: one flat array per quantity (`cost: Vec<u8>`, `pot/gx/gy: Vec<f32>`,
+//! `pending: Vec<bool>`) and three `Vec<i32>` priority buffers of fixed capacity. Nothing is
+//! allocated during a plan; a [`NavFn`] keeps its arrays between plans of the same map size.
+//!
+//! Float discipline: every operation is written in the exact order and width of
+//! SEMANTICS.md §4–6; `f64` appears only where the C++ evaluates in double. No `mul_add`.
+
+mod costs;
+pub mod numeric;
+pub mod observer;
+mod path;
+mod propagate;
+
+pub use costs::{ros_to_navfn_cost, ROS_COST_TABLE};
+pub use observer::{
+    CycleView, NoObserver, PathStartView, PropagationEnd, PropagationEndView, SearchObserver,
+};
+
+/// Obstacle / border cost; also the ±254 pseudo-gradient.
+pub const COST_OBS: u8 = 254;
+/// ROS costmap values ≥ 253 are obstacles in the ROS conversion.
+pub const COST_OBS_ROS: u8 = 253;
+/// ROS "no information".
+pub const COST_UNKNOWN_ROS: u8 = 255;
+/// Free-space cost; success threshold of path extraction; A* heuristic scale.
+pub const COST_NEUTRAL: u8 = 50;
+/// Potential of unreached cells (exactly representable in float32, bits `0x501502f9`).
+pub const POT_HIGH: f32 = 1.0e10;
+/// Capacity of each of the three priority buffers.
+pub const PRIORITY_BUF_SIZE: usize = 10_000;
+/// Threshold increment `priInc` (2·COST_NEUTRAL).
+pub const PRI_INC: f32 = 100.0;
+/// Initial threshold `curT`.
+pub const CUR_T_INIT: f32 = 254.0;
+
+/// Which propagation NavFn runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Algo {
+    /// `calcNavFnDijkstra` (with `atStart` chosen by the caller).
+    Dijkstra,
+    /// `calcNavFnAstar` / `propNavFnAstar`.
+    Astar,
+}
+
+/// A grid cell, `x` = column, `y` = row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+pub struct Cell {
+    pub x: usize,
+    pub y: usize,
+}
+
+impl Cell {
+    pub fn new(x: usize, y: usize) -> Self {
+        Cell { x, y }
+    }
+}
+
+/// Errors of the core API (all caused by caller input, never by the search itself).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CoreError {
+    #[error("map size {nx}x{ny} is not usable: NavFn needs at least 1x1 cells and fewer than 2^31")]
+    BadSize { nx: usize, ny: usize },
+    #[error("{what} cell ({x}, {y}) lies outside the {nx}x{ny} map")]
+    CellOutside { what: &'static str, x: usize, y: usize, nx: usize, ny: usize },
+    #[error("cost array has {got} bytes, the {nx}x{ny} map needs {want}")]
+    CostLength { got: usize, want: usize, nx: usize, ny: usize },
+}
+
+/// A NavFn instance: the arrays of `navfn.cpp` for one map size, reused between plans.
+pub struct NavFn {
+    pub(crate) nx: usize,
+    pub(crate) ny: usize,
+    pub(crate) ns: usize,
+    pub(crate) cost: Vec<u8>,
+    pub(crate) pot: Vec<f32>,
+    pub(crate) gx: Vec<f32>,
+    pub(crate) gy: Vec<f32>,
+    pub(crate) pending: Vec<bool>,
+    pub(crate) cur: Vec<i32>,
+    pub(crate) next: Vec<i32>,
+    pub(crate) over: Vec<i32>,
+    pub(crate) cur_t: f32,
+    pub(crate) start: Cell,
+    pub(crate) goal: Cell,
+    /// Points recorded by the last `calc_path`, also on failure (the C++ buffer).
+    pub(crate) path: Vec<[f32; 2]>,
+    /// Return value of the last `calc_path` (0 = failure).
+    pub(crate) path_len: usize,
+    pub(crate) last_path_cost: f32,
+    /// Threshold increment `priInc` (a NavFn member upstream; only perturbation tests change it).
+    pub(crate) pri_inc: f32,
+}
+
+impl NavFn {
+    /// Arrays for an `nx`×`ny` map (`setNavArr`). Costs start at COST_NEUTRAL.
+    pub fn new(nx: usize, ny: usize) -> Result<Self, CoreError> {
+        let ns = checked_size(nx, ny)?;
+        Ok(NavFn {
+            nx,
+            ny,
+            ns,
+            cost: vec![COST_NEUTRAL; ns],
+            pot: vec![POT_HIGH; ns],
+            gx: vec![0.0; ns],
+            gy: vec![0.0; ns],
+            pending: vec![false; ns],
+            cur: Vec::with_capacity(PRIORITY_BUF_SIZE),
+            next: Vec::with_capacity(PRIORITY_BUF_SIZE),
+            over: Vec::with_capacity(PRIORITY_BUF_SIZE),
+            cur_t: CUR_T_INIT,
+            start: Cell::new(0, 0),
+            goal: Cell::new(0, 0),
+            path: Vec::new(),
+            path_len: 0,
+            last_path_cost: POT_HIGH,
+            pri_inc: PRI_INC,
+        })
+    }
+
+    /// Make the arrays fit an `nx`×`ny` map; keeps the allocation when the size is unchanged.
+    /// Every later `setup` re-initialises what a plan reads, so reuse cannot leak state
+    /// between plans (the costs are the caller's to set).
+    pub fn resize(&mut self, nx: usize, ny: usize) -> Result<(), CoreError> {
+        if nx == self.nx && ny == self.ny {
+            return Ok(());
+        }
+        let ns = checked_size(nx, ny)?;
+        self.nx = nx;
+        self.ny = ny;
+        self.ns = ns;
+        for v in [&mut self.pot, &mut self.gx, &mut self.gy] {
+            v.clear();
+            v.resize(ns, 0.0);
+        }
+        self.cost.clear();
+        self.cost.resize(ns, COST_NEUTRAL);
+        self.pending.clear();
+        self.pending.resize(ns, false);
+        self.path.clear();
+        self.path_len = 0;
+        Ok(())
+    }
+
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+    /// NavFn start: where path extraction begins (the robot *goal* when driven by the planner).
+    pub fn start(&self) -> Cell {
+        self.start
+    }
+    /// NavFn goal: where propagation begins (potential 0).
+    pub fn goal(&self) -> Cell {
+        self.goal
+    }
+
+    /// `setCostmap(cmap, isROS=false)` without the PGM frame: the bytes are NavFn costs,
+    /// copied verbatim (the paper harness and the suite's `navfn` mode).
+    pub fn set_costs_raw(&mut self, costs: &[u8]) -> Result<(), CoreError> {
+        self.check_len(costs.len())?;
+        self.cost.copy_from_slice(costs);
+        Ok(())
+    }
+
+    /// `setCostmap(cmap, isROS=true, allow_unknown)`: ROS Costmap2D values → NavFn costs.
+    pub fn set_costs_ros(&mut self, ros: &[u8], allow_unknown: bool) -> Result<(), CoreError> {
+        self.check_len(ros.len())?;
+        for (c, &v) in self.cost.iter_mut().zip(ros) {
+            *c = ros_to_navfn_cost(v, allow_unknown);
+        }
+        Ok(())
+    }
+
+    fn check_len(&self, got: usize) -> Result<(), CoreError> {
+        if got != self.ns {
+            return Err(CoreError::CostLength { got, want: self.ns, nx: self.nx, ny: self.ny });
+        }
+        Ok(())
+    }
+
+    fn check_cell(&self, what: &'static str, c: Cell) -> Result<(), CoreError> {
+        if c.x >= self.nx || c.y >= self.ny {
+            return Err(CoreError::CellOutside { what, x: c.x, y: c.y, nx: self.nx, ny: self.ny });
+        }
+        Ok(())
+    }
+
+    /// `setStart`: the cell path extraction descends from.
+    pub fn set_start(&mut self, c: Cell) -> Result<(), CoreError> {
+        self.check_cell("NavFn start", c)?;
+        self.start = c;
+        Ok(())
+    }
+
+    /// `setGoal`: the cell propagation starts from.
+    pub fn set_goal(&mut self, c: Cell) -> Result<(), CoreError> {
+        self.check_cell("NavFn goal", c)?;
+        self.goal = c;
+        Ok(())
+    }
+
+    /// NavFn cost array (after `setup` the border ring holds 254).
+    pub fn costs(&self) -> &[u8] {
+        &self.cost
+    }
+    /// Potential array, row-major; unreached cells hold [`POT_HIGH`].
+    pub fn potential(&self) -> &[f32] {
+        &self.pot
+    }
+    /// Mutable potential (for tests that corrupt it on purpose).
+    pub fn potential_mut(&mut self) -> &mut [f32] {
+        &mut self.pot
+    }
+    /// The path of the last `calc_path`: its first `len` points (empty on failure).
+    pub fn path(&self) -> &[[f32; 2]] {
+        &self.path[..self.path_len]
+    }
+    /// Every point the last `calc_path` recorded, including those of a failed descent.
+    pub fn path_recorded(&self) -> &[[f32; 2]] {
+        &self.path
+    }
+    /// `last_path_cost_` (written by A* only; [`POT_HIGH`] otherwise).
+    pub fn last_path_cost(&self) -> f32 {
+        self.last_path_cost
+    }
+    /// Set the threshold increment `priInc` (default [`PRI_INC`]; kept across `setup`). Only
+    /// for perturbation experiments: any other value breaks bit-exactness on purpose.
+    pub fn set_pri_inc(&mut self, v: f32) {
+        self.pri_inc = v;
+    }
+    pub fn pri_inc(&self) -> f32 {
+        self.pri_inc
+    }
+    /// Current threshold `curT`.
+    pub fn threshold(&self) -> f32 {
+        self.cur_t
+    }
+
+    #[inline(always)]
+    pub(crate) fn start_index(&self) -> usize {
+        self.start.y * self.nx + self.start.x
+    }
+    #[inline(always)]
+    pub(crate) fn goal_index(&self) -> usize {
+        self.goal.y * self.nx + self.goal.x
+    }
+
+    /// Cycle limit of `calcNavFn*`: `max(nx*ny/20, nx+ny)`.
+    pub fn default_cycles(&self) -> usize {
+        (self.ns / 20).max(self.nx + self.ny)
+    }
+
+    /// `calcNavFnDijkstra(atStart)`: set-up, then Dijkstra propagation with the default cycle limit.
+    /// Returns NavFn's return value (true iff the loop ended before the cycle limit).
+    pub fn calc_dijkstra<O: SearchObserver>(&mut self, at_start: bool, obs: &mut O) -> bool {
+        self.setup();
+        let cycles = self.default_cycles();
+        self.propagate_dijkstra(cycles, at_start, obs)
+    }
+
+    /// `calcNavFnAstar`: set-up, then A* propagation with the default cycle limit.
+    /// Returns true iff the start cell has a finite potential.
+    pub fn calc_astar<O: SearchObserver>(&mut self, obs: &mut O) -> bool {
+        self.setup();
+        let cycles = self.default_cycles();
+        self.propagate_astar(cycles, obs)
+    }
+}
+
+fn checked_size(nx: usize, ny: usize) -> Result<usize, CoreError> {
+    match nx.checked_mul(ny) {
+        Some(ns) if nx >= 1 && ny >= 1 && ns < i32::MAX as usize => Ok(ns),
+        _ => Err(CoreError::BadSize { nx, ny }),
+    }
+}

@@ -1,0 +1,19 @@
+//! Map front ends: the paper's suite format (`test.txt` + `map.bin`) and ROS map_server maps
+//! (YAML + PGM). Every reader returns located [`MapError`]s, never panics on input.
+
+pub mod error;
+pub mod pgm;
+mod png_image;
+pub mod ros_yaml;
+pub mod suite;
+
+pub use error::MapError;
+pub use ros_yaml::{load_ros_map, parse_map_yaml, static_layer_value, MapMode, RosMap, RosMapMeta};
+pub use suite::{
+    find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params, SuiteCase,
+    SuiteFile,
+};
+
+/// Largest map we accept (cells). Far above any nav2 map in practice, low enough that a
+/// corrupt header cannot make us allocate gigabytes.
+pub const MAX_CELLS: usize = 1 << 28;

@@ -1,0 +1,132 @@
+//! Generators: deterministic per seed, different across seeds, bordered, with start = goal and
+//! unreachable pairs; the written suite reads back through the core's reader; ROS import.
+
+use std::path::{Path, PathBuf};
+
+use vouch_navfn::campaign::gen::{generate, GenOptions, CATEGORIES};
+use vouch_navfn::campaign::grid::OBSTACLE;
+use vouch_navfn::campaign::ros_import::import_ros_map;
+use vouch_navfn::campaign::suite_io::{read_suite, write_suite};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vouch-campaign-gen-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// All files below `dir` as (relative path, bytes), sorted.
+fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("readable").flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).expect("below").display().to_string();
+                out.push((rel, std::fs::read(&p).expect("readable")));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn opts(seed: u64) -> GenOptions {
+    GenOptions { seed, maps_per_category: 3, cases_per_map: 60, min_size: 5, max_size: 20, ..GenOptions::default() }
+}
+
+#[test]
+fn same_seed_same_files_different_seed_different_files() {
+    let (a, b, c) = (tmp("a"), tmp("b"), tmp("c"));
+    write_suite(&a, &generate(&opts(42)).expect("gen")).expect("write");
+    write_suite(&b, &generate(&opts(42)).expect("gen")).expect("write");
+    write_suite(&c, &generate(&opts(43)).expect("gen")).expect("write");
+    let (ta, tb, tc) = (tree(&a), tree(&b), tree(&c));
+    assert_eq!(ta.len(), 9 * 3 * 2, "nine categories × 3 maps × (test.txt + map.bin)");
+    assert_eq!(ta, tb, "same seed must give byte-identical files");
+    assert_ne!(ta, tc, "different seeds must differ");
+    // Not just the names: the map bytes differ too.
+    let bins = |t: &[(String, Vec<u8>)]| t.iter().filter(|(n, _)| n.ends_with(".bin")).map(|(_, b)| b.clone()).collect::<Vec<_>>();
+    assert_ne!(bins(&ta), bins(&tc));
+    for d in [a, b, c] {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}
+
+#[test]
+fn category_subset_does_not_change_other_maps() {
+    let all = generate(&opts(7)).expect("gen");
+    let only = generate(&GenOptions { categories: vec!["walls".into()], ..opts(7) }).expect("gen");
+    let walls: Vec<_> = all.iter().filter(|m| m.category == "walls").cloned().collect();
+    assert_eq!(only, walls);
+    assert!(generate(&GenOptions { categories: vec!["nope".into()], ..opts(7) }).is_err());
+}
+
+#[test]
+fn maps_have_border_start_goal_and_unreachable_pairs() {
+    let maps = generate(&GenOptions { maps_per_category: 6, ..opts(2024) }).expect("gen");
+    let mut cross_component = 0;
+    for cat in CATEGORIES {
+        assert!(maps.iter().any(|m| m.category == cat), "category {cat} generated");
+    }
+    for m in &maps {
+        let (w, h) = (m.width, m.height);
+        for x in 0..w {
+            assert_eq!(m.get(x, 0), OBSTACLE);
+            assert_eq!(m.get(x, h - 1), OBSTACLE);
+        }
+        for y in 0..h {
+            assert_eq!(m.get(0, y), OBSTACLE);
+            assert_eq!(m.get(w - 1, y), OBSTACLE);
+        }
+        assert!(m.costs.iter().all(|&c| (50..=254).contains(&c)), "{}: NavFn costs only", m.name);
+        assert!(m.cases.iter().any(|c| (c.x0, c.y0) == (c.x1, c.y1)), "{}: a start = goal case", m.name);
+        let (label, n) = m.components();
+        for c in &m.cases {
+            assert!(m.is_free(c.x0, c.y0) && m.is_free(c.x1, c.y1), "{}: cases on traversable cells", m.name);
+        }
+        if n > 1 {
+            let has = m.cases.iter().any(|c| label[m.idx(c.x0, c.y0)] != label[m.idx(c.x1, c.y1)]);
+            assert!(has, "{}: {n} regions but no unreachable pair", m.name);
+            cross_component += 1;
+        }
+    }
+    assert!(cross_component >= 6, "split/obstacle/walls/spiral maps produce disconnected regions");
+    // Spiral maps: one corridor, i.e. a single region, and long paths.
+    for m in maps.iter().filter(|m| m.category == "spiral") {
+        assert_eq!(m.components().1, 1, "{}: spiral is one corridor", m.name);
+    }
+}
+
+#[test]
+fn written_suite_reads_back_with_the_core_reader() {
+    let d = tmp("rt");
+    let maps = generate(&opts(5)).expect("gen");
+    write_suite(&d, &maps).expect("write");
+    let back = read_suite(&d).expect("read");
+    assert_eq!(back.len(), maps.len());
+    for m in &maps {
+        let b = back.iter().find(|b| b.category == m.category && b.name == m.name).expect("present");
+        assert_eq!((b.width, b.height, &b.costs, &b.cases), (m.width, m.height, &m.costs, &m.cases));
+    }
+    let _ = std::fs::remove_dir_all(d);
+}
+
+#[test]
+fn ros_import_reproduces_the_paper_ros_maps() {
+    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn");
+    if !shared.is_dir() {
+        eprintln!("skipping: shared/navfn not found");
+        return;
+    }
+    for name in ["keepout_mask", "map_circular", "speed_mask"] {
+        let yaml = shared.join("nav2_maps").join(format!("{name}.yaml"));
+        let m = import_ros_map(&yaml, name, None).expect("imports");
+        let want = std::fs::read(shared.join("suite/ROS").join(name).join("map.bin")).expect("suite map");
+        let differing = m.costs.iter().zip(&want).filter(|(a, b)| a != b).count();
+        assert_eq!(m.costs.len(), want.len(), "{name}: size");
+        assert_eq!(differing, 0, "{name}: {differing} cells differ from the paper's conversion");
+    }
+}
