@@ -195,6 +195,8 @@ fn plan(a: PlanArgs) -> ExitCode {
             eprintln!("warning: no picture, NavFn did not run ({})", result.status.name());
         }
     }
+    // a closed pipe (`| head`) is not an error worth a panic: ignore write failures
+    let mut out = std::io::stdout().lock();
     if a.json {
         let v = serde_json::json!({
             "status": result.status.name(),
@@ -205,20 +207,25 @@ fn plan(a: PlanArgs) -> ExitCode {
             "navfn_points": result.navfn_len, "poses": result.world,
             "checks": report, "time_ms": elapsed_ms,
         });
-        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        let _ = writeln!(out, "{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     } else {
-        println!(
-            "status {}  poses {}  navfn points {}  tolerance used {}  {:.3} ms",
+        let _ = writeln!(
+            out,
+            "status {}  poses {}  navfn points {}  tolerance used {}  checks {}  {:.3} ms",
             result.status.name(),
             result.world.len(),
             result.navfn_len,
             result.tol_used,
+            if report.is_ok() { "ok".to_string() } else { format!("{} violations", report.count()) },
             elapsed_ms
         );
         for p in &result.world {
-            println!("{:.6} {:.6}", p[0], p[1]);
+            if writeln!(out, "{:.6} {:.6}", p[0], p[1]).is_err() {
+                break;
+            }
         }
     }
+    let _ = out.flush();
     for v in &report.violations {
         eprintln!("{}: {v}", if a.checked { "error" } else { "warning" });
     }

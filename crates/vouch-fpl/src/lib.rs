@@ -13,4 +13,8 @@ pub mod front;
 pub mod emit;
 pub mod passes;
 pub mod semantics;
+pub mod sim;
 pub mod evidence;
+pub mod lint;
+pub mod model_check;
+pub mod graph;

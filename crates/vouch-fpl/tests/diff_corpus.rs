@@ -68,13 +68,26 @@ fn check_plan(idx: usize, path: &Path, tmp: &Path) -> Result<(), String> {
         let seq_file = work.join(format!("answers_{seed}.txt"));
         let text: Vec<String> = seq.iter().map(i64::to_string).collect();
         std::fs::write(&seq_file, text.join(" ")).map_err(|e| e.to_string())?;
-        let out = Command::new(&exe).arg(&seq_file).arg(STEPS.to_string()).output().map_err(|e| e.to_string())?;
+        // Operator block changes every 13 calls, to a block chosen from the seed, so that every
+        // block is exercised even when the plan would settle in HOME.
+        let nb = fp.blocks.len();
+        let jumps: Vec<(usize, usize)> =
+            (1..STEPS).step_by(13).map(|c| (c + 1, (c * 7 + seed as usize * 3) % nb)).collect();
+        let jumps_file = work.join(format!("jumps_{seed}.txt"));
+        let jt: Vec<String> = jumps.iter().map(|(c, b)| format!("{c} {b}")).collect();
+        std::fs::write(&jumps_file, jt.join("\n")).map_err(|e| e.to_string())?;
+        let out = Command::new(&exe)
+            .arg(&seq_file)
+            .arg(STEPS.to_string())
+            .arg(&jumps_file)
+            .output()
+            .map_err(|e| e.to_string())?;
         if !out.status.success() {
             return Err(format!("driver failed: {}", String::from_utf8_lossy(&out.stderr)));
         }
         let c_trace = String::from_utf8_lossy(&out.stdout).into_owned();
         let mut interp = Interp::new(&fp);
-        let run = interp.run(&mut Scripted::new(seq), STEPS).map_err(|e| format!("interpreter: {e:?}"))?;
+        let run = interp.run_with_jumps(&mut Scripted::new(seq), STEPS, &jumps).map_err(|e| format!("interpreter: {e:?}"))?;
         let i_trace = run.to_text();
         if c_trace != i_trace {
             return Err(format!("seed {seed}: {}", first_difference(&c_trace, &i_trace)));

@@ -189,3 +189,100 @@ fn mavproxy_uploads_100_to_mavsdk_vehicle_through_guard() {
     assert_eq!(o.vehicle["uploads"][0]["items"], 100, "{}", o.vehicle);
     assert_eq!(o.counters.violations, 0, "violations:\n{}", o.log);
 }
+
+#[test]
+fn early_ack_after_60_of_100_is_reported_in_monitor_mode() {
+    let Some(py) = python() else { return };
+    let o = upload_through_guard(&py, "ack60m", Vehicle::Pymavlink { ack_after: Some(60) }, false);
+    assert_eq!(o.vehicle["uploads"][0]["received"], 60, "{}", o.vehicle);
+    // forwarded: MAVProxy sees the (wrong) ACCEPTED, as it would without the guard
+    assert!(o.mavproxy.contains("MISSION_ACK: TYPE_MISSION: ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(!o.mavproxy.contains("Sent all 100"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(o.counters.violations >= 1, "{:?}", o.counters);
+    assert_eq!(o.counters.dropped_violations, 0);
+    let first: Value = serde_json::from_str(o.log.lines().next().expect("a violation line")).unwrap();
+    assert_eq!(first["msgid"], 47, "the early MISSION_ACK is the violating message: {first}");
+    assert_eq!(first["action"], "forwarded");
+}
+
+#[test]
+fn early_ack_after_60_of_100_is_dropped_and_answered_in_enforce_mode() {
+    let Some(py) = python() else { return };
+    let o = upload_through_guard(&py, "ack60e", Vehicle::Pymavlink { ack_after: Some(60) }, true);
+    assert_eq!(o.vehicle["uploads"][0]["received"], 60, "{}", o.vehicle);
+    assert!(o.counters.dropped_violations >= 1, "{:?}", o.counters);
+    assert!(o.counters.replies_sent >= 1, "{:?}", o.counters);
+    // MAVProxy gets the guard's error ACK instead of ACCEPTED, so it does not report success
+    assert!(o.mavproxy.contains("Got MISSION_ACK"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(!o.mavproxy.contains("ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
+    let first: Value = serde_json::from_str(o.log.lines().next().expect("a violation line")).unwrap();
+    assert_eq!(first["action"], "dropped");
+}
+
+/// A pymavlink GCS sends DO_PARACHUTE RELEASE to a disarmed pymavlink vehicle through the guard.
+fn parachute_through_guard(py: &Path, tag: &str, enforce: bool) -> (Value, Value, CounterSnapshot) {
+    let dir = tempdir(tag);
+    let vport = free_port();
+    let vsum = dir.join("vehicle.json");
+    let _vehicle = Peer(
+        Command::new(py)
+            .arg(script("pymavlink_vehicle.py"))
+            .arg("--url")
+            .arg(format!("udpin:127.0.0.1:{vport}"))
+            .args(["--duration", "6", "--summary"])
+            .arg(&vsum)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("vehicle"),
+    );
+    let cfg = GuardConfig {
+        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
+        vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
+        enforce,
+        alert_gcs: true,
+        log_path: None,
+        tlog_path: None,
+        signing: None,
+    };
+    let (inspector, _) = standard_inspector(None, &[], &[]).expect("standard protocols");
+    let guard = start(cfg, inspector).expect("guard");
+    let gsum = dir.join("gcs.json");
+    let status = Command::new(py)
+        .arg(script("pymavlink_gcs.py"))
+        .arg("--url")
+        .arg(format!("udpout:127.0.0.1:{}", guard.gcs_addr.unwrap().port()))
+        .args(["--duration", "5", "--summary"])
+        .arg(&gsum)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .expect("gcs");
+    assert!(status.success());
+    let gcs = read_summary(&gsum);
+    let vehicle = read_summary(&vsum);
+    let c = guard.stop();
+    let _ = std::fs::remove_dir_all(&dir);
+    (gcs, vehicle, c)
+}
+
+#[test]
+fn parachute_while_disarmed_is_blocked_in_enforce_mode() {
+    let Some(py) = python() else { return };
+    let (gcs, vehicle, c) = parachute_through_guard(&py, "chute-e", true);
+    assert_eq!(gcs["heartbeat"], true, "{gcs}");
+    assert_eq!(vehicle["parachute_commands"], 0, "the vehicle never saw the command: {vehicle}");
+    assert!(c.dropped_violations >= 1, "{c:?}");
+    // the GCS is not left waiting: it gets an answer that is not ACCEPTED, and an alert
+    assert!(gcs["command_ack"].as_u64().is_some_and(|r| r != 0), "{gcs}");
+    assert!(gcs["statustext"].as_array().is_some_and(|a| a.iter().any(|t| t.as_str().unwrap_or("").contains("vouch"))), "{gcs}");
+}
+
+#[test]
+fn parachute_while_disarmed_is_reported_in_monitor_mode() {
+    let Some(py) = python() else { return };
+    let (gcs, vehicle, c) = parachute_through_guard(&py, "chute-m", false);
+    assert_eq!(vehicle["parachute_commands"], 1, "{vehicle}");
+    assert_eq!(gcs["command_ack"], 0, "the vehicle's own ACCEPTED is forwarded: {gcs}");
+    assert!(c.violations >= 1 && c.dropped_violations == 0, "{c:?}");
+}

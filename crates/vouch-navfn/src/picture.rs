@@ -55,9 +55,9 @@ impl Rgb {
     }
 }
 
-/// Pixels per cell: small maps are enlarged to about 600 px, large ones drawn 1:1 or 2:1.
+/// Pixels per cell: small maps are enlarged to about 800 px, large ones drawn 1:1 or 2:1.
 pub fn cell_scale(nx: usize, ny: usize) -> usize {
-    (600 / nx.max(ny).max(1)).clamp(1, 40)
+    (800 / nx.max(ny).max(1)).clamp(1, 40)
 }
 
 /// Heat-map colour for t in [0, 1] (0 = goal): yellow → orange → magenta → deep purple.
@@ -116,7 +116,7 @@ pub fn render(p: &PictureInput) -> Rgb {
     if let [only] = p.path {
         dot(&mut img, to_px(*only), thick, [230, 20, 20]);
     }
-    let marker = (s as i64 / 3).max(2);
+    let marker = (s as i64 / 3).max(5);
     let centre = |c: Cell| to_px([c.x as f32, c.y as f32]);
     dot(&mut img, centre(p.start), marker, [20, 200, 60]);
     dot(&mut img, centre(p.goal), marker, [30, 90, 255]);

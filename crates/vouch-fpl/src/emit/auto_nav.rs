@@ -124,7 +124,7 @@ fn block(w: &mut Writer, b: &ExtBlock<StageNo, BlockNo>, checked: bool) {
     w.line(&format!("Stage({})", b.default_stage));
     w.right();
     if checked {
-        w.line("if (!forbidden_deroute(nav_block, nav_block < NB_BLOCK - 1 ? nav_block + 1 : nav_block)) { NextBlock(); }");
+        w.line("if (!forbidden_deroute(nav_block, (int)nav_block < (int)NB_BLOCK - 1 ? nav_block + 1 : nav_block)) { NextBlock(); }");
     } else {
         w.line("NextBlock();");
     }

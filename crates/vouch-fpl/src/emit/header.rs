@@ -308,6 +308,7 @@ fn variables_and_abi(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileErr
             VariableDecl::Var(v) => {
                 let ty = v.var_type.as_ref().map(|t| t.value.as_str()).unwrap_or("float");
                 let init = v.init.as_ref().map(|t| t.value.as_str()).unwrap_or("0");
+                let init = w.init(init);
                 w.raw(&format!("{ty} {} = {init};", v.var.value));
             }
             VariableDecl::Abi(a) => {

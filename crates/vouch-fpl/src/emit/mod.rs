@@ -10,6 +10,7 @@
 //!   to the drop-in text (tested for every corpus plan).
 
 mod auto_nav;
+pub mod dump;
 pub mod geo;
 pub mod geoid;
 mod header;
@@ -85,6 +86,10 @@ impl Writer {
     pub fn cond(&self, text: &str) -> String {
         self.wrap("FP_C", text)
     }
+    /// A variable initialiser (must stay a constant expression in C).
+    pub fn init(&self, text: &str) -> String {
+        self.wrap("FP_I", text)
+    }
     /// An integer value (for-loop bound).
     pub fn value(&self, text: &str) -> String {
         self.wrap("FP_V", text)
@@ -125,12 +130,12 @@ pub fn c_string_escape(text: &str) -> String {
 }
 
 /// Maps an instrumented header back to the drop-in text: every `FP_C("…")`, `FP_X("…")`,
-/// `FP_V("…")` becomes its unescaped content and the marker line becomes `header_text`.
+/// `FP_V("…")`, `FP_I("…")` becomes its unescaped content and the marker line becomes `header_text`.
 pub fn unwrap_instrumented(text: &str, header_text: Option<&str>) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     loop {
-        let next = ["FP_C(\"", "FP_X(\"", "FP_V(\""].iter().filter_map(|m| rest.find(m).map(|i| (i, m.len()))).min();
+        let next = ["FP_C(\"", "FP_X(\"", "FP_V(\"", "FP_I(\""].iter().filter_map(|m| rest.find(m).map(|i| (i, m.len()))).min();
         let Some((i, mlen)) = next else {
             out.push_str(rest);
             break;

@@ -3,6 +3,7 @@
 //! they share with the model checker ([`explore`]).
 
 pub mod cdriver;
+pub mod commands;
 pub mod explore;
 pub mod validate;
 pub mod wcet;

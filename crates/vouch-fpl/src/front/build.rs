@@ -226,9 +226,13 @@ impl Ctx {
 }
 
 fn sub_span(sources: &SourceMap, s: Span, from: usize, to: usize) -> Span {
-    let start = (s.start as usize + from).min(s.end as usize);
-    let end = (s.start as usize + to.max(from + 1)).min(s.end as usize).max(start);
     let text = sources.get(s.file).map(|f| f.text.as_str()).unwrap_or("");
+    let start = (s.start as usize + from).min(s.end as usize);
+    let mut end = (s.start as usize + to.max(from + 1)).min(s.end as usize).max(start);
+    // Keep the label on character boundaries (the value may hold multi-byte characters).
+    while end < text.len() && !text.is_char_boundary(end) {
+        end += 1;
+    }
     let (line, col) = line_col(text, start);
     Span { file: s.file, start: start as u32, end: end as u32, line, col }
 }

@@ -98,14 +98,14 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
         let off = match e {
             // roxmltree reports these at 1:1; the problem is at the end of the content.
             roxmltree::Error::UnclosedRootNode | roxmltree::Error::UnexpectedEndOfStream => {
-                text.trim_end().len().saturating_sub(1)
+                text.trim_end().char_indices().last().map_or(0, |(i, _)| i)
             }
             _ => {
                 let pos = e.pos();
                 lines.offset(text, pos.row, pos.col)
             }
         };
-        let end = (off + text[off..].chars().next().map(|c| c.len_utf8()).unwrap_or(0)).min(text.len());
+        let end = (off + text.get(off..).and_then(|t| t.chars().next()).map_or(0, char::len_utf8)).min(text.len());
         Diagnostic::error(ErrorKind::Xml, format!("malformed XML: {e}"), Some(lines.span(text, file, off, end)))
     })?;
     let root = convert(doc.root_element(), text, file, &lines, &mut warnings);

@@ -67,6 +67,8 @@ pub struct Interp<'p> {
     ends: Vec<usize>,
     pub state: State<'p>,
     calls: usize,
+    /// Set while an operator block change runs (it bypasses forbidden deroutes).
+    forbidden_off: bool,
 }
 
 /// Number of stage slots a stage uses (GENERATOR_FACTS.md section 6).
@@ -124,7 +126,7 @@ impl<'p> Interp<'p> {
         }
         let full0 = Self::full_of(fp, 0);
         let state = State { block: 0, remaining: full0.clone(), last_block: 0, last_remaining: full0, counters: HashMap::new() };
-        Interp { fp, first, ends, state, calls: 0 }
+        Interp { fp, first, ends, state, calls: 0, forbidden_off: false }
     }
 
     fn full_of(fp: &'p Fp, block: BlockIx) -> Vec<Item<'p>> {
@@ -179,6 +181,9 @@ impl<'p> Interp<'p> {
 
     /// VFPG forbidden deroutes: the first matching entry whose `only_when` holds forbids.
     fn forbidden(&self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, from: BlockIx, to: BlockIx) -> bool {
+        if self.forbidden_off {
+            return false;
+        }
         for f in &self.fp.forbidden {
             if f.from == from && f.to == to {
                 match &f.only_when {
@@ -266,7 +271,33 @@ impl<'p> Interp<'p> {
                 }
             }
         }
-        Ok(StepRecord { call: self.calls, before, events: ev, after: self.observe() })
+        Ok(StepRecord { call: self.calls, operator_goto: None, before, events: ev, after: self.observe() })
+    }
+
+    /// An operator block change between two calls (the ground station's "go to block", which
+    /// calls the runtime's `nav_goto_block` directly: no forbidden-deroute check).
+    pub fn operator_goto(&mut self, block: BlockIx) -> Vec<Event> {
+        let mut ev = Vec::new();
+        let saved = std::mem::take(&mut self.forbidden_off);
+        self.forbidden_off = true;
+        let mut none = oracle::Scripted::default();
+        self.goto_block(&mut ev, &mut none, block);
+        self.forbidden_off = saved;
+        ev
+    }
+
+    /// Runs `n` calls; `jumps` lists (call number, block) operator block changes applied just
+    /// before that call.
+    pub fn run_with_jumps(&mut self, oracle: &mut dyn Oracle, n: usize, jumps: &[(usize, usize)]) -> Result<Run, StepError> {
+        let mut run = Run { init: if self.calls == 0 { self.init_events() } else { Vec::new() }, steps: Vec::new() };
+        for _ in 0..n {
+            let call = self.calls + 1;
+            let op = jumps.iter().find(|(c, _)| *c == call).map(|&(_, b)| (b, self.operator_goto(b)));
+            let mut rec = self.step(oracle)?;
+            rec.operator_goto = op;
+            run.steps.push(rec);
+        }
+        Ok(run)
     }
 
     /// Runs `n` calls from the current state.

@@ -5,6 +5,8 @@
 //! ```text
 //! init                      events of auto_nav_init()
 //! X <code>
+//! goto <b>                  an operator block change before the next call (optional)
+//! X <code>                  its exit/enter hooks
 //! step <n>                  one auto_nav() call
 //! C <0|1> <condition>       a condition and the value the oracle gave it
 //! X <code>                  C code executed
@@ -37,6 +39,10 @@ pub struct Observation {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct StepRecord {
     pub call: usize,
+    /// An operator block change (GCS "go to block") applied just before this call, with the
+    /// events of the exit/enter hooks it ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub operator_goto: Option<(usize, Vec<Event>)>,
     pub before: Observation,
     pub events: Vec<Event>,
     pub after: Observation,
@@ -82,6 +88,13 @@ impl Run {
             out.push('\n');
         }
         for s in &self.steps {
+            if let Some((b, evs)) = &s.operator_goto {
+                out.push_str(&format!("goto {b}\n"));
+                for e in evs {
+                    out.push_str(&e.line());
+                    out.push('\n');
+                }
+            }
             out.push_str(&format!("step {}\n", s.call));
             for e in &s.events {
                 out.push_str(&e.line());

@@ -38,14 +38,18 @@ int stub_table_sizes_ok(void)
 
 /* ---- runtime (2024-10 semantics) ---- */
 
+/* NB_BLOCK through a variable: with NB_BLOCK == 1 (a plan with only HOME) comparisons of a
+ * uint8_t against NB_BLOCK - 1 would be constant and trip -Wtype-limits. */
+static int stub_nb_block = NB_BLOCK;
+
 void nav_init_stage(void) { stage_time = 0; }
 
-void set_nav_block(uint8_t b) { nav_block = b >= NB_BLOCK ? NB_BLOCK - 1 : b; }
+void set_nav_block(uint8_t b) { nav_block = (int)b >= stub_nb_block ? NB_BLOCK - 1 : b; }
 void set_nav_stage(uint8_t s) { nav_stage = s; }
 
 void nav_init_block(void)
 {
-  if (nav_block >= NB_BLOCK) { nav_block = NB_BLOCK - 1; }
+  if ((int)nav_block >= stub_nb_block) { nav_block = NB_BLOCK - 1; }
   nav_stage = 0;
   block_time = 0;
   nav_init_stage();
@@ -66,7 +70,7 @@ void nav_goto_block(uint8_t b)
 
 void nav_goto_next_block(void)
 {
-  nav_goto_block(nav_block < NB_BLOCK - 1 ? (uint8_t)(nav_block + 1) : nav_block);
+  nav_goto_block((int)nav_block < stub_nb_block - 1 ? (uint8_t)(nav_block + 1) : nav_block);
 }
 
 void nav_goto_next_stage(void) { nav_stage++; nav_init_stage(); }

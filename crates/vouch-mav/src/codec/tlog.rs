@@ -125,14 +125,14 @@ impl<'a> Iterator for TlogReader<'a> {
                 }
                 Parse::Invalid(kind) => {
                     use super::frame::InvalidKind::*;
-                    if !resyncing {
-                        match kind {
-                            BadCrc => self.counter.stats.bad_crc += 1,
-                            BadLength => self.counter.stats.bad_length += 1,
-                            BadIncompat => self.counter.stats.bad_incompat += 1,
-                            UnknownId => self.counter.stats.unknown_id += 1,
-                            NotMagic => {}
-                        }
+                    // A plausible timestamp followed by a frame start is a broken frame, also
+                    // while resynchronising.
+                    match kind {
+                        BadCrc => self.counter.stats.bad_crc += 1,
+                        BadLength => self.counter.stats.bad_length += 1,
+                        BadIncompat => self.counter.stats.bad_incompat += 1,
+                        UnknownId => self.counter.stats.unknown_id += 1,
+                        NotMagic => {}
                     }
                     self.skip_byte(&mut resyncing);
                 }

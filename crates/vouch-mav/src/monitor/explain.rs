@@ -35,11 +35,16 @@ impl Monitor {
         let t = &st.transitions[ti];
         let lf = t.msgs.iter().find(|l| l.msg == msg.index);
         let fields: &[FieldLoc] = lf.map(|l| &l.fields[..]).unwrap_or(&[]);
-        // Values as the step saw them: session variables plus this step's bindings.
+        // Values as the step saw them: session variables plus this step's bindings, or, for a
+        // broken invariant, the updated values the step left in the scratch buffer.
         let mut vars = s.vars.clone();
-        for &(slot, f) in &t.binds {
-            if let Some(loc) = fields.get(f) {
-                vars[slot] = read_loc(msg.payload, loc);
+        if kind == ViolationKind::Invariant && self.scratch.len() == vars.len() {
+            vars.copy_from_slice(&self.scratch);
+        } else {
+            for &(slot, f) in &t.binds {
+                if let Some(loc) = fields.get(f) {
+                    vars[slot] = read_loc(msg.payload, loc);
+                }
             }
         }
         let env = Env {

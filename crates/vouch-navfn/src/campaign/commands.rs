@@ -45,6 +45,7 @@ impl From<SuiteIoError> for CmdError {
     fn from(e: SuiteIoError) -> Self {
         match e {
             SuiteIoError::Io { .. } => CmdError::Usage(e.to_string()),
+            SuiteIoError::Map(m) => m.into(),
             _ => CmdError::Input(e.to_string()),
         }
     }

@@ -11,7 +11,9 @@
 //! `length:FNV-1a-64 of its cell indices (4 bytes little-endian each, buffer order)`, optionally
 //! followed by `:` and the comma-separated cell indices (`cells` detail). One `CYCLE` line per
 //! propagation cycle, taken where the paper's debugger breakpoints sat: at the top of the cycle,
-//! after the "both empty" exit test, before the current buffer is processed.
+//! before the "current and next both empty" exit test (so a run that ends with empty queues
+//! shows that last, empty cycle too) and before the current buffer is processed.
+//! `PROPEND` says how the loop ended: `cycles` = loop index at exit.
 
 use std::fmt::Write as _;
 

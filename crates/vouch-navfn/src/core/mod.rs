@@ -79,6 +79,8 @@ pub struct NavFn {
     pub(crate) gx: Vec<f32>,
     pub(crate) gy: Vec<f32>,
     pub(crate) pending: Vec<bool>,
+    /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
+    pub(crate) grad_touched: Vec<u32>,
     pub(crate) cur: Vec<i32>,
     pub(crate) next: Vec<i32>,
     pub(crate) over: Vec<i32>,
@@ -107,6 +109,7 @@ impl NavFn {
             gx: vec![0.0; ns],
             gy: vec![0.0; ns],
             pending: vec![false; ns],
+            grad_touched: Vec::new(),
             cur: Vec::with_capacity(PRIORITY_BUF_SIZE),
             next: Vec::with_capacity(PRIORITY_BUF_SIZE),
             over: Vec::with_capacity(PRIORITY_BUF_SIZE),
@@ -139,6 +142,10 @@ impl NavFn {
         self.cost.resize(ns, COST_NEUTRAL);
         self.pending.clear();
         self.pending.resize(ns, false);
+        self.grad_touched.clear();
+        self.cur.clear();
+        self.next.clear();
+        self.over.clear();
         self.path.clear();
         self.path_len = 0;
         Ok(())

@@ -64,6 +64,7 @@ impl NavFn {
         let norm = hypotf(gxv, gyv);
         if norm > 0.0 {
             let inv = (1.0 / norm as f64) as f32;
+            self.grad_touched.push(n as u32);
             self.gx[nu] = inv * gxv;
             self.gy[nu] = inv * gyv;
         }

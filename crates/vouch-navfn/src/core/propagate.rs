@@ -37,8 +37,12 @@ impl NavFn {
     /// empty the buffers, put the goal at potential 0 and queue its four neighbours.
     pub fn setup(&mut self) {
         self.pot.fill(POT_HIGH);
-        self.gx.fill(0.0);
-        self.gy.fill(0.0);
+        // gradients: only the cells the last path extraction cached are non-zero
+        for &n in &self.grad_touched {
+            self.gx[n as usize] = 0.0;
+            self.gy[n as usize] = 0.0;
+        }
+        self.grad_touched.clear();
         let (nx, ny) = (self.nx, self.ny);
         self.cost[..nx].fill(COST_OBS);
         self.cost[(ny - 1) * nx..].fill(COST_OBS);
@@ -47,10 +51,17 @@ impl NavFn {
             self.cost[row * nx + nx - 1] = COST_OBS;
         }
         self.cur_t = CUR_T_INIT;
+        // `pending` is true exactly for the cells still in a buffer (the loop clears the
+        // current buffer's flags before processing it), so clearing those suffices
+        for b in [&self.cur, &self.next, &self.over] {
+            for &n in b.iter() {
+                self.pending[n as usize] = false;
+            }
+        }
+        debug_assert!(self.pending.iter().all(|&p| !p));
         self.cur.clear();
         self.next.clear();
         self.over.clear();
-        self.pending.fill(false);
         self.last_path_cost = POT_HIGH;
         let k = self.goal_index() as i64;
         self.pot[k as usize] = 0.0;

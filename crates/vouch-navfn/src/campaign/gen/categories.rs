@@ -113,7 +113,7 @@ fn radial(rng: &mut SplitMix64, w: u32, h: u32) -> (SuiteMap, &'static str) {
     let mut m = SuiteMap::filled("radial", "", w, h, FREE);
     let cx = rng.range(1, w - 2) as f64;
     let cy = rng.range(1, h - 2) as f64;
-    let diag = f64::from((w * w + h * h) as u32).sqrt();
+    let diag = f64::from(w * w + h * h).sqrt();
     // Radius between a third of the diagonal and the whole diagonal (then no 254 ring).
     let r = diag * f64::from(rng.range(33, 100)) / 100.0;
     for y in 1..h - 1 {

@@ -1,0 +1,176 @@
+//! The property language of `vouch fpl check --property`:
+//!
+//! ```text
+//! property := "always" "eventually" F | "eventually" "always" F
+//!           | "always" F | "eventually" F | "never" F
+//! F        := F "||" F | F "&&" F | "!" F | "(" F ")" | atom       (also: or, and, not)
+//! atom     := block(NAME) | last_block(NAME) | stage(N) | true | false
+//! ```
+//!
+//! Temporal operators are universal over all runs (every infinite sequence of calls, with
+//! conditions free): `always F` holds when F holds in every reachable state; `eventually F`
+//! when every run reaches F; `always eventually F` when every run visits F infinitely often;
+//! `eventually always F` when every run ends up staying in F.
+
+use serde::Serialize;
+
+use crate::semantics::trace::Observation;
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum StateFormula {
+    True,
+    False,
+    /// `block(NAME)`, resolved to an index.
+    Block(usize),
+    LastBlock(usize),
+    Stage(usize),
+    Not(Box<StateFormula>),
+    And(Box<StateFormula>, Box<StateFormula>),
+    Or(Box<StateFormula>, Box<StateFormula>),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Temporal {
+    Always,
+    Eventually,
+    AlwaysEventually,
+    EventuallyAlways,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Property {
+    pub temporal: Temporal,
+    pub formula: StateFormula,
+}
+
+impl StateFormula {
+    pub fn holds(&self, o: &Observation) -> bool {
+        match self {
+            StateFormula::True => true,
+            StateFormula::False => false,
+            StateFormula::Block(b) => o.block == *b,
+            StateFormula::LastBlock(b) => o.last_block == *b,
+            StateFormula::Stage(s) => o.stage == *s,
+            StateFormula::Not(f) => !f.holds(o),
+            StateFormula::And(a, b) => a.holds(o) && b.holds(o),
+            StateFormula::Or(a, b) => a.holds(o) || b.holds(o),
+        }
+    }
+}
+
+struct Parser<'a> {
+    s: &'a str,
+    pos: usize,
+    blocks: &'a [String],
+}
+
+impl<'a> Parser<'a> {
+    fn ws(&mut self) {
+        while self.s[self.pos..].starts_with(char::is_whitespace) {
+            self.pos += self.s[self.pos..].chars().next().map(char::len_utf8).unwrap_or(1);
+        }
+    }
+    fn eat(&mut self, tok: &str) -> bool {
+        self.ws();
+        let rest = &self.s[self.pos..];
+        let word = tok.chars().all(|c| c.is_ascii_alphabetic() || c == '_');
+        if rest.starts_with(tok) {
+            let after = rest[tok.len()..].chars().next();
+            if word && after.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_') {
+                return false;
+            }
+            self.pos += tok.len();
+            return true;
+        }
+        false
+    }
+    fn err<T>(&self, msg: &str) -> Result<T, String> {
+        Err(format!("{msg} at column {} of '{}'", self.pos + 1, self.s))
+    }
+    fn or(&mut self) -> Result<StateFormula, String> {
+        let mut f = self.and()?;
+        while self.eat("||") || self.eat("or") {
+            f = StateFormula::Or(Box::new(f), Box::new(self.and()?));
+        }
+        Ok(f)
+    }
+    fn and(&mut self) -> Result<StateFormula, String> {
+        let mut f = self.unary()?;
+        while self.eat("&&") || self.eat("and") {
+            f = StateFormula::And(Box::new(f), Box::new(self.unary()?));
+        }
+        Ok(f)
+    }
+    fn unary(&mut self) -> Result<StateFormula, String> {
+        if self.eat("!") || self.eat("not") {
+            return Ok(StateFormula::Not(Box::new(self.unary()?)));
+        }
+        if self.eat("(") {
+            let f = self.or()?;
+            if !self.eat(")") {
+                return self.err("expected ')'");
+            }
+            return Ok(f);
+        }
+        if self.eat("true") {
+            return Ok(StateFormula::True);
+        }
+        if self.eat("false") {
+            return Ok(StateFormula::False);
+        }
+        for (kw, kind) in [("last_block", 1), ("block", 0), ("stage", 2)] {
+            if self.eat(kw) {
+                if !self.eat("(") {
+                    return self.err("expected '('");
+                }
+                let rest = &self.s[self.pos..];
+                let Some(end) = rest.find(')') else { return self.err("expected ')'") };
+                let arg = rest[..end].trim().trim_matches(|c| c == '\'' || c == '"').to_string();
+                self.pos += end + 1;
+                return match kind {
+                    2 => arg.parse().map(StateFormula::Stage).map_err(|_| format!("stage({arg}): not a number")),
+                    _ => {
+                        let b = self.blocks.iter().position(|n| *n == arg).ok_or_else(|| {
+                            format!("unknown block '{arg}' (blocks: {})", self.blocks.join(", "))
+                        })?;
+                        Ok(if kind == 0 { StateFormula::Block(b) } else { StateFormula::LastBlock(b) })
+                    }
+                };
+            }
+        }
+        self.err("expected block(NAME), last_block(NAME), stage(N), true, false, '!' or '('")
+    }
+}
+
+/// Parses a property against the plan's block names.
+pub fn parse(text: &str, blocks: &[String]) -> Result<Property, String> {
+    let mut p = Parser { s: text, pos: 0, blocks };
+    let temporal = if p.eat("always") {
+        if p.eat("eventually") {
+            Temporal::AlwaysEventually
+        } else {
+            Temporal::Always
+        }
+    } else if p.eat("eventually") {
+        if p.eat("always") {
+            Temporal::EventuallyAlways
+        } else {
+            Temporal::Eventually
+        }
+    } else if p.eat("never") {
+        let f = p.or()?;
+        p.ws();
+        if p.pos != text.len() {
+            return p.err("unexpected text");
+        }
+        return Ok(Property { temporal: Temporal::Always, formula: StateFormula::Not(Box::new(f)) });
+    } else {
+        return p.err("a property starts with always, eventually or never");
+    };
+    let formula = p.or()?;
+    p.ws();
+    if p.pos != text.len() {
+        return p.err("unexpected text");
+    }
+    Ok(Property { temporal, formula })
+}
