@@ -118,6 +118,9 @@ pub enum FplCmd {
         deadlock_free: bool,
         #[arg(long, default_value_t = 200_000)]
         max_states: usize,
+        /// Also model ground-station jumps to any block at any call
+        #[arg(long)]
+        operator: bool,
         #[arg(long)]
         json: bool,
         #[arg(long = "include-dir")]
@@ -157,8 +160,8 @@ pub fn run(cmd: FplCmd) -> ExitCode {
         FplCmd::Lint { plan, json, strict, include_dirs } => {
             ExitCode::from(vouch_fpl::evidence::commands::lint_cmd(&plan, include_dirs, json, strict))
         }
-        FplCmd::Check { plan, properties, safe_blocks, no_blocked, deadlock_free, max_states, json, include_dirs } => {
-            let a = vouch_fpl::evidence::commands::CheckArgs { properties, safe_blocks, no_blocked, deadlock_free, max_states, json };
+        FplCmd::Check { plan, properties, safe_blocks, no_blocked, deadlock_free, max_states, operator, json, include_dirs } => {
+            let a = vouch_fpl::evidence::commands::CheckArgs { properties, safe_blocks, no_blocked, deadlock_free, max_states, operator, json };
             ExitCode::from(vouch_fpl::evidence::commands::check_cmd(&plan, include_dirs, &a))
         }
         FplCmd::Graph { plan, output, include_dirs } => {

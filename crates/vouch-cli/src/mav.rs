@@ -14,12 +14,20 @@ use vouch_mav::monitor::offline::check_tlog;
 use vouch_mav::monitor::Monitor;
 use vouch_mav::protocol::{lint, stdlib};
 
+// `guard` and `bench` (mav-guard) live in their own file.
+#[path = "mav_guard.rs"]
+mod guard_cli;
+
 #[derive(Subcommand)]
 pub enum MavCmd {
     /// Check recordings (.tlog) against session-type protocols (standard library by default)
     Check(CheckArgs),
     /// Check protocol files against a dialect (standard library if no file is given)
     Lint(LintArgs),
+    /// Proxy between ground station(s) and vehicle checking every message (monitor or enforce)
+    Guard(guard_cli::GuardCli),
+    /// Latency, throughput and RSS of the guard vs a direct path and a socat relay (loopback)
+    Bench(guard_cli::BenchCli),
 }
 
 /// Options shared by every subcommand that runs the monitor.
@@ -68,6 +76,8 @@ pub fn run(cmd: MavCmd) -> ExitCode {
     match cmd {
         MavCmd::Check(a) => check(a),
         MavCmd::Lint(a) => lint_cmd(a),
+        MavCmd::Guard(a) => guard_cli::guard(a),
+        MavCmd::Bench(a) => guard_cli::bench(a),
     }
 }
 

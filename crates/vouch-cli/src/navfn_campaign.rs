@@ -203,6 +203,9 @@ pub struct CampaignArgs {
     /// Write a PNG per counterexample into this folder
     #[arg(long)]
     pictures: Option<PathBuf>,
+    /// Write one JSON line per case (outcome, NavFn and optimal cost, excess, turns, oscillations)
+    #[arg(long)]
+    cases_out: Option<PathBuf>,
     /// Run only shard I of N (cases with global index ≡ I mod N); join with `report merge`
     #[arg(long, value_parser = |s: &str| Shard::parse(s))]
     shard: Option<Shard>,
@@ -230,7 +233,7 @@ pub fn campaign(a: CampaignArgs) -> ExitCode {
         progress: !a.quiet,
         ..CampaignOptions::default()
     };
-    match commands::campaign(&a.suite, &opts, a.oracle.as_deref(), a.report.as_deref(), a.pictures.as_deref()) {
+    match commands::campaign(&a.suite, &opts, a.oracle.as_deref(), a.report.as_deref(), a.pictures.as_deref(), a.cases_out.as_deref()) {
         Ok((text, report)) => {
             print!("{text}");
             if report.failures() == 0 {

@@ -3,7 +3,7 @@
 //! located error naming the bad value/reference, and block/stage counts agree with the
 //! independently produced INDEX.tsv.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use vouch_fpl::ast::{FlightPlan, Stage, StageKind};
 use vouch_fpl::front::{parse_file, ErrorKind};
@@ -26,7 +26,7 @@ struct Row {
     generator_ok: bool,
 }
 
-fn index(dir: &PathBuf) -> Vec<Row> {
+fn index(dir: &Path) -> Vec<Row> {
     let text = std::fs::read_to_string(dir.join("INDEX.tsv")).expect("INDEX.tsv readable");
     text.lines()
         .skip(1)

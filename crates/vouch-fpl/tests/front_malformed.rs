@@ -15,6 +15,7 @@ fn kind_named(s: &str) -> ErrorKind {
         "UnknownBlock" => ErrorKind::UnknownBlock,
         "UnknownWaypoint" => ErrorKind::UnknownWaypoint,
         "DuplicateBlock" => ErrorKind::DuplicateBlock,
+        "DuplicateWaypoint" => ErrorKind::DuplicateWaypoint,
         "UnknownStage" => ErrorKind::UnknownStage,
         "UnknownAttribute" => ErrorKind::UnknownAttribute,
         "MissingAttribute" => ErrorKind::MissingAttribute,

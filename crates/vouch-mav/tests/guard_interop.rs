@@ -125,7 +125,7 @@ fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -
         tlog_path: None,
         signing: None,
     };
-    let (inspector, _) = standard_inspector(None, &[], &[]).expect("standard protocols");
+    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
     let guard = start(cfg, inspector).expect("guard starts");
     let gport = guard.gcs_addr.unwrap().port();
 
@@ -229,8 +229,10 @@ fn parachute_through_guard(py: &Path, tag: &str, enforce: bool) -> (Value, Value
             .arg(script("pymavlink_vehicle.py"))
             .arg("--url")
             .arg(format!("udpin:127.0.0.1:{vport}"))
-            .args(["--duration", "6", "--summary"])
+            .args(["--duration", "30", "--summary"])
             .arg(&vsum)
+            .arg("--stop-file")
+            .arg(dir.join("stop"))
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
@@ -245,14 +247,14 @@ fn parachute_through_guard(py: &Path, tag: &str, enforce: bool) -> (Value, Value
         tlog_path: None,
         signing: None,
     };
-    let (inspector, _) = standard_inspector(None, &[], &[]).expect("standard protocols");
+    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
     let guard = start(cfg, inspector).expect("guard");
     let gsum = dir.join("gcs.json");
     let status = Command::new(py)
         .arg(script("pymavlink_gcs.py"))
         .arg("--url")
         .arg(format!("udpout:127.0.0.1:{}", guard.gcs_addr.unwrap().port()))
-        .args(["--duration", "5", "--summary"])
+        .args(["--duration", "20", "--summary"])
         .arg(&gsum)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -260,6 +262,7 @@ fn parachute_through_guard(py: &Path, tag: &str, enforce: bool) -> (Value, Value
         .expect("gcs");
     assert!(status.success());
     let gcs = read_summary(&gsum);
+    std::fs::write(dir.join("stop"), b"").unwrap();
     let vehicle = read_summary(&vsum);
     let c = guard.stop();
     let _ = std::fs::remove_dir_all(&dir);

@@ -241,3 +241,28 @@ fn bad_endpoint_is_an_error_not_a_panic() {
     let err = start(cfg, Box::new(PassThrough)).err().expect("port in use");
     assert!(err.to_string().contains("gcs endpoint"), "{err}");
 }
+
+#[test]
+fn command_exit_codes() {
+    use vouch_mav::guard::cli::{run_guard, GuardArgs};
+    let base = GuardArgs {
+        gcs: "udpin:127.0.0.1:0".into(),
+        vehicle: "udpout:127.0.0.1:9".into(),
+        duration: Some(0.2),
+        json: true,
+        ..Default::default()
+    };
+    // clean run with the standard library, stopped by --duration
+    assert_eq!(run_guard(base.clone()), 0);
+    assert_eq!(run_guard(GuardArgs { relay_only: true, ..base.clone() }), 0);
+    // usage / I/O errors
+    assert_eq!(run_guard(GuardArgs { gcs: "udpin:nowhere".into(), ..base.clone() }), 2);
+    assert_eq!(run_guard(GuardArgs { sign_to_vehicle: true, ..base.clone() }), 2);
+    assert_eq!(run_guard(GuardArgs { signing_key: Some("/nonexistent/key".into()), ..base.clone() }), 2);
+    assert_eq!(run_guard(GuardArgs { set: vec!["NOVALUE".into()], ..base.clone() }), 2);
+    // a protocol file that does not parse is rejected input
+    let bad = std::env::temp_dir().join(format!("vouch-guard-bad-{}.vproto", std::process::id()));
+    std::fs::write(&bad, "protocol broken { nonsense").unwrap();
+    assert_eq!(run_guard(GuardArgs { protocols: vec![bad.clone()], ..base }), 1);
+    let _ = std::fs::remove_file(bad);
+}

@@ -179,7 +179,7 @@ fn soak(target_frames: u64) {
     let dialect = Dialect::default_dialect().expect("embedded dialect");
     let mut vehicle = Peer::new(true);
     let v_addr = vehicle.sock.local_addr().unwrap();
-    let (inspector, _) = standard_inspector(None, &[], &[]).expect("standard protocols");
+    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
     let cfg = GuardConfig {
         gcs: "udpin:127.0.0.1:0".parse().unwrap(),
         vehicle: format!("udpout:{v_addr}").parse().unwrap(),

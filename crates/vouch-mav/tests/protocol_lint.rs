@@ -2,6 +2,8 @@
 //! error naming the problem (unknown message / field / enum entry, unbound variable, type
 //! mismatch, syntax).
 
+#![allow(clippy::result_large_err)]
+
 mod common;
 use common::dialect;
 use vouch_mav::protocol::{lint, stdlib, ProtocolError};

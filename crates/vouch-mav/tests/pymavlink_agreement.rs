@@ -144,3 +144,30 @@ fn each_side_decodes_the_others_frames() {
         }
     }
 }
+
+/// Uploads crafted by pymavlink: the complete one passes, ACK after 60 of 100 is reported.
+#[test]
+fn pymavlink_crafted_uploads() {
+    let (Some(py), Some(d)) = (python(), dialect()) else { return };
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/py/craft_upload.py");
+    let dir = std::env::temp_dir().join(format!("vouch-mav-pycraft-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (ack_after, violations) in [(100, 0usize), (60, 1)] {
+        let path = dir.join(format!("upload_{ack_after}.tlog"));
+        let st = Command::new(&py).args([script, path.to_str().unwrap(), "100", &ack_after.to_string()]).status().unwrap();
+        assert!(st.success());
+        let data = std::fs::read(&path).unwrap();
+        let mut m = vouch_mav::Monitor::with_stdlib(d.clone(), &[]).unwrap();
+        let r = vouch_mav::monitor::offline::check_tlog(&data, &mut m);
+        assert_eq!(r.codec.frames, 2 + 1 + 2 * ack_after as u64 + 1);
+        assert_eq!(r.violations.len(), violations, "{:?}", r.violations.first().map(|v| v.to_string()));
+        if violations == 1 {
+            let v = &r.violations[0];
+            assert_eq!(v.predicate.as_deref(), Some("curr == n"));
+            assert!(v.values.contains(&("curr".into(), "60".into())));
+        } else {
+            assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 1);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

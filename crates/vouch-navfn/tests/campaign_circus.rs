@@ -51,3 +51,32 @@ fn circus_counterexample_is_reproduced() {
     assert_eq!(&bytes[1..4], b"PNG");
     println!("picture: {}", png.display());
 }
+
+#[test]
+fn per_case_records_carry_the_circus_excess() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn/suite/circus");
+    if !dir.is_dir() {
+        eprintln!("skipping: {} not found", dir.display());
+        return;
+    }
+    let out = std::env::temp_dir().join(format!("vouch-circus-cases-{}.jsonl", std::process::id()));
+    let opts = vouch_navfn::campaign::runner::CampaignOptions::default();
+    let (text, report) = vouch_navfn::campaign::commands::campaign(&dir, &opts, None, None, None, Some(&out)).expect("runs");
+    assert!(text.contains("circus"));
+    assert_eq!(report.failures(), 0);
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&out)
+        .expect("written")
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("json line"))
+        .collect();
+    assert_eq!(lines.len(), 5, "one line per circus case");
+    let rec = lines
+        .iter()
+        .find(|v| v["map"] == "circus_12L" && v["coords"] == serde_json::json!([3, 12, 2, 1]))
+        .expect("the paper's case");
+    assert_eq!(rec["outcome"], "found");
+    let excess = rec["excess"].as_f64().expect("excess");
+    assert!((excess - 820.7).abs() < 0.1, "excess {excess}");
+    assert!(rec["failed"].as_array().is_some_and(|a| a.is_empty()));
+    let _ = std::fs::remove_file(out);
+}

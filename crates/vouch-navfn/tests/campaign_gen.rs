@@ -130,3 +130,18 @@ fn ros_import_reproduces_the_paper_ros_maps() {
         assert_eq!(differing, 0, "{name}: {differing} cells differ from the paper's conversion");
     }
 }
+
+#[test]
+fn generated_circus_maps_reproduce_the_lane_counterexample() {
+    use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+    let d = tmp("circus");
+    let maps = generate(&GenOptions { categories: vec!["circus".into()], maps_per_category: 8, cases_per_map: 20, ..opts(3) }).expect("gen");
+    write_suite(&d, &maps).expect("write");
+    let (report, _) = run_campaign(&d, &CampaignOptions { metamorphic: false, ..CampaignOptions::default() }).expect("runs");
+    let c = &report.categories["circus"];
+    assert_eq!(report.failures(), 0);
+    // NavFn climbs the expensive lane on some generated tracks: paths > 10 % above the optimum.
+    assert!(c.optimality.suboptimal_paths > 0, "no circus counterexample in {} paths", c.optimality.compared);
+    assert!(report.findings.iter().any(|f| f.kind == "suboptimal" && f.category == "circus"));
+    let _ = std::fs::remove_dir_all(d);
+}

@@ -50,3 +50,26 @@ fn campaign_on_paper_suite_holds_every_property() {
         report.wall_seconds[0], report.threads[0], report.cases
     );
 }
+
+#[test]
+fn campaign_in_planner_dijkstra_mode_matches_golden_outcomes() {
+    let Some(shared) = shared() else { return };
+    let opts = CampaignOptions {
+        mode: vouch_navfn::campaign::exec::RunMode::NavfnDijkstra,
+        metamorphic: false,
+        ..CampaignOptions::default()
+    };
+    let (report, _) = run_campaign(&shared.join("suite"), &opts).expect("campaign runs");
+    let t = report.total();
+    // golden/README.md, navfn mode Dijkstra: 73,800 + 2,092 found, 20 calcPath exhausted.
+    assert_eq!(t.outcomes.found, 73_800);
+    assert_eq!(t.outcomes.start_is_goal, 2_092);
+    assert_eq!(t.outcomes.path_failed, 20);
+    // Connectivity does not depend on the mode.
+    assert_eq!(t.outcomes.unreachable, 34_034);
+    assert_eq!(report.failures(), 0);
+    println!(
+        "navfn-dijkstra: obtuse {} oscillating {} of {} cases; wall {:.2} s",
+        t.optimality.obtuse_paths, t.optimality.oscillating_paths, report.cases, report.wall_seconds[0]
+    );
+}

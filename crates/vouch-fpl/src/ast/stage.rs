@@ -18,6 +18,9 @@ pub struct Stage {
     pub from_path: bool,
 }
 
+// Variants are kept unboxed so consumers can match and read fields directly; plans hold a few
+// thousand stages at most, so the size difference does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum StageKind {
     While(While),

@@ -144,6 +144,8 @@ pub struct CheckArgs {
     pub no_blocked: bool,
     pub deadlock_free: bool,
     pub max_states: usize,
+    /// Model ground-station jumps to any block.
+    pub operator: bool,
     pub json: bool,
 }
 
@@ -157,7 +159,7 @@ pub fn check_cmd(plan: &Path, include_dirs: Vec<PathBuf>, a: &CheckArgs) -> u8 {
         Ok(f) => f,
         Err(c) => return c,
     };
-    let g = match build(&fp, a.max_states) {
+    let g = match build(&fp, a.max_states, a.operator) {
         Ok(g) => g,
         Err(e) => {
             eprintln!("error: {e}");

@@ -191,3 +191,26 @@ fn bad_number(start: usize, end: usize) -> ExprError {
         end,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::comment_len;
+
+    /// Expected lengths are the longest prefixes matched by upstream's regular expression
+    /// `"/*" ([^*] | '*' [^/])* '*'* '/'`, computed independently with a regex engine.
+    #[test]
+    fn comment_regex_longest_match() {
+        for (s, want) in [
+            ("/**/", Some(4)),
+            ("/*/", Some(3)),
+            ("/* a */ + /* b */", Some(7)),
+            ("/* a / b", Some(6)),
+            ("/* a **/ b */", Some(13)),
+            ("/* x *", None),
+            ("/*", None),
+            ("/* a */", Some(7)),
+        ] {
+            assert_eq!(comment_len(s.as_bytes()), want, "{s:?}");
+        }
+    }
+}

@@ -134,7 +134,7 @@ impl Ctx {
     }
     pub fn opt_deg(&mut self, e: &Elem, name: &str, limit: f64) -> Option<Num> {
         let n = self.number(e, name, degrees)?;
-        if !(n.value.abs() <= limit) {
+        if !n.value.is_finite() || n.value.abs() > limit {
             self.error(
                 ErrorKind::NumberOutOfRange,
                 format!("'{name}' = {} is outside [-{limit}, {limit}] degrees", n.text.value),
@@ -368,7 +368,16 @@ pub fn index_names(ctx: &mut Ctx, m: &Merged) {
     for (i, w) in m.waypoints.iter().enumerate() {
         let Some(a) = w.attr("name") else { continue };
         if ctx.waypoints.contains_key(&a.value) {
-            ctx.warn(format!("duplicate waypoint name '{}' (references use the first one, as upstream)", a.value), a.value_span);
+            if w.relative.is_some() {
+                ctx.warn(format!("relative waypoint '{}' created twice (references use the first)", a.value), a.value_span);
+            } else {
+                ctx.error_help(
+                    ErrorKind::DuplicateWaypoint,
+                    format!("duplicate waypoint name '{}'", a.value),
+                    a.value_span,
+                    "upstream would silently use the first one; procedures' waypoints are not prefixed",
+                );
+            }
         } else {
             ctx.waypoints.insert(a.value.clone(), WpId(i));
         }

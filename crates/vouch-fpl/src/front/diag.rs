@@ -28,6 +28,10 @@ pub enum ErrorKind {
     EmptyPlan,
     /// Two blocks with the same name.
     DuplicateBlock,
+    /// Two written waypoints with the same name (upstream silently uses the first; vouch
+    /// refuses it; duplicates created by relative waypoints stay warnings, as they are upstream's
+    /// own doing).
+    DuplicateWaypoint,
     /// A deroute / exception / `IndexOfBlock` / forbidden deroute names no block.
     UnknownBlock,
     /// A stage or sector corner names no waypoint.

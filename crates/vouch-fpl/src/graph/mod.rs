@@ -13,7 +13,7 @@ mod svg;
 use std::collections::BTreeMap;
 
 use crate::ast::{FlightPlan, Stage, StageKind};
-use crate::lint::rules::{ends_list, live_stages};
+use crate::lint::rules::{live_stages, reaches_end};
 
 /// The kind of a block-level edge, which decides its style.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -95,8 +95,7 @@ pub fn block_graph(plan: &FlightPlan) -> BlockGraph {
             StageKind::Return(_) => has_return[b] = true,
             _ => {}
         });
-        let reaches_end = !block.stages.iter().any(ends_list);
-        if reaches_end && b + 1 < n {
+        if reaches_end(&block.stages) && b + 1 < n {
             add(EdgeKind::Next, Some(b), b + 1);
         }
         for e in &block.exceptions {

@@ -64,7 +64,7 @@ pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
     let n = plan.blocks.len();
     let mut succ: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];
     for (b, block) in plan.blocks.iter().enumerate() {
-        if b + 1 < n {
+        if b + 1 < n && reaches_end(&block.stages) {
             succ[b].insert(b + 1);
         }
         walk(&block.stages, &mut |s| {
@@ -132,7 +132,7 @@ pub fn forbidden_steps(plan: &FlightPlan, out: &mut Vec<Warning>) {
                 out.extend(forbid_warning(plan, "exception", b, e.deroute.id.0, e.span));
             }
         }
-        if b + 1 < n {
+        if b + 1 < n && reaches_end(&block.stages) {
             out.extend(forbid_warning(plan, "the end of the block (next block)", b, b + 1, block.span));
         }
     }
@@ -181,6 +181,11 @@ pub(crate) fn live_stages<'a>(stages: &'a [Stage], f: &mut impl FnMut(&'a Stage)
             break;
         }
     }
+}
+
+/// Whether a block's stage list can run to its end (the implicit next-block stage).
+pub(crate) fn reaches_end(stages: &[Stage]) -> bool {
+    !stages.iter().any(ends_list)
 }
 
 /// A stage after which the next stage of the same list can never run.

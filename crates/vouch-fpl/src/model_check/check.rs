@@ -22,6 +22,8 @@ pub struct Step {
     pub state: String,
     /// Block changes refused during the call.
     pub blocked: Vec<(String, String)>,
+    /// The operator jumped to this block instead of the call running.
+    pub operator: Option<String>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -154,6 +156,7 @@ fn steps_of(g: &Graph, from: usize, path: &Path, first_call: usize) -> Vec<Step>
             answers: e.answers.clone(),
             state: g.describe(to),
             blocked: e.blocked.iter().map(|(a, b)| (name(*a), name(*b))).collect(),
+            operator: e.operator.map(name),
         });
         cur = to;
     }
@@ -280,7 +283,10 @@ pub fn render(o: &Outcome) -> String {
                 s.push_str("  -- cycle (repeats forever) --\n");
             }
             let ans: Vec<String> = st.answers.iter().map(|a| a.to_string()).collect();
-            s.push_str(&format!("  call {:>3}  answers [{}] -> {}", st.call, ans.join(" "), st.state));
+            match &st.operator {
+                Some(b) => s.push_str(&format!("  call {:>3}  operator jumps to '{b}' -> {}", st.call, st.state)),
+                None => s.push_str(&format!("  call {:>3}  answers [{}] -> {}", st.call, ans.join(" "), st.state)),
+            }
             for (a, b) in &st.blocked {
                 s.push_str(&format!("  (refused: '{a}' -> '{b}')"));
             }

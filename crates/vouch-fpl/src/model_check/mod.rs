@@ -31,6 +31,8 @@ pub struct Edge {
     pub answers: Vec<i64>,
     /// Block changes refused by a forbidden deroute during the call (from, to).
     pub blocked: Vec<(usize, usize)>,
+    /// With operator jumps modelled: the block the operator jumped to instead of the call.
+    pub operator: Option<usize>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -44,8 +46,25 @@ pub struct Graph {
     pub cut: Option<String>,
 }
 
-fn marked(fp: &Fp) -> Fp {
+const OPERATOR: &str = "op:";
+
+/// Copy of the FP with forbidden deroutes observable and, when `operator` is set, one free
+/// global exception per block standing for a ground-station jump to it (tested first, so at
+/// any call the operator may jump anywhere; such a jump obeys forbidden deroutes like any
+/// block change, and a refused jump is dropped from the graph).
+fn marked(fp: &Fp, operator: bool) -> Fp {
     let mut m = fp.clone();
+    if operator {
+        let jumps = (0..fp.blocks.len()).map(|t| crate::passes::fp::FpException {
+            cond: format!("{MARKER_PREFIX}{OPERATOR}{t}"),
+            target: t,
+            exec: None,
+            span: crate::ast::Span::default(),
+        });
+        let mut ex: Vec<_> = jumps.collect();
+        ex.extend(m.exceptions);
+        m.exceptions = ex;
+    }
     for (i, f) in m.forbidden.iter_mut().enumerate() {
         f.only_when = Some(match &f.only_when {
             None => format!("{MARKER_PREFIX}{i}{FORCED_SUFFIX}"),
@@ -55,15 +74,23 @@ fn marked(fp: &Fp) -> Fp {
     m
 }
 
+fn operator_target(text: &str) -> Option<usize> {
+    text.strip_prefix(MARKER_PREFIX)?.strip_prefix(OPERATOR)?.parse().ok()
+}
+
 fn marker_index(text: &str) -> Option<usize> {
     let rest = text.strip_prefix(MARKER_PREFIX)?;
+    if rest.starts_with(OPERATOR) {
+        return None;
+    }
     let end = rest.find(':').unwrap_or(rest.len());
     rest[..end].parse().ok()
 }
 
-/// Builds the reachable state graph, at most `max_states` states.
-pub fn build(fp: &Fp, max_states: usize) -> Result<Graph, String> {
-    let m = marked(fp);
+/// Builds the reachable state graph, at most `max_states` states; `operator` adds
+/// ground-station jumps to any block at any call.
+pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String> {
+    let m = marked(fp, operator);
     let mut interp = Interp::new(&m);
     let init = interp.state.clone();
     let mut index: HashMap<StateKey, usize> = HashMap::new();
@@ -86,6 +113,11 @@ pub fn build(fp: &Fp, max_states: usize) -> Result<Graph, String> {
         }
         let mut out: Vec<Edge> = Vec::new();
         for p in tree.paths {
+            let op = p.markers.iter().find_map(|t| operator_target(t));
+            let refused = p.markers.iter().any(|t| marker_index(t).is_some());
+            if op.is_some() && refused {
+                continue;
+            }
             let k = state_key(&mut interp, &p.state);
             let to = match index.get(&k) {
                 Some(&i) => i,
@@ -109,10 +141,10 @@ pub fn build(fp: &Fp, max_states: usize) -> Result<Graph, String> {
             blocked.dedup();
             // Answers without the forced marker answers, so they replay on the real plan.
             let answers = strip_forced(&p.answers, &p.events_markers_forced());
-            match out.iter_mut().find(|e| e.to == to && e.blocked == blocked) {
+            match out.iter_mut().find(|e| e.to == to && e.blocked == blocked && e.operator == op) {
                 Some(e) if e.answers.len() <= answers.len() => {}
                 Some(e) => e.answers = answers,
-                None => out.push(Edge { to, answers, blocked }),
+                None => out.push(Edge { to, answers, blocked, operator: op }),
             }
         }
         graph.edges.push(out);
@@ -130,8 +162,9 @@ trait ForcedPositions {
 }
 
 impl ForcedPositions for crate::evidence::explore::CallPath<'_> {
-    /// Positions of forced marker answers in `answers`: the questions are the condition and
-    /// non-literal value events, in order.
+    /// Positions in `answers` of the questions the real plan does not ask (forced forbidden
+    /// markers, operator jumps): the questions are the condition and non-literal value events,
+    /// in order.
     fn events_markers_forced(&self) -> Vec<usize> {
         use crate::semantics::oracle::literal_value;
         use crate::semantics::trace::Event;
@@ -140,7 +173,9 @@ impl ForcedPositions for crate::evidence::explore::CallPath<'_> {
         for e in &self.events {
             match e {
                 Event::Cond { text, .. } => {
-                    if text.starts_with(MARKER_PREFIX) && text.ends_with(FORCED_SUFFIX) {
+                    let hidden = text.starts_with(MARKER_PREFIX)
+                        && (text.ends_with(FORCED_SUFFIX) || operator_target(text).is_some());
+                    if hidden {
                         forced.push(pos);
                     }
                     pos += 1;

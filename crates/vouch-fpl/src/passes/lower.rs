@@ -240,7 +240,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             };
             let at = match (&g.approaching_time, &g.exceeding_time) {
                 (Some(a), None) => a.value.clone(),
-                (None, Some(e)) => format!("-{}", e.value),
+                (None, Some(e)) => negate(&e.value),
                 (None, None) => "CARROT".to_string(),
                 (Some(_), Some(_)) => {
                     return Err(CompileError::new("approaching_time and exceeding_time are not compatible", span))
@@ -379,6 +379,18 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             return Err(CompileError::new("internal: not a navigation stage", span));
         }
     })
+}
+
+/// `exceeding_time` becomes a negative approach time. Upstream prepends `-` to the raw text, so
+/// `a+b` gives `-a+b` (quirk 7); vouch negates the whole value: `-(a+b)`, and keeps the upstream
+/// text `-t` when `t` is a single number or identifier (where both agree).
+fn negate(t: &str) -> String {
+    let simple = !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
+    if simple {
+        format!("-{t}")
+    } else {
+        format!("-({t})")
+    }
 }
 
 /// The "hmode line". `from` is the route start (`last_wp` when the stage has none).

@@ -49,7 +49,12 @@ pub struct PathResult {
     pub stream_p50_us: f64,
     pub stream_p99_us: f64,
     pub saturation_msgs_per_s: f64,
+    /// Frames delivered per CPU-second the relay process used during saturation: its capacity
+    /// on one core, much less sensitive to other load on the machine than wall-clock rates.
+    pub msgs_per_cpu_second: Option<f64>,
+    /// VmHWM (peak, includes start-up such as parsing the dialect) and VmRSS at the end.
     pub peak_rss_kb: Option<u64>,
+    pub end_rss_kb: Option<u64>,
 }
 
 const WAIT: Duration = Duration::from_millis(500);
@@ -80,10 +85,22 @@ fn pin_to_cpu(cpu: usize) {
     }
 }
 
-fn peak_rss_kb(pid: u32) -> Option<u64> {
+fn status_kb(pid: u32, key: &str) -> Option<u64> {
     let s = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = s.lines().find(|l| l.starts_with(key))?;
     line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// User + system CPU seconds used so far by process `pid` (all threads).
+fn cpu_seconds(pid: u32) -> Option<f64> {
+    let s = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    let rest = &s[s.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    // fields after the command name start at field 3 (state): utime is field 14, stime 15
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    // SAFETY: sysconf has no preconditions.
+    let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
+    Some(ticks / hz.max(1.0))
 }
 
 // --- the messages of the exchange (MAVLink 2, CRC_EXTRA from common.xml) -------------------
@@ -315,10 +332,17 @@ fn measure(label: &str, relay: &mut Relay, vehicle: UdpSocket, a: &BenchArgs) ->
     r.stream_delivered_pct = 100.0 * got as f64 / f64::from(n.max(1));
     (r.stream_p50_us, r.stream_p99_us) = (pct(&lat, 0.5), pct(&lat, 0.99));
     let sat_n = 300_000u32;
+    let pid = match relay {
+        Relay::Process { child, .. } => Some(child.id()),
+        Relay::Direct => None,
+    };
+    let cpu0 = pid.and_then(cpu_seconds);
     let (got, _, secs) = stream(&rig, sat_n, 0)?;
     r.saturation_msgs_per_s = got as f64 / secs;
-    if let Relay::Process { child, .. } = relay {
-        r.peak_rss_kb = peak_rss_kb(child.id());
+    if let (Some(pid), Some(c0)) = (pid, cpu0) {
+        r.msgs_per_cpu_second = cpu_seconds(pid).map(|c1| got as f64 / (c1 - c0).max(0.01));
+        r.peak_rss_kb = status_kb(pid, "VmHWM:");
+        r.end_rss_kb = status_kb(pid, "VmRSS:");
     }
     Ok(r)
 }
@@ -401,13 +425,14 @@ pub fn run_bench(a: BenchArgs) -> Result<Vec<PathResult>, String> {
 fn print_table(rs: &[PathResult], rate: u32) {
     let direct = rs.first().cloned().unwrap_or_default();
     println!(
-        "{:<18} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>11} {:>11} {:>12} {:>9}",
+        "{:<17} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8} {:>8}",
         "path", "upl p50", "upl p99", "ping p50", "ping p99", "+p50 vs d", "+p99 vs d",
-        "stream ok%", "strm p99", "sat msg/s", "RSS kB"
+        "strm ok%", "strm p99", "sat msg/s", "msg/CPU-s", "peak kB", "end kB"
     );
+    let kb = |k: Option<u64>| k.map(|k| k.to_string()).unwrap_or_else(|| "-".into());
     for r in rs {
         println!(
-            "{:<18} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>10.1} {:>10.1} {:>11.2} {:>11.1} {:>12.0} {:>9}",
+            "{:<17} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>9.1} {:>8.2} {:>9.1} {:>9.0} {:>10} {:>8} {:>8}",
             r.path,
             r.upload_p50_us,
             r.upload_p99_us,
@@ -418,8 +443,15 @@ fn print_table(rs: &[PathResult], rate: u32) {
             r.stream_delivered_pct,
             r.stream_p99_us,
             r.saturation_msgs_per_s,
-            r.peak_rss_kb.map(|k| k.to_string()).unwrap_or_else(|| "-".into()),
+            r.msgs_per_cpu_second.map(|m| format!("{m:.0}")).unwrap_or_else(|| "-".into()),
+            kb(r.peak_rss_kb),
+            kb(r.end_rss_kb),
         );
     }
-    println!("(latencies in µs, one message in flight; stream = {rate} msg/s vehicle→GCS; sat = blast, relay pinned to CPU 0)");
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    println!(
+        "(µs one-way, one message in flight; +vs d = added over direct; stream = {rate} msg/s vehicle→GCS; \
+         sat = blast with the relay pinned to CPU 0; loadavg {})",
+        load.split_whitespace().take(3).collect::<Vec<_>>().join(" ")
+    );
 }

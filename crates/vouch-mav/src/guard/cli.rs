@@ -17,11 +17,13 @@ pub struct GuardArgs {
     pub vehicle: String,
     /// Protocol files; empty = the standard library.
     pub protocols: Vec<PathBuf>,
+    /// Also load the standard library when protocol files are given.
+    pub with_stdlib: bool,
     /// No protocol checking at all: a plain relay (benchmark floor of the guard itself).
     pub relay_only: bool,
     pub dialect: Option<PathBuf>,
     /// `NAME=VALUE` overrides of protocol constants.
-    pub consts: Vec<String>,
+    pub set: Vec<String>,
     pub enforce: bool,
     pub alert_gcs: bool,
     pub log: Option<PathBuf>,
@@ -37,30 +39,41 @@ pub struct GuardArgs {
 
 /// Exit codes shared by the workspace.
 pub const EXIT_OK: u8 = 0;
+pub const EXIT_REJECTED: u8 = 1;
 pub const EXIT_USAGE: u8 = 2;
 
+/// Runs the guard until SIGINT/SIGTERM or `duration`; returns the process exit code
+/// (0 clean shutdown, 1 protocol file rejected, 2 usage or I/O error).
 pub fn run_guard(a: GuardArgs) -> u8 {
     match run(a) {
         Ok(()) => EXIT_OK,
-        Err(e) => {
+        Err((code, e)) => {
             eprintln!("vouch mav guard: {e}");
-            EXIT_USAGE
+            code
         }
     }
 }
 
-fn run(a: GuardArgs) -> Result<(), String> {
-    let gcs = a.gcs.parse()?;
-    let vehicle = a.vehicle.parse()?;
+fn run(a: GuardArgs) -> Result<(), (u8, String)> {
+    let usage = |e: String| (EXIT_USAGE, e);
+    let gcs = a.gcs.parse().map_err(usage)?;
+    let vehicle = a.vehicle.parse().map_err(usage)?;
     let signing = match &a.signing_key {
-        Some(k) => Some(SigningConfig { key: SigningKey::parse(k)?, sign_to_vehicle: a.sign_to_vehicle, link_id: a.signing_link_id }),
-        None if a.sign_to_vehicle => return Err("--sign-to-vehicle needs --signing-key".into()),
+        Some(k) => Some(SigningConfig {
+            key: SigningKey::parse(k).map_err(usage)?,
+            sign_to_vehicle: a.sign_to_vehicle,
+            link_id: a.signing_link_id,
+        }),
+        None if a.sign_to_vehicle => return Err(usage("--sign-to-vehicle needs --signing-key".into())),
         None => None,
     };
     let (inspector, what): (Box<dyn Inspector>, String) = if a.relay_only {
         (Box::new(PassThrough), "no protocols (relay only)".into())
     } else {
-        super::monitor_inspector::build(a.dialect.as_deref(), &a.protocols, &a.consts)?
+        super::monitor_inspector::build(a.dialect.as_deref(), &a.protocols, a.with_stdlib, &a.set).map_err(|e| match e {
+            super::monitor_inspector::BuildError::Io(s) => (EXIT_USAGE, s),
+            super::monitor_inspector::BuildError::Rejected(s) => (EXIT_REJECTED, s),
+        })?
     };
     let cfg = GuardConfig {
         gcs,
@@ -73,9 +86,9 @@ fn run(a: GuardArgs) -> Result<(), String> {
     };
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register(sig, stop.clone()).map_err(|e| format!("cannot install signal handler: {e}"))?;
+        signal_hook::flag::register(sig, stop.clone()).map_err(|e| usage(format!("cannot install signal handler: {e}")))?;
     }
-    let g = start(cfg, inspector).map_err(|e| e.to_string())?;
+    let g = start(cfg, inspector).map_err(|e| usage(e.to_string()))?;
     eprintln!(
         "vouch mav guard: gcs {} ({}) <-> vehicle {} ({}); {}; {} mode{}{}",
         a.gcs,

@@ -59,7 +59,12 @@ impl Inspector for MonitorInspector {
                         });
                     }
                 }
-                let summary = format!("{}: {}", v.protocol, v.reason);
+                // Short enough for STATUSTEXT's 50 bytes in the common cases:
+                // "MISSION_ACK: curr == n (curr=60, n=100)"; the log has the full report.
+                let msg = v.message.split_whitespace().next().unwrap_or("message");
+                let why = v.predicate.clone().unwrap_or_else(|| v.reason.clone());
+                let vals: Vec<String> = v.values.iter().map(|(n, x)| format!("{n}={x}")).collect();
+                let summary = if vals.is_empty() { format!("{msg}: {why}") } else { format!("{msg}: {why} ({})", vals.join(", ")) };
                 let record = serde_json::to_value(&*v).unwrap_or_default();
                 Verdict::Violation(Finding { summary, record, replies })
             }
@@ -71,38 +76,52 @@ fn parse_consts(consts: &[String]) -> Result<Vec<(String, f64)>, String> {
     consts
         .iter()
         .map(|c| {
-            let (n, v) = c.split_once('=').ok_or_else(|| format!("--const `{c}`: expected NAME=VALUE"))?;
-            let v: f64 = v.trim().parse().map_err(|_| format!("--const `{c}`: `{v}` is not a number"))?;
+            let (n, v) = c.split_once('=').ok_or_else(|| format!("--set `{c}`: expected NAME=VALUE"))?;
+            let v: f64 = v.trim().parse().map_err(|_| format!("--set `{c}`: `{v}` is not a number"))?;
             Ok((n.trim().to_string(), v))
         })
         .collect()
 }
 
-/// Builds the monitor inspector: `protocols` (files) or, when empty, the standard library.
+/// Why the inspector could not be built: unreadable input (exit 2) or a rejected protocol (exit 1).
+#[derive(Debug)]
+pub enum BuildError {
+    Io(String),
+    Rejected(String),
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BuildError::Io(s) | BuildError::Rejected(s) => f.write_str(s),
+        }
+    }
+}
+
+/// Builds the monitor inspector: the standard library when `protocols` is empty (or
+/// `with_stdlib`), plus the given protocol files; `set` holds `NAME=VALUE` constant overrides.
 /// Returns it with a one-line description for the start-up banner.
 pub fn build(
     dialect: Option<&Path>,
     protocols: &[PathBuf],
-    consts: &[String],
-) -> Result<(Box<dyn Inspector>, String), String> {
+    with_stdlib: bool,
+    set: &[String],
+) -> Result<(Box<dyn Inspector>, String), BuildError> {
     let d = match dialect {
         Some(p) => load_dialect_file(p),
         None => Dialect::default_dialect(),
     }
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| BuildError::Io(e.to_string()))?;
     let d = Arc::new(d);
-    let overrides = parse_consts(consts)?;
-    let render = |e: crate::protocol::ProtocolError| format!("{:?}", miette::Report::new(e));
-    let monitor = if protocols.is_empty() {
-        Monitor::with_stdlib(d.clone(), &overrides).map_err(render)?
-    } else {
-        let mut sources = vec![];
-        for p in protocols {
-            let text = std::fs::read_to_string(p).map_err(|e| format!("cannot read protocol file {}: {e}", p.display()))?;
-            sources.push((p.display().to_string(), text));
-        }
-        Monitor::from_sources(d.clone(), &sources, &overrides).map_err(render)?
-    };
+    let overrides = parse_consts(set).map_err(BuildError::Io)?;
+    let mut sources = if protocols.is_empty() || with_stdlib { crate::protocol::stdlib::sources() } else { vec![] };
+    for p in protocols {
+        let text = std::fs::read_to_string(p)
+            .map_err(|e| BuildError::Io(format!("cannot read protocol file {}: {e}", p.display())))?;
+        sources.push((p.display().to_string(), text));
+    }
+    let monitor = Monitor::from_sources(d.clone(), &sources, &overrides)
+        .map_err(|e| BuildError::Rejected(format!("{:?}", miette::Report::new(e))))?;
     let names: Vec<String> = monitor.protocols().protocols.iter().map(|p| p.name.clone()).collect();
     let what = format!("{} protocol(s): {}", names.len(), names.join(", "));
     Ok((Box::new(MonitorInspector { monitor, dialect: d, splitter: FrameSplitter::new() }), what))

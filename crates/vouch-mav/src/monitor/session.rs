@@ -265,15 +265,15 @@ impl Monitor {
         if let Some(t) = target {
             ids[1 - role] = t;
         }
+        // Cheap pre-check so that most messages allocate nothing here.
+        if !proto.states[0].transitions.iter().any(|t| t.from == role && t.msgs.iter().any(|l| l.msg == msg.index)) {
+            return None;
+        }
         let keys: Vec<Val> = proto
             .keys
             .iter()
             .map(|k| k.locs.iter().find(|(m, _)| *m == msg.index).map(|(_, l)| read_loc(msg.payload, l)).unwrap_or(Val::Unknown))
             .collect();
-        // Cheap pre-check so that most messages allocate nothing here.
-        if !proto.states[0].transitions.iter().any(|t| t.from == role && t.msgs.iter().any(|l| l.msg == msg.index)) {
-            return None;
-        }
         let mut vars = vec![Val::Unknown; proto.var_names.len()];
         let input = StepInput {
             msg,

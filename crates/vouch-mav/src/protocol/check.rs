@@ -3,61 +3,41 @@
 //! unbound variables and type mismatches are located errors (`vouch mav lint`).
 
 use super::ast::{self, BinOp, ExprKind, Stmt, UnOp};
+pub(crate) use super::typing::Ty;
 use super::error::{ProtocolError, Span};
 use super::ir::*;
 use crate::dialect::{Dialect, MessageDef, MsgIndex, PrimType};
 
-/// Static type of an expression.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Ty {
-    /// A number; `enum_` names the MAVLink enum its values come from, when known.
-    Num { enum_: Option<String> },
-    Str,
-    Bool,
-}
-
-impl Ty {
-    fn num() -> Ty {
-        Ty::Num { enum_: None }
-    }
-
-    fn describe(&self) -> String {
-        match self {
-            Ty::Num { enum_: Some(e) } => format!("a value of enum {e}"),
-            Ty::Num { enum_: None } => "a number".into(),
-            Ty::Str => "text".into(),
-            Ty::Bool => "a boolean".into(),
-        }
-    }
-}
-
 /// Field context of the step being compiled: which messages, which field slots.
-struct StepCx {
-    msgs: Vec<MsgIndex>,
-    names: Vec<String>,
-    locs: Vec<Vec<FieldLoc>>,
-    label_text: String,
+pub(super) struct StepCx {
+    pub(super) msgs: Vec<MsgIndex>,
+    pub(super) names: Vec<String>,
+    pub(super) locs: Vec<Vec<FieldLoc>>,
+    pub(super) label_text: String,
 }
+
+pub(super) type RecScope = (String, usize, Vec<(String, Slot)>);
 
 #[derive(Default)]
-struct Scope {
-    vars: Vec<(String, Slot, Ty)>,
-    recs: Vec<(String, usize, Vec<(String, Slot)>)>,
+pub(super) struct Scope {
+    pub(super) vars: Vec<(String, Slot, Ty)>,
+    /// Recursions in scope: name, rec id, its variables (name, slot).
+    pub(super) recs: Vec<RecScope>,
 }
 
 pub(crate) struct Compiler<'a> {
     pub dialect: &'a Dialect,
     pub src: &'a str,
     pub set: &'a mut ProtocolSet,
-    proto: Option<Protocol>,
+    pub(super) proto: Option<Protocol>,
     /// Key names of the protocol being compiled (usable in reply expressions).
-    keys: Vec<String>,
-    in_reply: bool,
+    pub(super) keys: Vec<String>,
+    pub(super) in_reply: bool,
 }
 
-type CResult<T> = Result<T, ProtocolError>;
+pub(super) type CResult<T> = Result<T, ProtocolError>;
 
-fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
+pub(super) fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
     let f = def.field(name)?;
     Some(FieldLoc {
         ty: f.ty,
@@ -67,7 +47,7 @@ fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
     })
 }
 
-fn ty_of_loc(l: &FieldLoc) -> Ty {
+pub(super) fn ty_of_loc(l: &FieldLoc) -> Ty {
     if l.text_len > 0 { Ty::Str } else { Ty::Num { enum_: l.enum_name.clone() } }
 }
 
@@ -76,7 +56,7 @@ impl<'a> Compiler<'a> {
         Compiler { dialect, src, set, proto: None, keys: vec![], in_reply: false }
     }
 
-    fn err<T>(&self, span: Span, msg: impl Into<String>) -> CResult<T> {
+    pub(super) fn err<T>(&self, span: Span, msg: impl Into<String>) -> CResult<T> {
         Err(ProtocolError::at(self.src, span, msg))
     }
 
@@ -259,20 +239,6 @@ impl<'a> Compiler<'a> {
         Ok(ReplyIR { to, msg, fields })
     }
 
-    fn expect_compatible(&self, want: &Ty, got: &Ty, span: Span) -> CResult<()> {
-        let ok = match (want, got) {
-            (Ty::Num { enum_: Some(a) }, Ty::Num { enum_: Some(b) }) => a == b,
-            (Ty::Num { .. }, Ty::Num { .. }) => true,
-            (Ty::Str, Ty::Str) | (Ty::Bool, Ty::Bool) => true,
-            _ => false,
-        };
-        if ok {
-            Ok(())
-        } else {
-            self.err(span, format!("type mismatch: expected {}, found {}", want.describe(), got.describe()))
-        }
-    }
-
     fn new_var(&mut self, name: &str) -> Slot {
         let p = self.proto_mut();
         p.var_names.push(name.to_string());
@@ -446,7 +412,7 @@ impl<'a> Compiler<'a> {
     }
 
     /// Slot of field `name` in the current step; the field must exist in every alternative message.
-    fn field_slot(&self, step: &mut StepCx, name: &str, span: Span) -> CResult<(usize, Ty)> {
+    pub(super) fn field_slot(&self, step: &mut StepCx, name: &str, span: Span) -> CResult<(usize, Ty)> {
         if let Some(i) = step.names.iter().position(|n| n == name) {
             return Ok((i, ty_of_loc(&step.locs[0][i])));
         }
@@ -469,156 +435,6 @@ impl<'a> Compiler<'a> {
         Ok((step.names.len() - 1, ty))
     }
 
-    fn pred(&mut self, e: &ast::Expr, scope: &mut Scope, mut step: Option<&mut StepCx>) -> CResult<Pred> {
-        let mut parts = vec![];
-        flatten_and(e, &mut parts);
-        let mut conjuncts = vec![];
-        for p in parts {
-            let mut shows = vec![];
-            let (x, ty) = self.expr(p, scope, step.as_deref_mut(), &mut shows)?;
-            if ty != Ty::Bool {
-                return self.err(p.span, format!("a condition must be a boolean, this is {}", ty.describe()));
-            }
-            let text = self.src.get(p.span.start..p.span.start + p.span.len).unwrap_or("").to_string();
-            conjuncts.push(Conjunct { expr: x, text, shows });
-        }
-        Ok(Pred { conjuncts })
-    }
-
-    /// Compiles an expression, resolving names: variables in scope, fields of the current
-    /// message, session keys (replies only), constants, enum entries — in that order.
-    fn expr(
-        &mut self,
-        e: &ast::Expr,
-        scope: &mut Scope,
-        mut step: Option<&mut StepCx>,
-        shows: &mut Vec<(String, Expr, Option<String>)>,
-    ) -> CResult<(Expr, Ty)> {
-        let show = |shows: &mut Vec<(String, Expr, Option<String>)>, n: &str, x: &Expr, t: &Ty| {
-            if !shows.iter().any(|(s, _, _)| s == n) {
-                let en = match t {
-                    Ty::Num { enum_ } => enum_.clone(),
-                    _ => None,
-                };
-                shows.push((n.to_string(), x.clone(), en));
-            }
-        };
-        Ok(match &e.kind {
-            ExprKind::Num(n) => (Expr::Num(*n), Ty::num()),
-            ExprKind::Str(s) => (Expr::Str(s.as_bytes().into()), Ty::Str),
-            ExprKind::Bool(b) => (Expr::Bool(*b), Ty::Bool),
-            ExprKind::Name(n) => {
-                let r = if let Some((_, slot, ty)) = scope.vars.iter().rev().find(|(v, _, _)| v == n) {
-                    (Expr::Var(*slot), ty.clone())
-                } else if self.in_reply && self.proto.as_ref().is_some_and(|p| p.var_names.contains(n)) {
-                    let p = self.proto.as_ref().expect("protocol under construction");
-                    let slot = p.var_names.iter().rposition(|v| v == n).unwrap_or(0);
-                    (Expr::Var(slot), Ty::num())
-                } else if let Some(i) = self.keys.iter().position(|k| k == n).filter(|_| self.in_reply) {
-                    (Expr::Key(i), Ty::num())
-                } else if let Some(st) = step.as_deref_mut().filter(|st| {
-                    st.msgs.iter().any(|&m| self.dialect.message(m).field(n).is_some())
-                }) {
-                    let (slot, ty) = self.field_slot(st, n, e.span)?;
-                    (Expr::Field(slot), ty)
-                } else if let Some(i) = self.set.consts.iter().position(|k| &k.name == n) {
-                    (Expr::Const(i), Ty::num())
-                } else if let Some((en, v)) = self.dialect.enum_entry(n) {
-                    return Ok((Expr::Num(v as f64), Ty::Num { enum_: Some(en.to_string()) }));
-                } else {
-                    let mut err = ProtocolError::at(self.src, e.span, format!("unbound name `{n}`"));
-                    err = err.with_help(match &step {
-                        Some(st) => format!(
-                            "not a variable in scope, a field of {}, a constant or an enum entry of the dialect",
-                            st.label_text
-                        ),
-                        None => "not a variable in scope, a constant or an enum entry of the dialect".to_string(),
-                    });
-                    return Err(err);
-                };
-                show(shows, n, &r.0, &r.1);
-                r
-            }
-            ExprKind::Vehicle(m) => {
-                let (attr, ty) = match m.name.as_str() {
-                    "armed" => (VehicleAttr::Armed, Ty::Bool),
-                    "mode" => (VehicleAttr::Mode, Ty::num()),
-                    "alt" => (VehicleAttr::Alt, Ty::num()),
-                    "climb" => (VehicleAttr::Climb, Ty::num()),
-                    "type" => (VehicleAttr::Type, Ty::Num { enum_: Some("MAV_TYPE".into()) }),
-                    _ => {
-                        return Err(ProtocolError::at(self.src, m.span, format!("unknown vehicle attribute `{}`", m.name))
-                            .with_help("vehicle attributes: armed, mode, alt, climb, type"))
-                    }
-                };
-                let x = Expr::Vehicle(attr);
-                show(shows, &format!("vehicle.{}", m.name), &x, &ty);
-                (x, ty)
-            }
-            ExprKind::Param(m) => {
-                if m.name.len() > 16 {
-                    return self.err(m.span, "parameter names have at most 16 characters");
-                }
-                let x = Expr::Param(self.set.params.intern(&m.name));
-                show(shows, &format!("param.{}", m.name), &x, &Ty::num());
-                (x, Ty::num())
-            }
-            ExprKind::Unary(op, a) => {
-                let (x, t) = self.expr(a, scope, step, shows)?;
-                match op {
-                    UnOp::Not => {
-                        self.expect_compatible(&Ty::Bool, &t, a.span)?;
-                        (Expr::Not(Box::new(x)), Ty::Bool)
-                    }
-                    UnOp::Neg => {
-                        self.expect_compatible(&Ty::num(), &t, a.span)?;
-                        (Expr::Neg(Box::new(x)), Ty::num())
-                    }
-                }
-            }
-            ExprKind::Binary(op, a, b) => {
-                let (xa, ta) = self.expr(a, scope, step.as_deref_mut(), shows)?;
-                let (xb, tb) = self.expr(b, scope, step, shows)?;
-                let ty = self.binary_type(*op, &ta, &tb, e.span)?;
-                (Expr::Bin(*op, Box::new(xa), Box::new(xb)), ty)
-            }
-        })
-    }
-
-    fn binary_type(&self, op: BinOp, a: &Ty, b: &Ty, span: Span) -> CResult<Ty> {
-        let mismatch = || {
-            self.err(span, format!("type mismatch: `{}` between {} and {}", op.text(), a.describe(), b.describe()))
-        };
-        match op {
-            BinOp::And | BinOp::Or => {
-                if *a == Ty::Bool && *b == Ty::Bool { Ok(Ty::Bool) } else { mismatch() }
-            }
-            BinOp::Eq | BinOp::Ne => match (a, b) {
-                (Ty::Num { enum_: Some(x) }, Ty::Num { enum_: Some(y) }) if x != y => mismatch(),
-                (Ty::Num { .. }, Ty::Num { .. }) | (Ty::Str, Ty::Str) | (Ty::Bool, Ty::Bool) => Ok(Ty::Bool),
-                _ => mismatch(),
-            },
-            BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match (a, b) {
-                (Ty::Num { enum_: Some(x) }, Ty::Num { enum_: Some(y) }) if x != y => mismatch(),
-                (Ty::Num { .. }, Ty::Num { .. }) => Ok(Ty::Bool),
-                _ => mismatch(),
-            },
-            BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div => match (a, b) {
-                (Ty::Num { .. }, Ty::Num { .. }) => Ok(Ty::num()),
-                _ => mismatch(),
-            },
-        }
-    }
-}
-
-fn flatten_and<'e>(e: &'e ast::Expr, out: &mut Vec<&'e ast::Expr>) {
-    match &e.kind {
-        ExprKind::Binary(BinOp::And, a, b) => {
-            flatten_and(a, out);
-            flatten_and(b, out);
-        }
-        _ => out.push(e),
-    }
 }
 
 fn stmt_span(s: &Stmt) -> Span {

@@ -3,6 +3,9 @@
 //! Front: [`lexer`] and [`parser`] build an [`ast`]; [`check`] resolves it against a dialect and
 //! compiles it into the [`ir`] that the monitor runs. Errors are located ([`ProtocolError`]).
 
+// Protocol errors carry their source text for miette; they are cold, so their size is fine.
+#![allow(clippy::result_large_err)]
+
 pub mod ast;
 mod check;
 pub mod error;
@@ -10,6 +13,7 @@ pub mod ir;
 pub mod lexer;
 pub mod parser;
 pub mod stdlib;
+mod typing;
 
 pub use error::{ProtocolError, Span};
 pub use ir::ProtocolSet;

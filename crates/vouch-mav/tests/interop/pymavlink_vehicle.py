@@ -21,6 +21,7 @@ p.add_argument("--ack-after", type=int, default=None)
 p.add_argument("--duration", type=float, default=30.0)
 p.add_argument("--summary", required=True)
 p.add_argument("--exit-after-upload", action="store_true", help="stop 1 s after an upload ends")
+p.add_argument("--stop-file", default=None, help="stop as soon as this file exists")
 a = p.parse_args()
 
 m = mavutil.mavlink_connection(a.url, source_system=1, source_component=1, dialect="common")
@@ -43,6 +44,8 @@ def send_request(seq):
 
 while time.time() < deadline and (done_at is None or time.time() < done_at):
     now = time.time()
+    if a.stop_file and os.path.exists(a.stop_file):
+        break
     if now - last_hb > 0.2:
         mav.heartbeat_send(C.MAV_TYPE_QUADROTOR, C.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0, C.MAV_STATE_STANDBY)
         last_hb = now

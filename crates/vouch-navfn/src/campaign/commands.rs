@@ -89,8 +89,15 @@ pub fn campaign(
     oracle: Option<&str>,
     report_path: Option<&Path>,
     pictures: Option<&Path>,
+    cases_out: Option<&Path>,
 ) -> Result<(String, Report), CmdError> {
+    let mut opts = opts.clone();
+    opts.per_case |= cases_out.is_some();
+    let opts = &opts;
     let (mut report, maps) = run_campaign(suite, opts)?;
+    if let Some(p) = cases_out {
+        write_case_lines(p, &report)?;
+    }
     if let Some(cmd) = oracle {
         let files = find_test_files(suite, "test.txt")?;
         let dopts = DiffOptions { oracle: cmd.into(), mode: opts.mode, white_box: Some(TraceDetail::Hash), perturb_pri_inc: None };
@@ -143,6 +150,19 @@ pub fn campaign(
         }
     }
     Ok((text, report))
+}
+
+/// One JSON object per case and line (`--cases-out`).
+pub fn write_case_lines(p: &Path, r: &Report) -> Result<(), CmdError> {
+    use std::io::Write as _;
+    let err = |e: std::io::Error| CmdError::Usage(format!("{}: {e}", p.display()));
+    let f = std::fs::File::create(p).map_err(err)?;
+    let mut w = std::io::BufWriter::new(f);
+    for rec in &r.per_case {
+        let line = serde_json::to_string(rec).map_err(|e| CmdError::Usage(e.to_string()))?;
+        writeln!(w, "{line}").map_err(err)?;
+    }
+    w.flush().map_err(err)
 }
 
 pub fn write_report(p: &Path, r: &Report) -> Result<(), CmdError> {

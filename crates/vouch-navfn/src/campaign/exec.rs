@@ -208,3 +208,48 @@ pub fn plan_checks(nav: &NavFn) -> Vec<Violation> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obstacle_in_any_buffer_is_reported_once() {
+        let costs = [254u8, 50, 50, 254, 50];
+        let pot = [0.0f32; 5];
+        let mut obs = CaseObserver::new(&costs, None);
+        let clean = CycleView { cycle: 0, threshold: 254.0, current: &[1, 2], next: &[], overflow: &[4], potential: &pot };
+        obs.on_cycle(&clean);
+        assert!(obs.violations.is_empty());
+        let dirty = CycleView { cycle: 3, threshold: 354.0, current: &[1], next: &[], overflow: &[3], potential: &pot };
+        obs.on_cycle(&dirty);
+        obs.on_cycle(&dirty);
+        assert_eq!(obs.violations.len(), 1);
+        assert_eq!(obs.violations[0].property, "obstacle_free_queues");
+        assert!(obs.violations[0].detail.contains("cycle 3") && obs.violations[0].detail.contains("overflow"));
+        assert_eq!(obs.max_occupancy, 3);
+    }
+
+    #[test]
+    fn pushes_of_the_last_cycle_are_checked_at_loop_exit() {
+        let costs = [50u8, 254];
+        let pot = [0.0f32; 2];
+        let mut obs = CaseObserver::new(&costs, None);
+        obs.on_propagation_end(&PropagationEndView {
+            cycles: 7,
+            end: PropagationEnd::StartReached,
+            threshold: 254.0,
+            current: &[],
+            next: &[1],
+            overflow: &[],
+            potential: &pot,
+        });
+        assert_eq!(obs.violations.len(), 1);
+        assert!(obs.violations[0].detail.contains("next (final)"));
+        // Out-of-range indices are violations too, never a panic.
+        let mut obs = CaseObserver::new(&costs, None);
+        let v = CycleView { cycle: 0, threshold: 0.0, current: &[-1], next: &[], overflow: &[], potential: &pot };
+        obs.on_cycle(&v);
+        assert_eq!(obs.violations.len(), 1);
+    }
+}

@@ -142,3 +142,55 @@ pub fn evaluate(t: Transform, ctx: &OriginalCtx<'_>, o: &RunDigest, r: &RunDiges
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn digest(end: PropagationEnd, start_pot: f32, path: Vec<[f32; 2]>, cost: Option<f64>) -> RunDigest {
+        RunDigest { end: Some((end, 4)), len: path.len(), start_pot, oscillated: false, path, cost, properties_ok: true }
+    }
+
+    #[test]
+    fn embedding_relations_hold_and_catch_a_changed_cell() {
+        // 3x3 original, potential only in the centre cell; embed with pad 1 → 5x5.
+        let mut pot = vec![POT_HIGH; 9];
+        pot[4] = 0.0;
+        let ctx = OriginalCtx { width: 3, height: 3, potential: &pot, connected: Some(true) };
+        let o = digest(PropagationEnd::StartReached, 0.0, vec![[1.0, 1.0]], Some(0.0));
+        let r = digest(PropagationEnd::StartReached, 0.0, vec![[2.0, 2.0]], Some(0.0));
+        let mut rpot = vec![POT_HIGH; 25];
+        rpot[12] = 0.0;
+        let t = Transform::Embed { pad: 1 };
+        let res = evaluate(t, &ctx, &o, &r, &rpot);
+        assert!(res.iter().all(|x| x.held), "{res:?}");
+        assert!(res.iter().any(|x| x.name == "embed_potential@embed1"));
+        assert!(res.iter().any(|x| x.name == "embed_path@embed1"));
+        rpot[0] = 5.0;
+        let res = evaluate(t, &ctx, &o, &r, &rpot);
+        let bad = res.iter().find(|x| x.name == "embed_potential@embed1").expect("evaluated");
+        assert!(!bad.held && bad.detail.contains("(0, 0)"));
+        // A shifted path point off by more than rounding breaks embed_path.
+        let r2 = digest(PropagationEnd::StartReached, 0.0, vec![[2.01, 2.0]], Some(0.0));
+        rpot[0] = POT_HIGH;
+        let res = evaluate(t, &ctx, &o, &r2, &rpot);
+        assert!(!res.iter().find(|x| x.name == "embed_path@embed1").expect("evaluated").held);
+    }
+
+    #[test]
+    fn reachability_must_match_connectivity_unless_cycle_limited() {
+        let pot = vec![0.0f32; 4];
+        let ctx = OriginalCtx { width: 2, height: 2, potential: &pot, connected: Some(true) };
+        let o = digest(PropagationEnd::StartReached, 10.0, vec![], None);
+        let unreached = digest(PropagationEnd::QueuesEmpty, POT_HIGH, vec![], None);
+        let res = evaluate(Transform::Rot90, &ctx, &o, &unreached, &pot);
+        assert!(!res.iter().find(|x| x.name == "reachability@rot90").expect("evaluated").held);
+        let limited = digest(PropagationEnd::CycleLimit, POT_HIGH, vec![], None);
+        let res = evaluate(Transform::Rot90, &ctx, &o, &limited, &pot);
+        assert!(res.iter().all(|x| x.name != "reachability@rot90"), "not applicable when cut by the cycle limit");
+        // Approximate: start potentials 10 vs 20 differ by 50 % > 25 %.
+        let far = digest(PropagationEnd::StartReached, 20.0, vec![], None);
+        let res = evaluate(Transform::MirrorX, &ctx, &o, &far, &pot);
+        assert!(!res.iter().find(|x| x.name == "approx_start_potential@mirror_x").expect("evaluated").held);
+    }
+}

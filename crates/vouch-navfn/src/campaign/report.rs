@@ -220,6 +220,33 @@ pub struct Report {
     pub threads: Vec<usize>,
     pub categories: BTreeMap<String, CategoryStats>,
     pub findings: Vec<Finding>,
+    /// One record per case when asked for (`campaign --cases-out`); written as JSON lines, not
+    /// part of the JSON report (and not merged).
+    #[serde(skip)]
+    pub per_case: Vec<CaseRecord>,
+}
+
+/// Everything the campaign says about one case (`--cases-out`, one JSON object per line).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CaseRecord {
+    /// Global index (suite file order, then case order): the key shards split on.
+    pub global: u64,
+    pub category: String,
+    pub map: String,
+    pub case: u64,
+    pub coords: [u32; 4],
+    /// `found`, `start_is_goal`, `unreachable`, `cycle_limit` or `path_failed`.
+    pub outcome: String,
+    pub path_points: usize,
+    pub navfn_cost: Option<f64>,
+    pub optimal_cost: Option<f64>,
+    /// `navfn_cost − optimal_cost`.
+    pub excess: Option<f64>,
+    pub obtuse_turns: u32,
+    pub max_turn_deg: f64,
+    pub oscillations: u32,
+    /// Names of failed checks and exact relations (empty when all hold).
+    pub failed: Vec<String>,
 }
 
 impl Report {

@@ -12,7 +12,7 @@ use crate::campaign::exec::{navfn_ends, plan_checks, run_case, CaseRun, RunMode,
 use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
 use crate::campaign::metamorphic::{self, OriginalCtx, RunDigest};
 use crate::campaign::optimal::{dijkstra, path_cost, path_shape};
-use crate::campaign::report::{CategoryStats, Finding, Report, Shard};
+use crate::campaign::report::{CaseRecord, CategoryStats, Finding, Report, Shard};
 use crate::campaign::suite_io::{list_suite, read_test_file, SuiteIoError};
 use crate::campaign::transform::Transform;
 use crate::core::{Cell, PropagationEnd, POT_HIGH};
@@ -36,6 +36,8 @@ pub struct CampaignOptions {
     /// Cases per work unit (a unit = consecutive cases of one map, sharing one NavFn and one
     /// optimum cache).
     pub unit_cases: usize,
+    /// Keep a [`CaseRecord`] per case in `Report::per_case`.
+    pub per_case: bool,
 }
 
 impl Default for CampaignOptions {
@@ -48,6 +50,7 @@ impl Default for CampaignOptions {
             suboptimal_ratio: 1.10,
             progress: false,
             unit_cases: 1024,
+            per_case: false,
         }
     }
 }
@@ -119,6 +122,7 @@ struct UnitResult {
     category: String,
     stats: CategoryStats,
     findings: Vec<Finding>,
+    records: Vec<CaseRecord>,
 }
 
 /// Optimum distances from a NavFn goal, cached per unit (small maps) — the cost model is
@@ -203,17 +207,32 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
 
         // Outcome classes (as in golden/README.md: "truly unreachable" = not connected).
         let o = &mut st.outcomes;
-        if si == gi {
+        let outcome = if si == gi {
             o.start_is_goal += 1;
+            "start_is_goal"
         } else if run.outcome.len > 0 {
             o.found += 1;
+            "found"
         } else if reached {
             o.path_failed += 1;
+            "path_failed"
         } else if connected == Some(false) {
             o.unreachable += 1;
+            "unreachable"
         } else {
             o.cycle_limit += 1;
-        }
+            "cycle_limit"
+        };
+        let mut rec = opts.per_case.then(|| CaseRecord {
+            global: pm.first_global + k as u64,
+            category: m.category.clone(),
+            map: m.name.clone(),
+            case: k as u64,
+            coords: [case.x0, case.y0, case.x1, case.y1],
+            outcome: outcome.into(),
+            path_points: run.outcome.len,
+            ..CaseRecord::default()
+        });
 
         // Search-trace properties (observer) and final-state properties.
         let names = ["obstacle_free_queues", "no_path_without_finite_potential"];
@@ -226,9 +245,16 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
         }
         let cycle_limited = matches!(run.end, Some((PropagationEnd::CycleLimit, _)));
         if let (false, Some(conn)) = (cycle_limited, connected) {
-            st.check("reachability_is_connectivity", reached == conn || si == gi);
+            let ok = reached == conn || si == gi;
+            st.check("reachability_is_connectivity", ok);
+            if let (false, Some(r)) = (ok, rec.as_mut()) {
+                r.failed.push("reachability_is_connectivity".into());
+            }
         }
         for v in run.violations.iter().chain(fin.iter()) {
+            if let Some(r) = rec.as_mut() {
+                r.failed.push(v.property.clone());
+            }
             res.findings.push(finding("check_failed", m, k, case, format!("{}: {}", v.property, v.detail), 1.0));
         }
 
@@ -236,6 +262,9 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
         let recorded = to_pairs(runner.nav().path_recorded());
         let shape_rec = path_shape(&recorded);
         let oscillated = shape_rec.oscillations > 0;
+        if let Some(r) = rec.as_mut() {
+            r.oscillations = shape_rec.oscillations;
+        }
         if oscillated {
             st.optimality.oscillating_paths += 1;
             res.findings.push(finding("oscillation", m, k, case, format!("{} repeated points, path len {}", shape_rec.oscillations, run.outcome.len), f64::from(shape_rec.oscillations)));
@@ -243,6 +272,10 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
         if run.outcome.len > 0 && si != gi {
             let path = to_pairs(runner.nav().path());
             let shape = path_shape(&path);
+            if let Some(r) = rec.as_mut() {
+                r.obtuse_turns = shape.obtuse_turns;
+                r.max_turn_deg = shape.max_turn_deg;
+            }
             if !oscillated && shape.obtuse_turns > 0 {
                 st.optimality.obtuse_paths += 1;
                 res.findings.push(finding("obtuse", m, k, case, format!("{} obtuse turns, sharpest {:.1}°", shape.obtuse_turns, shape.max_turn_deg), shape.max_turn_deg));
@@ -250,6 +283,11 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
             if opts.optimality {
                 let best = cache.optimum(&pm.setup_costs, w, h, si, gi);
                 let cost = path_cost(&pm.setup_costs, m.width, m.height, &path);
+                if let Some(r) = rec.as_mut() {
+                    r.navfn_cost = Some(cost);
+                    r.optimal_cost = best.is_finite().then_some(best);
+                    r.excess = best.is_finite().then_some(cost - best);
+                }
                 if best.is_finite() {
                     st.optimality.record(cost, best);
                     let ratio = if best > 0.0 { cost / best } else { 1.0 };
@@ -275,6 +313,9 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
                 t_dig.properties_ok &= tfin.is_empty();
                 for r in metamorphic::evaluate(*t, &ctx, &o_dig, &t_dig, runner.nav().potential()) {
                     st.relation(&r.name, r.held);
+                    if let (false, false, Some(c)) = (r.held, r.name.starts_with("approx"), rec.as_mut()) {
+                        c.failed.push(r.name.clone());
+                    }
                     if !r.held {
                         let kind = if r.name.starts_with("approx") { "approx_relation" } else { "relation_failed" };
                         res.findings.push(finding(kind, m, k, case, format!("{}: {}", r.name, r.detail), 1.0));
@@ -282,6 +323,7 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
                 }
             }
         }
+        res.records.extend(rec);
     }
     res.stats.cpu_seconds = began.elapsed().as_secs_f64();
     bar.inc(done);
@@ -335,7 +377,9 @@ pub fn run_prepared(suite_label: &str, maps: &[PreparedMap], opts: &CampaignOpti
     for r in results {
         report.categories.entry(r.category).or_default().merge(&r.stats);
         report.findings.extend(r.findings);
+        report.per_case.extend(r.records);
     }
+    report.per_case.sort_by_key(|r| r.global);
     report.trim_findings();
     report.wall_seconds.push(began.elapsed().as_secs_f64());
     Ok(report)

@@ -8,6 +8,9 @@
 //! Float discipline: every operation is written in the exact order and width of
 //! SEMANTICS.md §4–6; `f64` appears only where the C++ evaluates in double. No `mul_add`.
 
+// `a = a + b` is kept where SEMANTICS.md writes `a = a ⊕ b`, to read side by side with it.
+#![allow(clippy::assign_op_pattern)]
+
 mod costs;
 pub mod numeric;
 pub mod observer;

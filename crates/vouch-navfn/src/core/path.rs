@@ -114,15 +114,24 @@ impl NavFn {
             let north = stc + nx;
             let south = stc - nx;
             let p = |i: i64| self.pot_at(i);
-            let unreached_near = p(stc) >= POT_HIGH
-                || p(stc + 1) >= POT_HIGH
-                || p(stc - 1) >= POT_HIGH
-                || p(north) >= POT_HIGH
-                || p(north + 1) >= POT_HIGH
-                || p(north - 1) >= POT_HIGH
-                || p(south) >= POT_HIGH
-                || p(south + 1) >= POT_HIGH
-                || p(south - 1) >= POT_HIGH;
+            let unreached_near = if south >= 1 && north + 1 < ns {
+                // common case: the 3x3 block is inside the array; read its three rows directly
+                let s0 = (south - 1) as usize;
+                let (n0, m0) = ((north - 1) as usize, (stc - 1) as usize);
+                let (rs, rm, rn) = (&self.pot[s0..s0 + 3], &self.pot[m0..m0 + 3], &self.pot[n0..n0 + 3]);
+                // same nine tests as below, any order (no side effects)
+                rs.iter().chain(rm).chain(rn).any(|&v| v >= POT_HIGH)
+            } else {
+                p(stc) >= POT_HIGH
+                    || p(stc + 1) >= POT_HIGH
+                    || p(stc - 1) >= POT_HIGH
+                    || p(north) >= POT_HIGH
+                    || p(north + 1) >= POT_HIGH
+                    || p(north - 1) >= POT_HIGH
+                    || p(south) >= POT_HIGH
+                    || p(south + 1) >= POT_HIGH
+                    || p(south - 1) >= POT_HIGH
+            };
             if unreached_near || osc {
                 // grid following: lowest of the eight neighbours, compared against the
                 // potential truncated to int (INT_MIN for an unreached cell, x86-64)

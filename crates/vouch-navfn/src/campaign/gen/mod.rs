@@ -10,7 +10,7 @@ mod categories;
 pub use cases::sample_cases;
 pub use categories::CATEGORIES;
 
-use crate::campaign::grid::SuiteMap;
+use crate::campaign::grid::{Case, SuiteMap};
 use crate::campaign::rng::SplitMix64;
 
 /// What to generate.
@@ -68,6 +68,18 @@ pub fn generate(opts: &GenOptions) -> Result<Vec<SuiteMap>, GenError> {
             m.category = cat.to_string();
             m.name = format!("{:03}_{}x{}_{}{}", i, m.width, m.height, cat, suffix);
             m.cases = sample_cases(&m, &mut rng, opts.cases_per_map);
+            if cat == "circus" && opts.cases_per_map >= 2 {
+                // The paper's circus cases: from the bottom of each lane to the top middle cell.
+                let h = m.height;
+                for c in [Case::new(1, h - 2, 2, 1), Case::new(3, h - 2, 2, 1)].into_iter().rev() {
+                    if let Some(i) = m.cases.iter().position(|x| *x == c) {
+                        m.cases.remove(i);
+                    } else {
+                        m.cases.pop();
+                    }
+                    m.cases.insert(0, c);
+                }
+            }
             maps.push(m);
         }
     }

@@ -1,0 +1,73 @@
+//! Values that GENERATOR_FACTS.md reports from running the upstream generator on the corpus,
+//! and vouch's deliberate departures from upstream bugs.
+
+mod common;
+
+use vouch_fpl::emit::{compile_file, compile_plan, EmitOptions};
+
+fn header(rel: &str) -> Option<String> {
+    let dir = common::corpus_dir()?;
+    Some(compile_file(&dir.join(rel), &EmitOptions::default()).map_err(|e| e.diagnostics().to_string()).expect("compiles"))
+}
+
+fn define<'a>(h: &'a str, name: &str) -> &'a str {
+    let prefix = format!("#define {name} ");
+    h.lines().find_map(|l| l.strip_prefix(prefix.as_str())).unwrap_or_else(|| panic!("no #define {name}"))
+}
+
+#[test]
+fn basic_reference_and_home_row_differ_by_the_utm_round_trip() {
+    let Some(h) = header("basic.xml") else { return };
+    // GENERATOR_FACTS §10: "basic.xml: 434622300 vs 434622299". NAV_LAT0 is
+    // trunc(1e7 * (43.46223*pi/180)*180/pi) = trunc(434622300.00000006); the HOME row went
+    // through UTM and back and lands one unit lower.
+    assert_eq!(define(&h, "NAV_LAT0"), "434622300 /* 1e7deg */");
+    let home_row = h.lines().skip_while(|l| !l.starts_with("#define WAYPOINTS_LLA {")).nth(2).expect("HOME row");
+    assert!(home_row.starts_with(" {.lat=434622299, "), "{home_row}");
+}
+
+#[test]
+fn relative_waypoints_are_prepended() {
+    let Some(h) = header("competitions/EMAV2006.xml") else { return };
+    // GENERATOR_FACTS §12: `WP_A_0_20 1`, `WP_HOME_0_50 2`, `WP_HOME 3`.
+    assert_eq!(define(&h, "WP_A_0_20"), "1");
+    assert_eq!(define(&h, "WP_HOME_0_50"), "2");
+    assert_eq!(define(&h, "WP_HOME"), "3");
+}
+
+#[test]
+fn corpus_maxima_match_the_facts() {
+    let Some(dir) = common::corpus_dir() else { return };
+    let mut max_block = 0;
+    let mut max_wp = 0;
+    for p in common::corpus_plans(&dir) {
+        let h = compile_file(&p, &EmitOptions::default()).expect("compiles");
+        max_block = max_block.max(define(&h, "NB_BLOCK").parse::<usize>().expect("number"));
+        max_wp = max_wp.max(define(&h, "NB_WAYPOINT").parse::<usize>().expect("number"));
+    }
+    // GENERATOR_FACTS §14 quirk 2: NB_BLOCK 49 (including HOME), NB_WAYPOINT 54.
+    assert_eq!((max_block, max_wp), (49, 54));
+}
+
+#[test]
+fn exceeding_time_is_negated_as_a_whole() {
+    let xml = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/><waypoint name="A" x="10" y="0"/></waypoints>
+<blocks><block name="b"><go wp="A" exceeding_time="a+b"/><go wp="A" exceeding_time="3"/></block></blocks></flight_plan>"#;
+    let p = vouch_fpl::front::parse_str("t.xml", xml).expect("parses");
+    let h = compile_plan(&p, &EmitOptions::default()).expect("compiles");
+    // Upstream prints NavApproaching(2,-a+b) (quirk 7); vouch negates the whole time.
+    assert!(h.contains("if (NavApproaching(2,-(a+b))) {"), "{h}");
+    assert!(h.contains("if (NavApproaching(2,-3)) {"));
+}
+
+#[test]
+fn labels_restart_for_each_plan() {
+    // Quirk 14: upstream numbers labels across plans generated in one process; vouch does not.
+    let Some(a) = header("basic.xml") else { return };
+    let b = header("basic.xml").expect("again");
+    assert_eq!(a, b);
+    if a.contains("Label(while_") {
+        assert!(a.contains("Label(while_1)"));
+    }
+}

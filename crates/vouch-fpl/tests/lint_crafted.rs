@@ -1,0 +1,72 @@
+//! Lint rules on crafted plans (each written to contain exactly the listed mistakes) and a
+//! sanity run over the corpus.
+
+mod common;
+
+use std::path::Path;
+
+use vouch_fpl::lint::{counts, lint, render, CODES};
+
+fn lint_plan(name: &str) -> (vouch_fpl::ast::FlightPlan, Vec<vouch_fpl::lint::Warning>) {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans").join(name);
+    let plan = vouch_fpl::front::parse_file(&p).expect("crafted plan parses");
+    let w = lint(&plan);
+    (plan, w)
+}
+
+fn codes_at(w: &[vouch_fpl::lint::Warning]) -> Vec<(&'static str, u32)> {
+    w.iter().map(|w| (w.code, w.span.line)).collect()
+}
+
+#[test]
+fn return_after_deroute_is_found() {
+    let (plan, w) = lint_plan("pingpong.xml");
+    // the <return/> of Refuel is on line 19; the dead <go> after Patrol's deroute on line 15
+    assert_eq!(codes_at(&w), vec![("FPL-W008", 15), ("FPL-W004", 19)]);
+    assert_eq!(w[1].notes.len(), 1);
+    assert_eq!(w[1].notes[0].span.line, 14, "the note points at the deroute");
+    let text = render(&plan, &w);
+    assert!(text.contains("pingpong.xml:19:7: warning[FPL-W004]"), "{text}");
+}
+
+#[test]
+fn blocked_forbidden_deroutes_are_found() {
+    let (_, w) = lint_plan("forbidden.xml");
+    // line 13: the global exception (always forbidden from Takeoff, under only_when from
+    // Survey); line 18: Takeoff's deroute (always); line 22: Survey's deroute (only_when)
+    assert_eq!(
+        codes_at(&w),
+        vec![("FPL-W002", 13), ("FPL-W003", 13), ("FPL-W002", 18), ("FPL-W003", 22)]
+    );
+    assert_eq!(w[2].notes[0].span.line, 30, "points at the forbidden_deroute declaration");
+}
+
+#[test]
+fn other_rules_are_found() {
+    let (_, w) = lint_plan("lint_misc.xml");
+    let mut got = codes_at(&w);
+    got.sort();
+    let mut want = vec![("FPL-W001", 24), ("FPL-W005", 16), ("FPL-W006", 15), ("FPL-W007", 10), ("FPL-W008", 29)];
+    want.sort();
+    assert_eq!(got, want);
+}
+
+#[test]
+fn corpus_lint_summary() {
+    let Some(dir) = common::corpus_dir() else { return };
+    let mut all = Vec::new();
+    for p in common::corpus_plans(&dir) {
+        let plan = vouch_fpl::front::parse_file(&p).expect("corpus plan parses");
+        let w = lint(&plan);
+        for x in &w {
+            assert!(CODES.iter().any(|c| c.0 == x.code));
+            assert!(x.span.line > 0, "{}: warning not located", p.display());
+            assert!(!plan.sources.snippet(x.span).is_empty(), "{}: empty span", p.display());
+        }
+        // The corpus has no forbidden deroutes (a VFPG extension), so W002/W003 cannot fire.
+        assert!(w.iter().all(|x| x.code != "FPL-W002" && x.code != "FPL-W003"));
+        all.extend(w);
+    }
+    let summary: Vec<String> = counts(&all).iter().map(|(c, n)| format!("{c}={n}")).collect();
+    eprintln!("corpus lint: {} warnings: {}", all.len(), summary.join(" "));
+}

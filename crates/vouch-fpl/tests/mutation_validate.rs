@@ -1,0 +1,70 @@
+//! Mutation check of the validator: deliberately broken C back ends (the instrumented header
+//! text of a crafted plan, edited the way a buggy emitter could produce it) must each be
+//! caught, with a short counterexample; the unbroken header must pass.
+
+use std::path::Path;
+
+use vouch_fpl::emit::{compile_plan, EmitOptions, Flavor};
+use vouch_fpl::evidence::validate::{validate_header, Options};
+
+fn plan_and_header() -> (vouch_fpl::passes::fp::Fp, String) {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans/mutation.xml");
+    let plan = vouch_fpl::front::parse_file(&p).expect("crafted plan parses");
+    let fp = vouch_fpl::passes::lower::lower(&plan).expect("lowers");
+    let h = compile_plan(&plan, &EmitOptions { flavor: Flavor::Instrumented, ..EmitOptions::default() }).expect("compiles");
+    (fp, h)
+}
+
+fn opts() -> Options {
+    Options { depth: 8, random_runs: 2, random_steps: 200, ..Options::default() }
+}
+
+/// Replaces the first occurrence of `from` after the start of `auto_nav` (asserting it exists,
+/// so a change of the emitter's text shape fails here instead of weakening the test).
+fn mutate(h: &str, from: &str, to: &str) -> String {
+    let start = h.find("static inline void auto_nav(void)").expect("auto_nav present");
+    let i = h[start..].find(from).unwrap_or_else(|| panic!("'{from}' not found in auto_nav")) + start;
+    format!("{}{}{}", &h[..i], to, &h[i + from.len()..])
+}
+
+#[test]
+fn unmutated_header_passes() {
+    let (fp, h) = plan_and_header();
+    let r = validate_header(&fp, &h, &opts()).expect("driver builds");
+    assert!(r.passed(), "{:?}", r.counterexample);
+    assert!(r.cut.is_none());
+    assert!(r.call_paths > 20, "explores the plan ({} paths)", r.call_paths);
+}
+
+#[test]
+fn every_mutation_is_caught() {
+    let (fp, h) = plan_and_header();
+    // (name, text in auto_nav, replacement, expected number of calls of the shortest
+    // counterexample, derived by hand from the plan)
+    let swap = {
+        let a = mutate(&h, "Stage(4)", "Stage(@@)");
+        let b = mutate(&a, "Stage(5)", "Stage(4)");
+        mutate(&b, "Stage(@@)", "Stage(5)")
+    };
+    let cases: Vec<(&str, String, usize)> = vec![
+        // the first go is now labelled Stage(5): after call 1 nav_stage is 5, not 4
+        ("swap two stages", swap, 1),
+        // Work's deroute falls into the default stage: NextBlock() instead of staying in Start
+        ("drop the break after a deroute", mutate(&h, "GotoBlock(0);\n        break;", "GotoBlock(0);\n"), 3),
+        // the global exception fires when its condition is false
+        ("invert a condition", mutate(&h, "FP_C(\"too_far()\")", "!FP_C(\"too_far()\")"), 1),
+        // the global exception goes to Work instead of Back
+        ("wrong exception target", mutate(&h, "GotoBlock(2); return;", "GotoBlock(1); return;"), 1),
+        // a set stage loses its code
+        ("drop a statement", mutate(&h, "FP_X(\"mode = 1\");", ";"), 1),
+        // the while test no longer breaks when entering the body: the body runs in the same call
+        ("NextStageAndBreak becomes NextStage", mutate(&h, "else NextStageAndBreak();", "else { nav_goto_next_stage(); }"), 1),
+    ];
+    for (name, mutated, calls) in cases {
+        assert_ne!(mutated, h, "{name}: mutation changed nothing");
+        let r = validate_header(&fp, &mutated, &opts()).unwrap_or_else(|e| panic!("{name}: driver does not build: {e}"));
+        let cx = r.counterexample.unwrap_or_else(|| panic!("{name}: the validator did not catch the mutation"));
+        eprintln!("{name}: caught after {} call(s), answers {:?}: {}", cx.calls, cx.answers, cx.what);
+        assert_eq!(cx.calls, calls, "{name}: shortest counterexample length");
+    }
+}
