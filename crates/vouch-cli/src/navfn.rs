@@ -150,7 +150,7 @@ fn plan(a: PlanArgs) -> ExitCode {
                 return fail(
                     1,
                     format!(
-                        "{what} ({}, {}) lies outside the map (x from {} to {}, y from {} to {})",
+                        "{what} ({}, {}) lies outside the map (x from {:.4} to {:.4}, y from {:.4} to {:.4})",
                         p[0],
                         p[1],
                         world.origin[0],

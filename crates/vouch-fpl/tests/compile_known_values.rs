@@ -71,3 +71,13 @@ fn labels_restart_for_each_plan() {
         assert!(a.contains("Label(while_1)"));
     }
 }
+
+#[test]
+fn geoid_height_at_a_grid_node_matches_the_egm96_reference() {
+    use vouch_fpl::emit::geo::rad_of_deg;
+    // NGA EGM96 calculator at 41N 1E: 49.83 m (value quoted in Paparazzi's latlong.ml).
+    let n = vouch_fpl::emit::geoid::geoid_height(rad_of_deg(41.0), rad_of_deg(1.0));
+    assert!((n - 49.83).abs() <= 0.02, "{n}");
+    // Truncation toward zero: 41.9N 1.9E uses the same node.
+    assert_eq!(vouch_fpl::emit::geoid::geoid_height(rad_of_deg(41.9), rad_of_deg(1.9)), n);
+}

@@ -89,3 +89,19 @@ fn corpus_lenient_files_read_like_upstream() {
     let p = parse_file(dir.join("dummy.xml")).expect("upper-case attribute names are accepted");
     assert_eq!(p.name.value, "Dummy");
 }
+
+#[test]
+fn undeclared_attributes_are_errors_only_in_validated_plans() {
+    // No DOCTYPE: upstream does not validate, the attribute is kept and reported as a warning.
+    let text = plan("", r#"<block name="b"><go wp="HOME" speed="3"/></block>"#);
+    let p = parse_str("t.xml", &text).expect("accepted without DOCTYPE");
+    assert_eq!(p.blocks[0].stages[0].attrs.get("speed").map(|a| a.value.as_str()), Some("3"));
+    assert!(p.warnings.iter().any(|w| w.message.contains("speed")));
+    // With a DOCTYPE it is an error, as upstream's DTD validation makes it.
+    let validated = format!("<!DOCTYPE flight_plan SYSTEM \"flight_plan.dtd\">\n{text}");
+    let d = parse_str("t.xml", &validated).expect_err("rejected with DOCTYPE");
+    let e = d.first().unwrap();
+    assert_eq!(e.kind, vouch_fpl::front::ErrorKind::UnknownAttribute);
+    // Lines: DOCTYPE, flight_plan, waypoints, waypoint, /waypoints, blocks, then the block.
+    assert_eq!(e.line, Some(7));
+}

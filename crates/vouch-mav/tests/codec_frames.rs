@@ -74,6 +74,7 @@ fn zero_truncation_matches_the_measured_frame() {
     assert_eq!(v.get_f64("count"), Some(100.0));
     assert_eq!(v.get_f64("mission_type"), Some(0.0), "truncated extension reads as 0");
     assert_eq!(v.get_f64("opaque_id"), Some(0.0));
+    assert_eq!(v.get_enum_name("mission_type", &d), Some("MAV_MISSION_TYPE_MISSION"));
 }
 
 #[test]

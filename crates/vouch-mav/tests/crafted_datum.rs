@@ -135,14 +135,14 @@ fn case_three_release_when_ascending() {
 #[test]
 fn case_three_release_in_acro() {
     let Some(v) = chute_violation(true, ACRO, 50.0, -0.5) else { return };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != COPTER_MODE_ACRO"));
+    assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != ACRO_MODE"));
     assert_eq!(value(&v, "vehicle.mode"), "1");
 }
 
 #[test]
 fn case_three_release_in_flip() {
     let Some(v) = chute_violation(true, FLIP, 50.0, -0.5) else { return };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != COPTER_MODE_FLIP"));
+    assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != FLIP_MODE"));
     assert_eq!(value(&v, "vehicle.mode"), "14");
 }
 

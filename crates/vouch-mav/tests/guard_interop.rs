@@ -96,6 +96,11 @@ struct Outcome {
 
 /// Runs one MAVProxy `wp load` of 100 items through a guard to the given vehicle.
 fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -> Outcome {
+    upload(py, tag, vehicle, Some(enforce))
+}
+
+/// `guard`: None = MAVProxy talks to the vehicle directly (baseline of the peers themselves).
+fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcome {
     let dir = tempdir(tag);
     let mission = write_mission(&dir);
     let vport = free_port();
@@ -116,18 +121,20 @@ fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -
     let _vehicle = Peer(cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("start vehicle peer"));
 
     let log = dir.join("violations.jsonl");
-    let cfg = GuardConfig {
-        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
-        vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
-        enforce,
-        alert_gcs: true,
-        log_path: Some(log.clone()),
-        tlog_path: None,
-        signing: None,
-    };
-    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
-    let guard = start(cfg, inspector).expect("guard starts");
-    let gport = guard.gcs_addr.unwrap().port();
+    let guard = guard.map(|enforce| {
+        let cfg = GuardConfig {
+            gcs: "udpin:127.0.0.1:0".parse().unwrap(),
+            vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
+            enforce,
+            alert_gcs: true,
+            log_path: Some(log.clone()),
+            tlog_path: None,
+            signing: None,
+        };
+        let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+        start(cfg, inspector).expect("guard starts")
+    });
+    let gport = guard.as_ref().map_or(vport, |g| g.gcs_addr.unwrap().port());
 
     let mavproxy = py.parent().unwrap().join("mavproxy.py");
     let mut mp = Command::new(py);
@@ -163,10 +170,18 @@ fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -
     }
     drop(mp);
     let vehicle = read_summary(&summary);
-    let counters = guard.stop();
+    let counters = guard.map(|g| g.stop()).unwrap_or_default();
     let log = std::fs::read_to_string(&log).unwrap_or_default();
     let _ = std::fs::remove_dir_all(&dir);
     Outcome { mavproxy: text, vehicle, counters, log }
+}
+
+#[test]
+fn baseline_mavproxy_uploads_100_to_pymavlink_vehicle_directly() {
+    let Some(py) = python() else { return };
+    let o = upload(&py, "direct", Vehicle::Pymavlink { ack_after: None }, None);
+    assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
+    assert_eq!(o.vehicle["uploads"][0]["received"], 100, "{}", o.vehicle);
 }
 
 #[test]

@@ -266,3 +266,44 @@ fn command_exit_codes() {
     assert_eq!(run_guard(GuardArgs { protocols: vec![bad.clone()], ..base }), 1);
     let _ = std::fs::remove_file(bad);
 }
+
+#[test]
+fn serial_endpoint_over_a_pseudo_terminal() {
+    use std::fs::File;
+    use std::os::unix::io::FromRawFd;
+    let (mut master, mut slave) = (0i32, 0i32);
+    // SAFETY: openpty fills two descriptors we own from here on.
+    let rc = unsafe { libc::openpty(&mut master, &mut slave, std::ptr::null_mut(), std::ptr::null(), std::ptr::null()) };
+    if rc != 0 {
+        eprintln!("skipping: no pseudo-terminal available");
+        return;
+    }
+    // SAFETY: ttyname on a valid tty descriptor returns a NUL-terminated static buffer.
+    let path = unsafe { std::ffi::CStr::from_ptr(libc::ttyname(slave)) }.to_string_lossy().into_owned();
+    // SAFETY: the descriptors came from openpty and are owned by these Files only.
+    let mut master = unsafe { File::from_raw_fd(master) };
+    let _slave = unsafe { File::from_raw_fd(slave) };
+    let g = start(config("udpin:127.0.0.1:0", &format!("serial:{path}:57600")), Box::new(PassThrough)).expect("guard");
+    let gcs = udp();
+    let hb = hex(GCS_HEARTBEAT);
+    gcs.send_to(&hb, g.gcs_addr.unwrap()).unwrap();
+    // read in a helper thread so that a regression fails after 2 s instead of hanging
+    let mut reader = master.try_clone().unwrap();
+    let n = hb.len();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut got = vec![0u8; n];
+        let _ = tx.send(reader.read_exact(&mut got).map(|_| got));
+    });
+    let got = rx.recv_timeout(Duration::from_secs(2)).expect("bytes on the serial line within 2 s").unwrap();
+    assert_eq!(got, hb);
+    // the vehicle answers on the serial line in two pieces; the GCS gets one whole frame
+    let vhb = hex(VEHICLE_HEARTBEAT);
+    master.write_all(&vhb[..5]).unwrap();
+    master.flush().unwrap();
+    std::thread::sleep(Duration::from_millis(50));
+    master.write_all(&vhb[5..]).unwrap();
+    assert_eq!(recv_one(&gcs, WAIT), Some(vhb));
+    let c = g.stop();
+    assert_eq!((c.forwarded_to_vehicle, c.forwarded_to_gcs), (1, 1));
+}

@@ -65,9 +65,10 @@ fn io_err(what: &str, e: impl std::fmt::Display) -> String {
 
 impl Driver {
     /// Compiles `header` (an instrumented `flight_plan.h`) with the stub runtime and starts the
-    /// server. `cc` is taken from `$CC`, else `cc`. `header_override` lets tests feed a
-    /// deliberately broken header (mutation testing).
-    pub fn build(header: &str, leaf_budget: usize) -> Result<Driver, String> {
+    /// server. `cc` is taken from `$CC`, else `cc`. `leaf_budget` bounds the paths of one
+    /// explored call; `question_limit` the questions one call may ask before it is reported
+    /// as not ending (the validator passes the static bound).
+    pub fn build(header: &str, leaf_budget: usize, question_limit: usize) -> Result<Driver, String> {
         let dir = next_unique_dir();
         std::fs::create_dir_all(dir.join("include/generated")).map_err(|e| io_err("temp dir", e))?;
         std::fs::create_dir_all(dir.join("include/modules/core")).map_err(|e| io_err("temp dir", e))?;
@@ -90,12 +91,13 @@ impl Driver {
             let first: Vec<&str> = msg.lines().take(20).collect();
             return Err(format!("the generated header does not compile with the stub runtime:\n{}", first.join("\n")));
         }
-        Self::start(dir, leaf_budget)
+        Self::start(dir, leaf_budget, question_limit)
     }
 
-    fn start(dir: PathBuf, leaf_budget: usize) -> Result<Driver, String> {
+    fn start(dir: PathBuf, leaf_budget: usize, question_limit: usize) -> Result<Driver, String> {
         let mut child = Command::new(dir.join("driver"))
             .arg(leaf_budget.to_string())
+            .arg(question_limit.to_string())
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())

@@ -104,8 +104,9 @@ pub fn validate(plan: &FlightPlan, opts: &Options) -> Result<Report, String> {
 /// Validates a given instrumented header against the semantics of `fp` (mutation tests feed a
 /// deliberately broken header here).
 pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, String> {
-    let mut driver = Driver::build(header, opts.max_paths_per_call)?;
     let bound = wcet::bound(fp);
+    // A correct call asks at most as many questions as it has events.
+    let mut driver = Driver::build(header, opts.max_paths_per_call, bound.max_events + 1)?;
     let mut interp = Interp::new(fp);
     let mut report = Report {
         depth: opts.depth,
@@ -207,7 +208,7 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
                         keep_shortest(&mut level_found, cx(format!("call exceeds the static bound of {limit} events"), events.clone()));
                     }
                 }
-                Some(CPath::TooLong { .. }) => keep_shortest(&mut level_found, cx("the C call does not end (question limit)".into(), vec![])),
+                Some(CPath::TooLong { .. }) => keep_shortest(&mut level_found, cx("the C call asks more questions than the static bound: it does not end".into(), vec![])),
                 Some(CPath::Crashed { status, .. }) => {
                     keep_shortest(&mut level_found, cx(format!("the C process died (status {status})"), vec![]))
                 }
@@ -228,7 +229,7 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
                         a.push(state_lines(*after));
                         (answers, a, "the C takes a path the semantics does not allow")
                     }
-                    CPath::TooLong { answers } => (answers, vec![], "the C call does not end (question limit)"),
+                    CPath::TooLong { answers } => (answers, vec![], "the C call asks more questions than the static bound: it does not end"),
                     CPath::Crashed { answers, .. } => (answers, vec![], "the C process died"),
                 };
                 keep_shortest(

@@ -108,14 +108,32 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
         let end = (off + text.get(off..).and_then(|t| t.chars().next()).map_or(0, char::len_utf8)).min(text.len());
         Diagnostic::error(ErrorKind::Xml, format!("malformed XML: {e}"), Some(lines.span(text, file, off, end)))
     })?;
-    let root = convert(doc.root_element(), text, file, &lines, &mut warnings);
+    let root = convert(doc.root_element(), text, file, &lines, &mut warnings, 0)?;
     Ok(Document { root, doctype: san.doctype, warnings })
 }
 
-fn convert(n: roxmltree::Node<'_, '_>, text: &str, file: FileId, lines: &LineIndex, warnings: &mut Vec<Diagnostic>) -> Elem {
+/// Element nesting limit: real plans nest a handful of levels; the limit keeps hostile inputs
+/// from exhausting the stack in the recursive passes.
+pub const MAX_NESTING: usize = 200;
+
+fn convert(
+    n: roxmltree::Node<'_, '_>,
+    text: &str,
+    file: FileId,
+    lines: &LineIndex,
+    warnings: &mut Vec<Diagnostic>,
+    depth: usize,
+) -> Result<Elem, Diagnostic> {
     let tag = n.tag_name().name().to_string();
     let start = n.range().start;
     let span = lines.span(text, file, start, (start + 1 + tag.len()).min(text.len()));
+    if depth > MAX_NESTING {
+        return Err(Diagnostic::error(
+            ErrorKind::Xml,
+            format!("elements nested more than {MAX_NESTING} levels deep"),
+            Some(span),
+        ));
+    }
     let mut attrs: Vec<RawAttr> = Vec::new();
     for a in n.attributes() {
         let name = a.name().to_ascii_lowercase();
@@ -135,12 +153,12 @@ fn convert(n: roxmltree::Node<'_, '_>, text: &str, file: FileId, lines: &LineInd
     let mut raw_text = String::new();
     for c in n.children() {
         if c.is_element() {
-            children.push(convert(c, text, file, lines, warnings));
+            children.push(convert(c, text, file, lines, warnings, depth + 1)?);
         } else if c.is_text() {
             raw_text.push_str(text.get(c.range()).unwrap_or(""));
         }
     }
-    Elem { tag, attrs: Attrs(attrs), children, text: clean_text(&raw_text), span, origin: None, from_path: false, relative: None }
+    Ok(Elem { tag, attrs: Attrs(attrs), children, text: clean_text(&raw_text), span, origin: None, from_path: false, relative: None })
 }
 
 /// xml-light's only processing of attribute values: `\"`, `\'` and `\\`.

@@ -59,7 +59,8 @@ fn index_of_block_names(plan: &FlightPlan) -> HashSet<String> {
     names
 }
 
-/// W001: blocks no next/deroute/exception chain from block 0 reaches.
+/// W001: blocks no next/deroute/exception chain reaches from block 0 or from a block the
+/// operator can start (strip button or key).
 pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
     let n = plan.blocks.len();
     let mut succ: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];
@@ -77,10 +78,14 @@ pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
         }
         succ[b].retain(|&t| t < n && !always_forbidden(plan, b, t));
     }
+    // Roots: the first block, and the operator's entry points (strip buttons, keys).
     let mut seen = vec![false; n];
-    let mut queue = VecDeque::from([0usize]);
-    if n > 0 {
-        seen[0] = true;
+    let mut queue = VecDeque::new();
+    for (b, block) in plan.blocks.iter().enumerate() {
+        if b == 0 || block.strip_button.is_some() || block.key.is_some() {
+            seen[b] = true;
+            queue.push_back(b);
+        }
     }
     while let Some(b) = queue.pop_front() {
         for &t in &succ[b] {
@@ -97,7 +102,7 @@ pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
         if !seen[b] && !block.implicit && !operator && !named {
             out.push(warn(
                 "FPL-W001",
-                format!("block '{}' is never entered by the plan (no next, deroute or exception leads to it) and has no strip button or key", block.name.value),
+                format!("block '{}' is never entered: no next, deroute or exception step leads to it from the first block or from a block with a strip button or key", block.name.value),
                 block.span,
             ));
         }

@@ -119,6 +119,18 @@ impl<'a> MessageView<'a> {
         Some(String::from_utf8_lossy(read_chars(self.payload, f)).into_owned())
     }
 
+    /// Name of the enum entry a field holds (fields declared with `enum="…"`), if any.
+    pub fn get_enum_name<'d>(&self, field: &str, dialect: &'d crate::dialect::Dialect) -> Option<&'d str> {
+        let f = self.def.field(field)?;
+        let v = read_field(self.payload, f, 0);
+        let raw = match v {
+            Value::U(u) => u,
+            Value::I(i) if i >= 0 => i as u64,
+            _ => return None,
+        };
+        dialect.enum_value_name(f.enum_name.as_deref()?, raw)
+    }
+
     /// All fields as (name, rendered value), for reports and JSON output.
     pub fn render_fields(&self) -> Vec<(String, String)> {
         self.def

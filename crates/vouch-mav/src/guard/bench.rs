@@ -223,7 +223,7 @@ fn ping_latencies(rig: &Rig, pings: usize, out: &mut Vec<f64>) -> io::Result<()>
 
 /// Sends `count` ATTITUDE frames at `rate`/s (or as fast as possible with rate 0) from the
 /// vehicle; a receiver thread stamps arrivals. Returns (delivered, latencies µs, elapsed s).
-fn stream(rig: &Rig, count: u32, rate: u32) -> io::Result<(u64, Vec<f64>, f64)> {
+fn stream(rig: &Rig, count: u32, rate: u32, pin: bool) -> io::Result<(u64, Vec<f64>, f64)> {
     let gcs = rig.gcs.try_clone()?;
     gcs.set_read_timeout(Some(Duration::from_millis(200)))?;
     let base = Instant::now();
@@ -231,7 +231,9 @@ fn stream(rig: &Rig, count: u32, rate: u32) -> io::Result<(u64, Vec<f64>, f64)> 
     let done = Arc::new(AtomicBool::new(false));
     let (s2, d2) = (sent_ns.clone(), done.clone());
     let rx = std::thread::spawn(move || {
-        pin_to_cpu(1);
+        if pin {
+            pin_to_cpu(1);
+        }
         let mut lat = Vec::with_capacity(count as usize);
         let mut got = 0u64;
         let mut last = base;
@@ -257,7 +259,9 @@ fn stream(rig: &Rig, count: u32, rate: u32) -> io::Result<(u64, Vec<f64>, f64)> 
         }
         (got, lat, last)
     });
-    pin_to_cpu(1);
+    if pin {
+        pin_to_cpu(1);
+    }
     let frames: Vec<Vec<u8>> = (0..count).map(|i| attitude(i, i as u8)).collect();
     let start = Instant::now();
     let period_ns = if rate == 0 { 0 } else { 1_000_000_000u64 / u64::from(rate) };
@@ -292,6 +296,18 @@ fn spawn_relay(cmd: &mut Command, entry: SocketAddr) -> io::Result<Relay> {
     Ok(Relay::Process { child, entry })
 }
 
+/// Lets the calling thread run on every CPU again (after a saturation phase).
+fn unpin() {
+    // SAFETY: as in pin_to_cpu.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        for c in 0..libc::CPU_SETSIZE as usize {
+            libc::CPU_SET(c, &mut set);
+        }
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set);
+    }
+}
+
 fn pin_child(pid: u32, cpu: usize) {
     // SAFETY: as in pin_to_cpu; the pid is our own child. Pin every thread of it.
     if let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) {
@@ -311,10 +327,7 @@ fn measure(label: &str, relay: &mut Relay, vehicle: UdpSocket, a: &BenchArgs) ->
     let gcs = sock()?;
     let entry = match relay {
         Relay::Direct => vehicle.local_addr()?,
-        Relay::Process { entry, child, .. } => {
-            pin_child(child.id(), 0);
-            *entry
-        }
+        Relay::Process { entry, .. } => *entry,
     };
     let rig = handshake(gcs, vehicle, entry)?;
     let mut r = PathResult { path: label.to_string(), stream_rate: a.rate, ..Default::default() };
@@ -327,7 +340,7 @@ fn measure(label: &str, relay: &mut Relay, vehicle: UdpSocket, a: &BenchArgs) ->
     ping.sort_by(f64::total_cmp);
     (r.ping_p50_us, r.ping_p99_us) = (pct(&ping, 0.5), pct(&ping, 0.99));
     let n = (f64::from(a.rate) * a.seconds) as u32;
-    let (got, mut lat, _) = stream(&rig, n, a.rate)?;
+    let (got, mut lat, _) = stream(&rig, n, a.rate, false)?;
     lat.sort_by(f64::total_cmp);
     r.stream_delivered_pct = 100.0 * got as f64 / f64::from(n.max(1));
     (r.stream_p50_us, r.stream_p99_us) = (pct(&lat, 0.5), pct(&lat, 0.99));
@@ -336,8 +349,12 @@ fn measure(label: &str, relay: &mut Relay, vehicle: UdpSocket, a: &BenchArgs) ->
         Relay::Process { child, .. } => Some(child.id()),
         Relay::Direct => None,
     };
+    if let Some(pid) = pid {
+        pin_child(pid, 0);
+    }
     let cpu0 = pid.and_then(cpu_seconds);
-    let (got, _, secs) = stream(&rig, sat_n, 0)?;
+    let (got, _, secs) = stream(&rig, sat_n, 0, true)?;
+    unpin();
     r.saturation_msgs_per_s = got as f64 / secs;
     if let (Some(pid), Some(c0)) = (pid, cpu0) {
         r.msgs_per_cpu_second = cpu_seconds(pid).map(|c1| got as f64 / (c1 - c0).max(0.01));

@@ -11,7 +11,8 @@
  *                              [I + init events, when calls = 0]
  *                              Q b s lb ls                       state after the replay
  *                              P k b1..bk, event lines, S b s lb ls   one record per leaf
- *                              L k b1..bk                        a path asked too many questions
+ *                              L k b1..bk                        a path asked more questions than
+ *                                                                the limit (argv[2]): a loop
  *                              A status k b1..bk                 a path crashed or timed out
  *   W <calls> <n> a1 .. an   one plain run of <calls> calls (answers beyond n are 0), printed in
  *                            the format of tests/stub/driver.c.
@@ -42,6 +43,7 @@
 #include "flight_plan.h"
 
 #define MAX_QUESTIONS 4096
+static long question_limit = MAX_QUESTIONS;
 #define ALARM_SECONDS 5
 
 /* ---- output buffer ---- */
@@ -111,7 +113,7 @@ static long next_number(int is_value)
   const long *choices = is_value ? value_choices : cond_choices;
   int k = is_value ? 3 : 2;
   if (!exploring) { return next_answer < n_answers ? answers[next_answer++] : 0; }
-  if (n_taken >= MAX_QUESTIONS) {
+  if (n_taken >= (size_t)question_limit) {
     blen = 0;
     put_s("L ");
     put_taken(0, 0);
@@ -235,6 +237,10 @@ int main(int argc, char **argv)
   shared = mmap(NULL, 3 * sizeof(long), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
   if (shared == MAP_FAILED) { return 2; }
   shared[2] = argc > 1 ? strtol(argv[1], NULL, 10) : 100000;
+  /* questions allowed in one explored call: the static bound of the plan, so a call that
+   * loops is reported as soon as it asks more than any correct call can */
+  if (argc > 2) { question_limit = strtol(argv[2], NULL, 10); }
+  if (question_limit < 1 || question_limit > MAX_QUESTIONS) { question_limit = MAX_QUESTIONS; }
   while (getline(&line, &cap, stdin) > 0) {
     char *p = line + 1, *end;
     char kind = line[0];
