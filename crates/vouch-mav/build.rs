@@ -24,9 +24,13 @@ fn registry_candidates() -> Vec<PathBuf> {
     let mut out = Vec::new();
     for home in homes {
         let src = home.join("registry").join("src");
-        let Ok(indexes) = fs::read_dir(&src) else { continue };
+        let Ok(indexes) = fs::read_dir(&src) else {
+            continue;
+        };
         for index in indexes.flatten() {
-            let Ok(pkgs) = fs::read_dir(index.path()) else { continue };
+            let Ok(pkgs) = fs::read_dir(index.path()) else {
+                continue;
+            };
             let mut found: Vec<PathBuf> = pkgs
                 .flatten()
                 .map(|p| p.path())
@@ -50,7 +54,9 @@ fn collect(dir: &Path, name: &str, out: &mut Vec<(String, String)>) {
     if out.iter().any(|(n, _)| n == name) {
         return;
     }
-    let Ok(text) = fs::read_to_string(dir.join(name)) else { return };
+    let Ok(text) = fs::read_to_string(dir.join(name)) else {
+        return;
+    };
     let includes: Vec<String> = text
         .split("<include>")
         .skip(1)
@@ -88,7 +94,10 @@ fn main() {
     for (name, text) in &files {
         let path = out_dir.join(name);
         fs::write(&path, text).expect("write definition into OUT_DIR");
-        table.push_str(&format!("    ({name:?}, include_str!({:?})),\n", path.display().to_string()));
+        table.push_str(&format!(
+            "    ({name:?}, include_str!({:?})),\n",
+            path.display().to_string()
+        ));
     }
     table.push_str("];\n");
     table.push_str(&format!("/// Where the embedded definitions were taken from at build time.\npub static EMBEDDED_ORIGIN: &str = {origin:?};\n"));

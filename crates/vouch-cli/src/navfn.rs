@@ -166,6 +166,11 @@ fn plan(a: PlanArgs) -> ExitCode {
             Some(_) => {}
         }
     }
+    // the tolerance search scans a (2·tol/res)² grid: refuse what would not finish
+    let side = 2.0 * a.tolerance / world.resolution + 1.0;
+    if !(a.tolerance >= 0.0 && a.tolerance.is_finite()) || side * side > 1e8 {
+        return fail(1, format!("tolerance {} is negative or too large for resolution {}", a.tolerance, world.resolution));
+    }
     let params = PlannerParams {
         tolerance: a.tolerance,
         use_astar: a.algo == AlgoArg::Astar,

@@ -99,6 +99,14 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     assert!(parse(&deep).is_err());
     let neg = "-".repeat(5000) + "a";
     assert!(parse(&neg).is_err());
+    // Long left-associative chains and deref chains build deep trees without deep recursion
+    // in the parser; they are bounded too.
+    let chain = vec!["a"; 100_000].join("+");
+    assert!(parse(&chain).is_err());
+    let derefs = "a".to_string() + &"->b".repeat(100_000);
+    assert!(parse(&derefs).is_err());
+    // Realistic lengths stay accepted.
+    assert!(parse(&vec!["a"; 50].join(" @AND ")).is_ok());
 }
 
 #[test]

@@ -89,12 +89,13 @@ fn for_bounds_are_int8() {
         run.steps[0].events,
         vec![Event::Value { text: "1".into(), value: 1 }, Event::Value { text: "200".into(), value: 200 }, code("after()")]
     );
-    // `to="3"` runs the body three times.
+    // `to="3"` runs the body three times (`fun` is raw C: `$i` is not rewritten there).
     let p = plan(r#"<block name="a"><for var="i" from="1" to="3"><call_once fun="body($i)" break="TRUE"/></for></block>"#, "");
     let fp = lower(&p).expect("lowers");
     let mut i = Interp::new(&fp);
-    let run = i.run(&mut Scripted::default(), 5).expect("bounded");
-    let bodies = run.steps.iter().flat_map(|s| &s.events).filter(|e| **e == code("body(_var_i)")).count();
+    // calls: test, body, test, body, test, body, test (exit) ... : 3 bodies within 10 calls.
+    let run = i.run(&mut Scripted::default(), 10).expect("bounded");
+    let bodies = run.steps.iter().flat_map(|s| &s.events).filter(|e| **e == code("body($i)")).count();
     assert_eq!(bodies, 3);
 }
 

@@ -25,13 +25,15 @@ fn every_corpus_plan_validates_at_depth_8() {
         })
         .collect();
     let mut failures = Vec::new();
-    let (mut states, mut paths, mut random, mut cut) = (0, 0, 0, 0);
+    let (mut states, mut paths, mut random, mut cut, mut covered) = (0, 0, 0, 0, 0.0);
     for (name, r) in &results {
         match r {
             Ok(rep) => {
                 states += rep.states;
                 paths += rep.call_paths;
                 random += rep.random_calls;
+                covered += rep.runs_covered;
+                assert!(rep.runs_covered >= 1.0, "{name}: covers at least one run");
                 if rep.cut.is_some() {
                     cut += 1;
                     failures.push(format!("{name}: exploration cut: {:?}", rep.cut));
@@ -45,7 +47,7 @@ fn every_corpus_plan_validates_at_depth_8() {
         }
     }
     eprintln!(
-        "validate: {} plans, depth 8, {states} states, {paths} call paths compared, {random} random calls, {cut} cut, {:.1} s",
+        "validate: {} plans, depth 8, {states} states, {paths} call paths compared (covering {covered:.3e} complete 8-call runs), {random} random calls, {cut} cut, {:.1} s",
         results.len(),
         t0.elapsed().as_secs_f64()
     );

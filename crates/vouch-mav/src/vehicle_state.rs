@@ -106,11 +106,18 @@ impl VehicleTracker {
                 ))
             })(),
         };
-        VehicleTracker { fields, params, states: Vec::new() }
+        VehicleTracker {
+            fields,
+            params,
+            states: Vec::new(),
+        }
     }
 
     pub fn state(&self, sysid: u8) -> Option<&VehicleState> {
-        self.states.iter().find(|(s, _)| *s == sysid).map(|(_, st)| st)
+        self.states
+            .iter()
+            .find(|(s, _)| *s == sysid)
+            .map(|(_, st)| st)
     }
 
     pub fn states(&self) -> impl Iterator<Item = (u8, &VehicleState)> {
@@ -122,7 +129,13 @@ impl VehicleTracker {
             return &mut self.states[i].1;
         }
         let n = self.params.names.len();
-        self.states.push((sysid, VehicleState { params: vec![None; n], ..Default::default() }));
+        self.states.push((
+            sysid,
+            VehicleState {
+                params: vec![None; n],
+                ..Default::default()
+            },
+        ));
         let last = self.states.len() - 1;
         &mut self.states[last].1
     }
@@ -183,7 +196,9 @@ impl VehicleTracker {
 
     /// Applies an accepted PARAM_SET to the cache of its target vehicle.
     pub fn apply_param_set(&mut self, msg: &MessageView) {
-        let Some((idx, id, value, target)) = &self.fields.param_set else { return };
+        let Some((idx, id, value, target)) = &self.fields.param_set else {
+            return;
+        };
         if msg.index != *idx || self.params.names.is_empty() {
             return;
         }

@@ -43,7 +43,10 @@ fn crc_extra_and_lengths_match_the_facts_table() {
     assert_eq!(hb.fields[0].name, "custom_mode");
     let it = d.by_name("MISSION_ITEM_INT").unwrap();
     let order: Vec<&str> = it.fields.iter().map(|f| f.name.as_str()).collect();
-    assert_eq!(&order[..9], &["param1", "param2", "param3", "param4", "x", "y", "z", "seq", "command"]);
+    assert_eq!(
+        &order[..9],
+        &["param1", "param2", "param3", "param4", "x", "y", "z", "seq", "command"]
+    );
     assert_eq!(order.last(), Some(&"mission_type"));
     assert!(it.field("mission_type").unwrap().is_extension);
 }
@@ -51,10 +54,16 @@ fn crc_extra_and_lengths_match_the_facts_table() {
 #[test]
 fn enums_resolve_by_name() {
     let Some(d) = dialect() else { return };
-    assert_eq!(d.enum_entry("MAV_MISSION_INVALID_SEQUENCE"), Some(("MAV_MISSION_RESULT", 13)));
+    assert_eq!(
+        d.enum_entry("MAV_MISSION_INVALID_SEQUENCE"),
+        Some(("MAV_MISSION_RESULT", 13))
+    );
     assert_eq!(d.enum_entry("MAV_CMD_DO_PARACHUTE"), Some(("MAV_CMD", 208)));
     assert_eq!(d.enum_entry("COPTER_MODE_FLIP"), Some(("COPTER_MODE", 14)));
-    assert_eq!(d.enum_value_name("MAV_MISSION_TYPE", 2), Some("MAV_MISSION_TYPE_RALLY"));
+    assert_eq!(
+        d.enum_value_name("MAV_MISSION_TYPE", 2),
+        Some("MAV_MISSION_TYPE_RALLY")
+    );
 }
 
 #[test]
@@ -62,7 +71,14 @@ fn zero_truncation_matches_the_measured_frame() {
     let Some(d) = dialect() else { return };
     // PROTOCOL_FACTS: MISSION_COUNT{count=100, mission_type=0, opaque_id=0} is a 16-byte frame
     // with a 4-byte payload.
-    let b = MessageBuilder::new(&d, "MISSION_COUNT").unwrap().set("count", 100).unwrap().set("target_system", 1).unwrap().set("target_component", 1).unwrap();
+    let b = MessageBuilder::new(&d, "MISSION_COUNT")
+        .unwrap()
+        .set("count", 100)
+        .unwrap()
+        .set("target_system", 1)
+        .unwrap()
+        .set("target_component", 1)
+        .unwrap();
     let f = b.frame_v2(0, 255, 190);
     assert_eq!(f.len(), 16);
     assert_eq!(f[1], 4);
@@ -72,9 +88,16 @@ fn zero_truncation_matches_the_measured_frame() {
     assert_eq!(range, 0..16);
     let v = MessageView::of_frame(&frame, &d).unwrap();
     assert_eq!(v.get_f64("count"), Some(100.0));
-    assert_eq!(v.get_f64("mission_type"), Some(0.0), "truncated extension reads as 0");
+    assert_eq!(
+        v.get_f64("mission_type"),
+        Some(0.0),
+        "truncated extension reads as 0"
+    );
     assert_eq!(v.get_f64("opaque_id"), Some(0.0));
-    assert_eq!(v.get_enum_name("mission_type", &d), Some("MAV_MISSION_TYPE_MISSION"));
+    assert_eq!(
+        v.get_enum_name("mission_type", &d),
+        Some("MAV_MISSION_TYPE_MISSION")
+    );
 }
 
 #[test]
@@ -82,15 +105,26 @@ fn v1_and_v2_round_trip_every_field_type() {
     let Some(d) = dialect() else { return };
     let b = MessageBuilder::new(&d, "MISSION_ITEM_INT")
         .unwrap()
-        .set("param1", 1.5).unwrap()
-        .set("x", -473_977_420).unwrap()
-        .set("y", 85_455_940).unwrap()
-        .set("z", 123.25).unwrap()
-        .set("seq", 65_000).unwrap()
-        .set("command", 16).unwrap()
-        .set("frame", 6).unwrap()
-        .set("mission_type", 2).unwrap();
-    for (frame, ver) in [(b.frame_v2(7, 255, 190), Version::V2), (b.frame_v1(7, 255, 190).unwrap(), Version::V1)] {
+        .set("param1", 1.5)
+        .unwrap()
+        .set("x", -473_977_420)
+        .unwrap()
+        .set("y", 85_455_940)
+        .unwrap()
+        .set("z", 123.25)
+        .unwrap()
+        .set("seq", 65_000)
+        .unwrap()
+        .set("command", 16)
+        .unwrap()
+        .set("frame", 6)
+        .unwrap()
+        .set("mission_type", 2)
+        .unwrap();
+    for (frame, ver) in [
+        (b.frame_v2(7, 255, 190), Version::V2),
+        (b.frame_v1(7, 255, 190).unwrap(), Version::V1),
+    ] {
         let mut sp = FrameSplitter::new();
         let mut pos = 0;
         let (_, f) = sp.next(&frame, &mut pos, &d, true).expect("frame decodes");
@@ -107,22 +141,42 @@ fn v1_and_v2_round_trip_every_field_type() {
         assert_eq!(v.get_f64("mission_type"), Some(mt));
     }
     // Text fields.
-    let p = MessageBuilder::new(&d, "PARAM_SET").unwrap().set_str("param_id", "CHUTE_ALT_MIN").unwrap().set("param_value", 12.5).unwrap();
+    let p = MessageBuilder::new(&d, "PARAM_SET")
+        .unwrap()
+        .set_str("param_id", "CHUTE_ALT_MIN")
+        .unwrap()
+        .set("param_value", 12.5)
+        .unwrap();
     let fr = p.frame_v2(0, 255, 190);
     let mut pos = 0;
     let (_, f) = FrameSplitter::new().next(&fr, &mut pos, &d, true).unwrap();
     let v = MessageView::of_frame(&f, &d).unwrap();
     assert_eq!(v.get_str("param_id").as_deref(), Some("CHUTE_ALT_MIN"));
     // A 16-character id has no NUL terminator.
-    let p = MessageBuilder::new(&d, "PARAM_SET").unwrap().set_str("param_id", "ABCDEFGHIJKLMNOP").unwrap();
+    let p = MessageBuilder::new(&d, "PARAM_SET")
+        .unwrap()
+        .set_str("param_id", "ABCDEFGHIJKLMNOP")
+        .unwrap();
     let fr = p.frame_v2(0, 255, 190);
     let mut pos = 0;
     let (_, f) = FrameSplitter::new().next(&fr, &mut pos, &d, true).unwrap();
-    assert_eq!(MessageView::of_frame(&f, &d).unwrap().get_str("param_id").as_deref(), Some("ABCDEFGHIJKLMNOP"));
+    assert_eq!(
+        MessageView::of_frame(&f, &d)
+            .unwrap()
+            .get_str("param_id")
+            .as_deref(),
+        Some("ABCDEFGHIJKLMNOP")
+    );
 }
 
 fn frame(d: &vouch_mav::Dialect, seq: u8) -> Vec<u8> {
-    MessageBuilder::new(d, "HEARTBEAT").unwrap().set("type", 2).unwrap().set("custom_mode", 5).unwrap().frame_v2(seq, 1, 1)
+    MessageBuilder::new(d, "HEARTBEAT")
+        .unwrap()
+        .set("type", 2)
+        .unwrap()
+        .set("custom_mode", 5)
+        .unwrap()
+        .frame_v2(seq, 1, 1)
 }
 
 #[test]
@@ -134,7 +188,9 @@ fn splitter_counts_garbage_bad_crc_truncation_unknown_ids_and_forwards_exact_byt
     let n = bad_crc.len();
     bad_crc[n - 1] ^= 0xFF;
     // Unknown id 0xABCDEF, 3-byte payload, arbitrary checksum.
-    let unknown = vec![0xFD, 3, 0, 0, 9, 1, 1, 0xEF, 0xCD, 0xAB, 1, 2, 3, 0x11, 0x22];
+    let unknown = vec![
+        0xFD, 3, 0, 0, 9, 1, 1, 0xEF, 0xCD, 0xAB, 1, 2, 3, 0x11, 0x22,
+    ];
     let mut stream = Vec::new();
     stream.extend_from_slice(b"garbage\x00\xFD"); // includes a stray magic byte
     stream.extend_from_slice(&good1);

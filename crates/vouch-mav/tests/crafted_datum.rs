@@ -10,11 +10,30 @@ const ACRO: u32 = 1;
 const FLIP: u32 = 14;
 
 fn param_value(c: &mut Craft, id: &str, v: f64) {
-    c.send_full(UAV, "PARAM_VALUE", &[("param_value", v), ("param_type", 9.0), ("param_count", 3.0)], &[("param_id", id)]);
+    c.send_full(
+        UAV,
+        "PARAM_VALUE",
+        &[
+            ("param_value", v),
+            ("param_type", 9.0),
+            ("param_count", 3.0),
+        ],
+        &[("param_id", id)],
+    );
 }
 
 fn param_set(c: &mut Craft, id: &str, v: f64) {
-    c.send_full(GCS, "PARAM_SET", &[("target_system", 1.0), ("target_component", 1.0), ("param_value", v), ("param_type", 9.0)], &[("param_id", id)]);
+    c.send_full(
+        GCS,
+        "PARAM_SET",
+        &[
+            ("target_system", 1.0),
+            ("target_component", 1.0),
+            ("param_value", v),
+            ("param_type", 9.0),
+        ],
+        &[("param_id", id)],
+    );
 }
 
 /// PX4-like pitch gains: MC_PITCH_P = 6.5, MC_PITCHRATE_FF = 0.5 (product 3.25).
@@ -35,8 +54,21 @@ fn case_two_safe_param_set_passes() {
     param_set(&mut c, "MC_PITCH_P", 7.0); // 3.2 < 7.0 * 0.5
     param_value(&mut c, "MC_PITCH_P", 7.0);
     let r = c.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
-    assert_eq!(r.summary.protocol("datum_param_dependency").unwrap().completed, 2);
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
+    assert_eq!(
+        r.summary
+            .protocol("datum_param_dependency")
+            .unwrap()
+            .completed,
+        2
+    );
     assert_eq!(r.summary.protocol("param_set").unwrap().completed, 2);
 }
 
@@ -47,7 +79,11 @@ fn case_two_param_set_violating_the_dependency_is_reported() {
     let r = c.check();
     let v = only_violation(&r);
     assert_eq!(v.protocol, "datum_param_dependency");
-    assert!(v.predicate.as_deref().unwrap_or("").starts_with("param_value < (PITCH_P_WEIGHT * param.MC_PITCH_P)"));
+    assert!(v
+        .predicate
+        .as_deref()
+        .unwrap_or("")
+        .starts_with("param_value < (PITCH_P_WEIGHT * param.MC_PITCH_P)"));
     assert_eq!(value(v, "param_value"), "200");
     assert_eq!(value(v, "param.MC_PITCH_P"), "6.5");
     assert_eq!(value(v, "param.MC_PITCHRATE_FF"), "0.5");
@@ -82,12 +118,22 @@ fn chute_vehicle(armed: bool, mode: u32, rel_alt_m: f64, climb_ms: f64) -> Optio
     let mut c = Craft::new()?;
     param_value(&mut c, "CHUTE_ALT_MIN", 10.0);
     c.heartbeats(armed, mode);
-    c.send(UAV, "GLOBAL_POSITION_INT", &[("relative_alt", rel_alt_m * 1000.0), ("vz", -climb_ms * 100.0)]);
+    c.send(
+        UAV,
+        "GLOBAL_POSITION_INT",
+        &[
+            ("relative_alt", rel_alt_m * 1000.0),
+            ("vz", -climb_ms * 100.0),
+        ],
+    );
     Some(c)
 }
 
 fn parachute(c: &mut Craft, action: f64) {
-    c.gcs("COMMAND_LONG", &[("command", PARACHUTE), ("param1", action)]);
+    c.gcs(
+        "COMMAND_LONG",
+        &[("command", PARACHUTE), ("param1", action)],
+    );
 }
 
 fn chute_violation(armed: bool, mode: u32, alt: f64, climb: f64) -> Option<vouch_mav::Violation> {
@@ -98,66 +144,102 @@ fn chute_violation(armed: bool, mode: u32, alt: f64, climb: f64) -> Option<vouch
     assert_eq!(v.protocol, "datum_parachute");
     let reply = v.reply.clone().expect("reply declared");
     assert_eq!(reply.message, "COMMAND_ACK");
-    assert!(reply.fields.contains(&("result".into(), 2.0)), "DENIED: {:?}", reply.fields);
+    assert!(
+        reply.fields.contains(&("result".into(), 2.0)),
+        "DENIED: {:?}",
+        reply.fields
+    );
     assert!(reply.fields.contains(&("command".into(), PARACHUTE)));
     Some(v)
 }
 
 #[test]
 fn case_three_release_in_a_safe_state_passes() {
-    let Some(mut c) = chute_vehicle(true, LOITER, 50.0, -0.5) else { return };
+    let Some(mut c) = chute_vehicle(true, LOITER, 50.0, -0.5) else {
+        return;
+    };
     parachute(&mut c, RELEASE);
     c.uav("COMMAND_ACK", &[("command", PARACHUTE), ("result", 0.0)]);
     let r = c.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
     assert_eq!(r.summary.protocol("datum_parachute").unwrap().completed, 1);
     assert_eq!(r.summary.protocol("command").unwrap().completed, 1);
     // ENABLE / DISABLE are not a release: allowed while disarmed on the ground.
-    let Some(mut c) = chute_vehicle(false, LOITER, 0.0, 0.0) else { return };
+    let Some(mut c) = chute_vehicle(false, LOITER, 0.0, 0.0) else {
+        return;
+    };
     parachute(&mut c, 1.0);
     assert!(c.check().violations.is_empty());
 }
 
 #[test]
 fn case_three_release_when_disarmed() {
-    let Some(v) = chute_violation(false, LOITER, 50.0, -0.5) else { return };
+    let Some(v) = chute_violation(false, LOITER, 50.0, -0.5) else {
+        return;
+    };
     assert_eq!(v.predicate.as_deref(), Some("vehicle.armed"));
     assert_eq!(value(&v, "vehicle.armed"), "false");
 }
 
 #[test]
 fn case_three_release_when_ascending() {
-    let Some(v) = chute_violation(true, LOITER, 50.0, 2.0) else { return };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.climb <= CHUTE_MAX_CLIMB"));
+    let Some(v) = chute_violation(true, LOITER, 50.0, 2.0) else {
+        return;
+    };
+    assert_eq!(
+        v.predicate.as_deref(),
+        Some("vehicle.climb <= CHUTE_MAX_CLIMB")
+    );
     assert_eq!(value(&v, "vehicle.climb"), "2");
 }
 
 #[test]
 fn case_three_release_in_acro() {
-    let Some(v) = chute_violation(true, ACRO, 50.0, -0.5) else { return };
+    let Some(v) = chute_violation(true, ACRO, 50.0, -0.5) else {
+        return;
+    };
     assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != ACRO_MODE"));
     assert_eq!(value(&v, "vehicle.mode"), "1");
 }
 
 #[test]
 fn case_three_release_in_flip() {
-    let Some(v) = chute_violation(true, FLIP, 50.0, -0.5) else { return };
+    let Some(v) = chute_violation(true, FLIP, 50.0, -0.5) else {
+        return;
+    };
     assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != FLIP_MODE"));
     assert_eq!(value(&v, "vehicle.mode"), "14");
 }
 
 #[test]
 fn case_three_release_below_minimum_altitude() {
-    let Some(v) = chute_violation(true, LOITER, 5.0, -0.5) else { return };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.alt > param.CHUTE_ALT_MIN"));
+    let Some(v) = chute_violation(true, LOITER, 5.0, -0.5) else {
+        return;
+    };
+    assert_eq!(
+        v.predicate.as_deref(),
+        Some("vehicle.alt > param.CHUTE_ALT_MIN")
+    );
     assert_eq!(value(&v, "vehicle.alt"), "5");
     assert_eq!(value(&v, "param.CHUTE_ALT_MIN"), "10");
 }
 
 #[test]
 fn case_three_climb_tolerance_is_configurable() {
-    let Some(mut c) = chute_vehicle(true, LOITER, 50.0, 0.3) else { return };
+    let Some(mut c) = chute_vehicle(true, LOITER, 50.0, 0.3) else {
+        return;
+    };
     parachute(&mut c, RELEASE);
     assert_eq!(c.check().violations.len(), 1);
-    assert!(c.check_with(&[("CHUTE_MAX_CLIMB".into(), 0.5)]).violations.is_empty());
+    assert!(c
+        .check_with(&[("CHUTE_MAX_CLIMB".into(), 0.5)])
+        .violations
+        .is_empty());
 }

@@ -14,7 +14,11 @@ fn upload_of_100_items_passes_and_completes() {
     c.heartbeats(false, 0);
     c.upload(100, MISSION, false);
     let r = c.check();
-    assert!(r.violations.is_empty(), "{:?}", r.violations.first().map(|v| v.to_string()));
+    assert!(
+        r.violations.is_empty(),
+        "{:?}",
+        r.violations.first().map(|v| v.to_string())
+    );
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 1);
 }
 
@@ -40,7 +44,14 @@ fn ardupilot_style_upload_with_retries_and_invalid_sequence_passes() {
     }
     c.ack(0, MISSION);
     let r = c.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 1);
 }
 
@@ -57,7 +68,14 @@ fn clear_as_count_zero_and_error_ack_pass() {
     c.gcs("MISSION_CLEAR_ALL", &[]);
     c.ack(0, MISSION);
     let r = c.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 4);
     assert_eq!(r.summary.protocol("mission_clear").unwrap().completed, 1);
 }
@@ -76,7 +94,11 @@ fn ack_accepted_after_60_of_100_items_is_reported() {
     let v = only_violation(&r);
     assert_eq!(v.protocol, "mission_upload");
     assert_eq!(v.kind, ViolationKind::Refinement);
-    assert!(v.message.starts_with("MISSION_ACK from 1/1"), "{}", v.message);
+    assert!(
+        v.message.starts_with("MISSION_ACK from 1/1"),
+        "{}",
+        v.message
+    );
     assert_eq!(v.predicate.as_deref(), Some("curr == n"));
     assert_eq!(value(v, "curr"), "60");
     assert_eq!(value(v, "n"), "100");
@@ -86,7 +108,11 @@ fn ack_accepted_after_60_of_100_items_is_reported() {
     assert_eq!(reply.message, "MISSION_ACK");
     assert_eq!((reply.to_sys, reply.to_comp), (255, 190));
     assert_eq!((reply.from_sys, reply.from_comp), (1, 1));
-    assert!(reply.fields.contains(&("type".to_string(), 15.0)), "{:?}", reply.fields);
+    assert!(
+        reply.fields.contains(&("type".to_string(), 15.0)),
+        "{:?}",
+        reply.fields
+    );
 }
 
 #[test]
@@ -114,7 +140,10 @@ fn datum_case_one_187_announced_121_transferred() {
     let Some(mut ok) = Craft::new() else { return };
     ok.heartbeats(true, 10);
     ok.upload(187, MISSION, false);
-    assert!(ok.check_sources(&[("p".into(), paper.into())]).violations.is_empty());
+    assert!(ok
+        .check_sources(&[("p".into(), paper.into())])
+        .violations
+        .is_empty());
 }
 
 #[test]
@@ -129,7 +158,11 @@ fn skipped_request_is_reported() {
     c.request(4, MISSION, false); // skips seq 3
     let r = c.check();
     let v = only_violation(&r);
-    assert!(v.message.starts_with("MISSION_REQUEST_INT"), "{}", v.message);
+    assert!(
+        v.message.starts_with("MISSION_REQUEST_INT"),
+        "{}",
+        v.message
+    );
     assert_eq!(v.predicate.as_deref(), Some("x == curr"));
     assert_eq!(value(v, "x"), "4");
     assert_eq!(value(v, "curr"), "3");
@@ -146,7 +179,11 @@ fn skipped_item_from_the_gcs_is_reported() {
     c.item(3, MISSION); // answers request 1 with item 3
     let r = c.check();
     let v = only_violation(&r);
-    assert!(v.message.starts_with("MISSION_ITEM_INT from 255/190"), "{}", v.message);
+    assert!(
+        v.message.starts_with("MISSION_ITEM_INT from 255/190"),
+        "{}",
+        v.message
+    );
     assert_eq!(v.predicate.as_deref(), Some("seq == x"));
     assert_eq!(value(v, "seq"), "3");
     assert_eq!(value(v, "x"), "1");
@@ -197,8 +234,17 @@ fn item_for_a_mission_type_never_announced_is_reported() {
     let v = only_violation(&r);
     assert_eq!(v.kind, ViolationKind::NoSession);
     assert_eq!(v.protocol, "mission_upload");
-    assert!(v.reason.contains("mission_type = 1 (MAV_MISSION_TYPE_FENCE)"), "{}", v.reason);
-    assert!(v.reason.contains("outside of any mission_upload session"), "{}", v.reason);
+    assert!(
+        v.reason
+            .contains("mission_type = 1 (MAV_MISSION_TYPE_FENCE)"),
+        "{}",
+        v.reason
+    );
+    assert!(
+        v.reason.contains("outside of any mission_upload session"),
+        "{}",
+        v.reason
+    );
 
     // Legitimate: the fence is announced first, and runs next to the mission upload.
     let Some(mut ok) = Craft::new() else { return };
@@ -206,7 +252,14 @@ fn item_for_a_mission_type_never_announced_is_reported() {
     ok.upload(4, FENCE, false);
     ok.upload(3, MISSION, true);
     let r = ok.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 2);
 }
 
@@ -224,7 +277,14 @@ fn new_count_restarts_an_upload_and_timeout_abandons() {
     c.wait_ms(20_000); // gave up
     c.heartbeats(false, 0);
     let r = c.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
     let s = r.summary.protocol("mission_upload").unwrap();
     assert_eq!(s.completed, 1);
     assert_eq!(s.abandoned, 3);
@@ -240,10 +300,20 @@ fn download_with_pipelined_requests_passes_and_early_gcs_ack_is_reported() {
         c.gcs("MISSION_REQUEST_INT", &[("seq", f64::from(s))]);
     }
     for s in 0..4 {
-        c.uav("MISSION_ITEM_INT", &[("seq", f64::from(s)), ("command", 16.0)]);
+        c.uav(
+            "MISSION_ITEM_INT",
+            &[("seq", f64::from(s)), ("command", 16.0)],
+        );
     }
     let r = c.check();
-    assert!(r.violations.is_empty(), "{}", r.violations.first().map(|v| v.to_string()).unwrap_or_default());
+    assert!(
+        r.violations.is_empty(),
+        "{}",
+        r.violations
+            .first()
+            .map(|v| v.to_string())
+            .unwrap_or_default()
+    );
     assert_eq!(r.summary.protocol("mission_download").unwrap().completed, 1);
 
     let Some(mut bad) = Craft::new() else { return };

@@ -260,6 +260,7 @@ fn command_exit_codes() {
     assert_eq!(run_guard(GuardArgs { sign_to_vehicle: true, ..base.clone() }), 2);
     assert_eq!(run_guard(GuardArgs { signing_key: Some("/nonexistent/key".into()), ..base.clone() }), 2);
     assert_eq!(run_guard(GuardArgs { set: vec!["NOVALUE".into()], ..base.clone() }), 2);
+    assert_eq!(run_guard(GuardArgs { duration: Some(-1.0), ..base.clone() }), 2);
     // a protocol file that does not parse is rejected input
     let bad = std::env::temp_dir().join(format!("vouch-guard-bad-{}.vproto", std::process::id()));
     std::fs::write(&bad, "protocol broken { nonsense").unwrap();

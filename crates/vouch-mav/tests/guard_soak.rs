@@ -275,7 +275,7 @@ fn soak(target_frames: u64) {
         // 5. vehicle telemetry, disarmed heartbeat, and every 10th round a flood
         vseq = vseq.wrapping_add(1);
         vsend(&vehicle, heartbeat(1, 1, 2, vseq));
-        let burst = if round % 10 == 0 { 1000 } else { 60 };
+        let burst = if round.is_multiple_of(10) { 1000 } else { 60 };
         for _ in 0..burst {
             vseq = vseq.wrapping_add(1);
             i += 1;
@@ -306,9 +306,12 @@ fn soak(target_frames: u64) {
     assert!(total >= target_frames, "bounded run ended early: {total} < {target_frames}");
     assert_eq!(vehicle.noncompliant, 0, "non-compliant frames reached the vehicle");
     assert_eq!(gcs.peer.noncompliant, 0, "non-compliant frames reached the GCS");
-    assert!(c.signing_rejected >= u64::from(round) * 4, "replay/forged/wrong-key/unsigned rejected: {c:?}");
-    assert!(c.dropped_malformed >= u64::from(round), "validly signed frames with a bad checksum dropped: {c:?}");
-    assert!(c.dropped_violations >= u64::from(round), "early ACKs and parachutes dropped: {c:?}");
+    // 4 signing rejections, 1 bad checksum and 2 violations are injected per round; allow 10 %
+    // of them to be lost by the kernel under the floods (UDP), not more
+    let r = u64::from(round);
+    assert!(c.signing_rejected >= r * 4 * 9 / 10, "replay/forged/wrong-key/unsigned rejected: {c:?}");
+    assert!(c.dropped_malformed >= r * 9 / 10, "validly signed frames with a bad checksum dropped: {c:?}");
+    assert!(c.dropped_violations >= r * 2 * 9 / 10, "early ACKs and parachutes dropped: {c:?}");
     assert!(vehicle.received > 0 && gcs.peer.received > 0);
     assert!(rss_end <= rss_after_warmup + 4096, "RSS grew from {rss_after_warmup} kB to {rss_end} kB");
 }

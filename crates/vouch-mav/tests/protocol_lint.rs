@@ -32,7 +32,17 @@ fn standard_library_checks() {
     let Some(d) = dialect() else { return };
     let set = lint(&d, &stdlib::sources()).expect("stdlib is valid");
     let names: Vec<&str> = set.protocols.iter().map(|p| p.name.as_str()).collect();
-    for n in ["mission_upload", "mission_download", "mission_clear", "param_set", "param_read", "command", "datum_param_dependency", "datum_parachute"] {
+    for n in [
+        "mission_upload",
+        "mission_download",
+        "mission_clear",
+        "param_set",
+        "param_read",
+        "param_list",
+        "command",
+        "datum_param_dependency",
+        "datum_parachute",
+    ] {
         assert!(names.contains(&n), "{n} missing from {names:?}");
     }
     assert!(lint_src(BASE).is_ok());
@@ -40,28 +50,46 @@ fn standard_library_checks() {
 
 #[test]
 fn unknown_message_is_located() {
-    if dialect().is_none() { return; }
+    if dialect().is_none() {
+        return;
+    }
     let src = BASE.replace("MISSION_ACK", "MISSION_ACKK");
     let e = err(&src);
-    assert!(e.message.contains("unknown message `MISSION_ACKK`"), "{}", e.message);
+    assert!(
+        e.message.contains("unknown message `MISSION_ACKK`"),
+        "{}",
+        e.message
+    );
     assert_eq!((e.line, e.col), pos_of(&src, "MISSION_ACKK"));
 }
 
 #[test]
 fn unknown_field_is_located() {
-    if dialect().is_none() { return; }
+    if dialect().is_none() {
+        return;
+    }
     let src = BASE.replace("n = count", "n = cnt");
     let e = err(&src);
-    assert!(e.message.contains("MISSION_COUNT has no field `cnt`"), "{}", e.message);
+    assert!(
+        e.message.contains("MISSION_COUNT has no field `cnt`"),
+        "{}",
+        e.message
+    );
     assert_eq!((e.line, e.col), pos_of(&src, "cnt"));
 }
 
 #[test]
 fn unknown_enum_entry_or_unbound_variable_is_located() {
-    if dialect().is_none() { return; }
+    if dialect().is_none() {
+        return;
+    }
     let src = BASE.replace("MAV_MISSION_ACCEPTED", "MAV_MISSION_ACCEPTD");
     let e = err(&src);
-    assert!(e.message.contains("unbound name `MAV_MISSION_ACCEPTD`"), "{}", e.message);
+    assert!(
+        e.message.contains("unbound name `MAV_MISSION_ACCEPTD`"),
+        "{}",
+        e.message
+    );
     assert_eq!((e.line, e.col), pos_of(&src, "MAV_MISSION_ACCEPTD"));
     // `n` is bound in the first step only within the protocol's scope: using an unbound name.
     let src = BASE.replace("where n > 0", "where m > 0");
@@ -72,12 +100,21 @@ fn unknown_enum_entry_or_unbound_variable_is_located() {
 
 #[test]
 fn type_mismatches_are_located() {
-    if dialect().is_none() { return; }
+    if dialect().is_none() {
+        return;
+    }
     // An enum value of another enum.
-    let src = BASE.replace("type == MAV_MISSION_ACCEPTED", "type == MAV_CMD_DO_PARACHUTE");
+    let src = BASE.replace(
+        "type == MAV_MISSION_ACCEPTED",
+        "type == MAV_CMD_DO_PARACHUTE",
+    );
     let e = err(&src);
     assert!(e.message.contains("type mismatch"), "{}", e.message);
-    assert!(e.message.contains("MAV_MISSION_RESULT") && e.message.contains("MAV_CMD"), "{}", e.message);
+    assert!(
+        e.message.contains("MAV_MISSION_RESULT") && e.message.contains("MAV_CMD"),
+        "{}",
+        e.message
+    );
     // Text against a number.
     let src = "protocol p { roles gcs, uav; gcs -> uav : PARAM_SET where param_id == 3; }";
     assert!(err(src).message.contains("type mismatch"));
@@ -85,31 +122,47 @@ fn type_mismatches_are_located() {
     let src = "protocol p { roles gcs, uav; gcs -> uav : PARAM_SET where param_value + 1; }";
     assert!(err(src).message.contains("must be a boolean"));
     // A field missing from one of the alternative labels.
-    let src = "protocol p { roles gcs, uav; gcs -> uav : MISSION_COUNT | MISSION_ACK where count > 1; }";
-    assert!(err(src).message.contains("MISSION_ACK has no field `count`"));
+    let src =
+        "protocol p { roles gcs, uav; gcs -> uav : MISSION_COUNT | MISSION_ACK where count > 1; }";
+    assert!(err(src)
+        .message
+        .contains("MISSION_ACK has no field `count`"));
 }
 
 #[test]
 fn structure_errors() {
-    if dialect().is_none() { return; }
+    if dialect().is_none() {
+        return;
+    }
     let e = err("protocol p { roles gcs, drone; gcs -> drone : HEARTBEAT; }");
     assert!(e.message.contains("unknown role `drone`"), "{}", e.message);
     let e = err("protocol p { roles gcs, uav; gcs -> uav : HEARTBEAT; continue T(); }");
     assert!(e.message.contains("outside of `rec T`"), "{}", e.message);
-    let e = err("protocol p { roles gcs, uav; gcs -> uav : HEARTBEAT; end; gcs -> uav : HEARTBEAT; }");
+    let e =
+        err("protocol p { roles gcs, uav; gcs -> uav : HEARTBEAT; end; gcs -> uav : HEARTBEAT; }");
     assert!(e.message.contains("unreachable"), "{}", e.message);
     let e = err("protocol p { roles gcs, uav; key nothing; gcs -> uav : HEARTBEAT; }");
     assert!(e.message.contains("key `nothing`"), "{}", e.message);
     let e = err("protocol p { roles gcs, uav; gcs -> uav : HEARTBEAT where vehicle.speed > 1; }");
-    assert!(e.message.contains("unknown vehicle attribute"), "{}", e.message);
+    assert!(
+        e.message.contains("unknown vehicle attribute"),
+        "{}",
+        e.message
+    );
 }
 
 #[test]
 fn syntax_errors_are_located() {
-    if dialect().is_none() { return; }
+    if dialect().is_none() {
+        return;
+    }
     let src = "protocol p {\n  roles gcs, uav;\n  gcs -> uav : MISSION_COUNT where count > ;\n}";
     let e = err(src);
-    assert!(e.message.contains("expected an expression"), "{}", e.message);
+    assert!(
+        e.message.contains("expected an expression"),
+        "{}",
+        e.message
+    );
     assert_eq!(e.line, 3);
     let e = err("protocol p { roles gcs uav; }");
     assert!(e.message.contains("expected `;`"), "{}", e.message);
@@ -125,5 +178,10 @@ fn overrides_must_name_declared_constants() {
     let r = vouch_mav::protocol::load_protocols(&d, &stdlib::sources(), &[("NOPE".into(), 1.0)]);
     let e = r.expect_err("unknown constant");
     assert!(e.message.contains("no constant `NOPE`"));
-    assert!(vouch_mav::protocol::load_protocols(&d, &stdlib::sources(), &[("CHUTE_MAX_CLIMB".into(), 1.0)]).is_ok());
+    assert!(vouch_mav::protocol::load_protocols(
+        &d,
+        &stdlib::sources(),
+        &[("CHUTE_MAX_CLIMB".into(), 1.0)]
+    )
+    .is_ok());
 }

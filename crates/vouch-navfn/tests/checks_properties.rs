@@ -53,7 +53,7 @@ fn mode_strategy() -> impl Strategy<Value = Mode> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(1500))]
+    #![proptest_config(ProptestConfig { cases: 1500, max_global_rejects: 1_000_000, ..ProptestConfig::default() })]
 
     #[test]
     fn checks_hold_on_every_plan((nx, ny, map, a, b) in map_strategy(), mode in mode_strategy()) {

@@ -66,12 +66,13 @@ pub fn validate_cmd(plan: &Path, include_dirs: Vec<PathBuf>, opts: &Options, jso
         return if c != 0 { c } else { code };
     }
     println!(
-        "{}: {} ({} states, {} call paths compared exhaustively over {} calls, {} random calls, {:.2} s)",
+        "{}: {} ({} states, {} call paths compared exhaustively over {} calls = {:.3e} complete runs, {} random calls, {:.2} s)",
         plan.display(),
         if rep.passed() { "C and semantics agree" } else { "MISMATCH" },
         rep.states,
         rep.call_paths,
         rep.depth,
+        rep.runs_covered,
         rep.random_calls,
         t0.elapsed().as_secs_f64()
     );

@@ -15,12 +15,12 @@
 //! Breadth-first order makes the first counterexample one with the fewest calls; among those the
 //! one with the fewest answers is reported.
 
-use std::collections::{HashSet, VecDeque};
+use std::collections::{HashMap, HashSet, VecDeque};
 
 use serde::Serialize;
 
 use super::cdriver::{CPath, Driver};
-use super::explore::{enumerate_call, state_key};
+use super::explore::{enumerate_call, state_key, StateKey};
 use super::wcet::{self, PlanBound};
 use crate::ast::FlightPlan;
 use crate::emit::{compile_plan, EmitOptions, Flavor};
@@ -67,6 +67,9 @@ pub struct Report {
     pub states: usize,
     /// Call paths compared in the exhaustive part.
     pub call_paths: usize,
+    /// Complete `depth`-call runs (answer sequences) the exhaustive part covers: the size of
+    /// the unmerged tree, counted on the merged graph.
+    pub runs_covered: f64,
     /// Calls compared in the random runs.
     pub random_calls: usize,
     /// The work budget stopped the exhaustive part before `depth`.
@@ -112,6 +115,7 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         depth: opts.depth,
         states: 0,
         call_paths: 0,
+        runs_covered: 0.0,
         random_calls: 0,
         cut: None,
         bound,
@@ -127,8 +131,10 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
 
 fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, report: &mut Report) -> Result<(), String> {
     let init_state = interp.state.clone();
+    let init_key = state_key(interp, &init_state);
     let mut seen = HashSet::new();
-    seen.insert(state_key(interp, &init_state));
+    seen.insert(init_key.clone());
+    let mut children: HashMap<StateKey, Vec<StateKey>> = HashMap::new();
     let mut queue = VecDeque::from([Node { depth: 0, prefix: Vec::new(), state: init_state }]);
     let mut level_found: Option<Counterexample> = None;
     let mut level = 0;
@@ -178,6 +184,8 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
         }
         let limit = report.bound.blocks.get(o.block).map(|b| b.events).unwrap_or(0);
         let mut c_paths: Vec<&CPath> = ex.paths.iter().collect();
+        let node_key = state_key(interp, &node.state);
+        let kids: Vec<StateKey> = tree.paths.iter().map(|p| state_key(interp, &p.state)).collect();
         let full = |a: &[i64]| -> Vec<i64> { node.prefix.iter().chain(a.iter()).copied().collect() };
         for p in &tree.paths {
             report.call_paths += 1;
@@ -220,6 +228,7 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
                 }
             }
         }
+        children.insert(node_key, kids);
         // Whatever the C did that the semantics did not: shortest such path.
         if !tree.cut && !ex.cut {
             for c in c_paths {
@@ -240,7 +249,24 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
         }
     }
     report.counterexample = level_found;
+    if report.cut.is_none() {
+        let mut memo = HashMap::new();
+        report.runs_covered = runs(&init_key, opts.depth, &children, &mut memo);
+    }
     Ok(())
+}
+
+/// Number of complete answer sequences of `r` calls from a state (1 when `r` is 0).
+fn runs(k: &StateKey, r: usize, children: &HashMap<StateKey, Vec<StateKey>>, memo: &mut HashMap<(StateKey, usize), f64>) -> f64 {
+    if r == 0 {
+        return 1.0;
+    }
+    if let Some(v) = memo.get(&(k.clone(), r)) {
+        return *v;
+    }
+    let v = children.get(k).map_or(1.0, |kids| kids.iter().map(|c| runs(c, r - 1, children, memo)).sum());
+    memo.insert((k.clone(), r), v);
+    v
 }
 
 fn keep_shortest(slot: &mut Option<Counterexample>, cx: Counterexample) {

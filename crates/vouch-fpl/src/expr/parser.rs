@@ -130,9 +130,16 @@ impl<'a> Parser<'a> {
             return Err(self.depth_error());
         }
         let mut lhs = self.unary(depth + 1)?;
+        // Left-associative chains build depth without recursing here; count it too, since
+        // printing, walking and dropping the tree recurse.
+        let mut chain = 0;
         while let Some(op) = self.peek().and_then(binop) {
             if op.level() < min {
                 break;
+            }
+            chain += 1;
+            if depth + chain > MAX_DEPTH {
+                return Err(self.depth_error());
             }
             self.pos += 1;
             let rhs = self.expr_at(op.level() + 1, depth + 1)?;
@@ -160,7 +167,12 @@ impl<'a> Parser<'a> {
 
     fn postfix(&mut self, depth: usize) -> Result<Expr, ExprError> {
         let mut e = self.primary(depth)?;
+        let mut chain = 0;
         while self.peek() == Some(&TokenKind::Deref) {
+            chain += 1;
+            if depth + chain > MAX_DEPTH {
+                return Err(self.depth_error());
+            }
             self.pos += 1;
             let f = self.ident()?;
             e = Expr::Deref(Box::new(e), f);

@@ -41,13 +41,25 @@ pub struct Sanitized {
     pub fixes: Vec<Fix>,
     /// Root name declared by a real (not commented-out) `<!DOCTYPE name ...>`.
     pub doctype: Option<String>,
+    /// Offset of the first start tag nested deeper than [`MAX_DEPTH`], if any. roxmltree
+    /// recurses per nesting level, so such inputs are refused before it runs.
+    pub too_deep_at: Option<usize>,
+    /// Offset of an `<!ENTITY` declaration in the DOCTYPE. Entity text expands into elements
+    /// the nesting count above cannot see, so such declarations are refused (the corpus has none).
+    pub entity_at: Option<usize>,
 }
+
+/// Nesting depth accepted (real plans nest fewer than 10 levels).
+pub const MAX_DEPTH: usize = 200;
 
 /// Runs the pre-pass over `src`.
 pub fn sanitize(src: &str) -> Sanitized {
     let mut out: Vec<u8> = src.as_bytes().to_vec();
     let mut fixes = Vec::new();
     let mut doctype = None;
+    let mut depth = 0usize;
+    let mut too_deep_at = None;
+    let mut entity_at = None;
     let b = src.as_bytes();
     let mut i = 0;
     while i < b.len() {
@@ -67,9 +79,22 @@ pub fn sanitize(src: &str) -> Sanitized {
                         .collect();
                     doctype = Some(name);
                 }
-                i = declaration(b, i);
+                let end = declaration(b, i);
+                if entity_at.is_none() {
+                    entity_at = find(&b[..end], i, b"<!ENTITY");
+                }
+                i = end;
             } else {
+                let start = i;
                 i = tag(b, &mut out, i, &mut fixes);
+                if b.get(start + 1) == Some(&b'/') {
+                    depth = depth.saturating_sub(1);
+                } else if !b[..i].ends_with(b"/>") {
+                    depth += 1;
+                    if depth > MAX_DEPTH && too_deep_at.is_none() {
+                        too_deep_at = Some(start);
+                    }
+                }
             }
         } else if b[i] == b'&' {
             if !starts_entity(&b[i..]) {
@@ -83,7 +108,7 @@ pub fn sanitize(src: &str) -> Sanitized {
     }
     // Only ASCII bytes were replaced by ASCII bytes, so UTF-8 validity is preserved.
     let text = String::from_utf8(out).unwrap_or_else(|_| src.to_string());
-    Sanitized { text, fixes, doctype }
+    Sanitized { text, fixes, doctype, too_deep_at, entity_at }
 }
 
 fn find(b: &[u8], from: usize, pat: &[u8]) -> Option<usize> {

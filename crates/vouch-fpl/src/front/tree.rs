@@ -93,6 +93,20 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
             ));
         }
     }
+    if let Some(at) = san.too_deep_at {
+        return Err(Diagnostic::error(
+            ErrorKind::Xml,
+            format!("elements nested more than {} levels deep", super::tolerant::MAX_DEPTH),
+            Some(lines.span(text, file, at, at + 1)),
+        ));
+    }
+    if let Some(at) = san.entity_at {
+        return Err(Diagnostic::error(
+            ErrorKind::Xml,
+            "entity declarations are not supported in flight plans",
+            Some(lines.span(text, file, at, at + 8)),
+        ));
+    }
     let opts = roxmltree::ParsingOptions { allow_dtd: true, nodes_limit: u32::MAX };
     let doc = roxmltree::Document::parse_with_options(&san.text, opts).map_err(|e| {
         let off = match e {

@@ -48,7 +48,7 @@ fn lanes(spans: &[(f64, f64)]) -> Vec<usize> {
     for i in order {
         let (lo, hi) = spans[i];
         let l = (0..)
-            .find(|&l| used.get(l).map_or(true, |v: &Vec<(f64, f64)>| v.iter().all(|&(a, b)| hi + 4.0 < a || lo - 4.0 > b)))
+            .find(|&l| used.get(l).is_none_or(|v: &Vec<(f64, f64)>| v.iter().all(|&(a, b)| hi + 4.0 < a || lo - 4.0 > b)))
             .unwrap_or(0);
         if used.len() <= l {
             used.resize(l + 1, Vec::new());
@@ -106,7 +106,7 @@ pub fn render(g: &BlockGraph) -> String {
     ));
     if g.edges.iter().any(|e| e.kind == EdgeKind::GlobalException) {
         s.push_str(&format!(
-            "<rect x=\"{x0:.1}\" y=\"{:.1}\" width=\"{node_w:.1}\" height=\"24\" rx=\"12\" fill=\"#fff4e6\" stroke=\"#9c5a1a\" stroke-dasharray=\"4,2\"/>\n<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"12\" text-anchor=\"middle\" fill=\"#9c5a1a\">global exceptions (from any block)</text>\n",
+            "<rect x=\"{x0:.1}\" y=\"{:.1}\" width=\"{node_w:.1}\" height=\"24\" rx=\"12\" fill=\"#fff4e6\" stroke=\"#9c5a1a\" stroke-dasharray=\"4,2\"/>\n<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"11\" text-anchor=\"middle\" fill=\"#9c5a1a\">global exceptions (any block)</text>\n",
             TOP - 50.0,
             x0 + node_w / 2.0,
             TOP - 34.0

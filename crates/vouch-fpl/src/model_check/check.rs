@@ -70,8 +70,7 @@ fn bfs(g: &Graph, start: usize, allowed: &dyn Fn(usize) -> bool, target: &dyn Fn
             if target(t) {
                 let mut path = Vec::new();
                 let mut cur = t;
-                loop {
-                    let Some((p, ei)) = parent[cur] else { break };
+                while let Some((p, ei)) = parent[cur] {
                     path.push((ei, cur));
                     if p == start {
                         break;

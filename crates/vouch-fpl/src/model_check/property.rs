@@ -74,8 +74,8 @@ impl<'a> Parser<'a> {
         self.ws();
         let rest = &self.s[self.pos..];
         let word = tok.chars().all(|c| c.is_ascii_alphabetic() || c == '_');
-        if rest.starts_with(tok) {
-            let after = rest[tok.len()..].chars().next();
+        if let Some(tail) = rest.strip_prefix(tok) {
+            let after = tail.chars().next();
             if word && after.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_') {
                 return false;
             }

@@ -168,3 +168,97 @@ fn flatten(stages: &[FpStage], depth: usize, out: &mut Vec<ExtStage<usize, usize
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ast::Span;
+
+    fn call(f: &str) -> FpStage {
+        FpStage::Call { fun: f.into(), loop_: false, brk: false, until: None, span: Span::default() }
+    }
+
+    fn fp(stages: Vec<FpStage>) -> Fp {
+        Fp {
+            blocks: vec![FpBlock {
+                name: "b".into(),
+                pre_call: None,
+                post_call: None,
+                on_enter: None,
+                on_exit: None,
+                exceptions: vec![],
+                stages,
+                span: Span::default(),
+            }],
+            exceptions: vec![],
+            forbidden: vec![],
+            init: vec![],
+        }
+    }
+
+    #[test]
+    fn numbering_follows_upstream_slot_counts() {
+        // call(0); while(1) { call(2) } loop-back(3); for init(4) test(5) { call(6) } loop-back(7); end 8
+        let w = FpStage::While { cond: "c".into(), body: vec![call("x")], span: Span::default() };
+        let f = FpStage::For { var: "_var_i".into(), from: "1".into(), to: "3".into(), body: vec![call("y")], span: Span::default() };
+        let e = extend(&fp(vec![call("a"), w, f]));
+        let b = &e.blocks[0];
+        let kinds: Vec<(usize, usize, &str)> = b
+            .stages
+            .iter()
+            .map(|s| {
+                let k = match &s.kind {
+                    ExtKind::Call { .. } => "call",
+                    ExtKind::WhileTest { .. } => "while",
+                    ExtKind::EndWhile { .. } => "endwhile",
+                    ExtKind::ForInit { .. } => "forinit",
+                    ExtKind::ForTest { .. } => "fortest",
+                    ExtKind::EndFor { .. } => "endfor",
+                    _ => "other",
+                };
+                (s.no, s.depth, k)
+            })
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (0, 0, "call"),
+                (1, 0, "while"),
+                (2, 1, "call"),
+                (3, 1, "endwhile"),
+                (4, 0, "forinit"),
+                (5, 0, "fortest"),
+                (6, 1, "call"),
+                (7, 1, "endfor")
+            ]
+        );
+        assert_eq!(b.default_stage, 8);
+        // Labels: one counter, both labels of a loop allocated before its body.
+        match (&b.stages[1].kind, &b.stages[5].kind) {
+            (ExtKind::WhileTest { label, end_label, .. }, ExtKind::ForTest { label: l2, end_label: e2, .. }) => {
+                assert_eq!((label.as_str(), end_label.as_str(), l2.as_str(), e2.as_str()), ("while_1", "endwhile_2", "for_3", "endfor_4"));
+            }
+            _ => panic!("unexpected kinds"),
+        }
+    }
+
+    #[test]
+    fn two_step_navigation_stages_use_two_numbers() {
+        let nav = NavStage {
+            kind: "eight",
+            init: Some(vec![Code::stmt("nav_eight_init()")]),
+            pre_call: None,
+            before: vec![],
+            approach: None,
+            lines: vec![Code::stmt("Eight(1, 2, 50)")],
+            until: None,
+            post_call: None,
+            span: Span::default(),
+        };
+        let e = extend(&fp(vec![FpStage::Nav(Box::new(nav)), call("z")]));
+        let b = &e.blocks[0];
+        assert!(matches!(b.stages[0].kind, ExtKind::NavInit { .. }));
+        assert!(matches!(&b.stages[1].kind, ExtKind::Nav(n) if n.init.is_none()));
+        assert_eq!((b.stages[2].no, b.default_stage), (2, 3));
+    }
+}

@@ -8,15 +8,22 @@ use libfuzzer_sys::fuzz_target;
 use vouch_mav::codec::{FrameSplitter, MessageView, TlogReader};
 use vouch_mav::dialect::Dialect;
 use vouch_mav::monitor::{Monitor, Origin};
+use vouch_mav::protocol::{load_protocols, stdlib, ProtocolSet};
 
 fn dialect() -> &'static Arc<Dialect> {
     static D: OnceLock<Arc<Dialect>> = OnceLock::new();
     D.get_or_init(|| Arc::new(Dialect::default_dialect().expect("default dialect")))
 }
 
+/// The standard library compiled once (compiling it per input would dominate the run time).
+fn protocols() -> &'static ProtocolSet {
+    static P: OnceLock<ProtocolSet> = OnceLock::new();
+    P.get_or_init(|| load_protocols(dialect(), &stdlib::sources(), &[]).expect("stdlib"))
+}
+
 fuzz_target!(|data: &[u8]| {
     let d = dialect();
-    let mut monitor = Monitor::with_stdlib(d.clone(), &[]).expect("stdlib");
+    let mut monitor = Monitor::new(d.clone(), protocols().clone());
     let mut sp = FrameSplitter::new();
     let mut pos = 0;
     let mut t = 0u64;

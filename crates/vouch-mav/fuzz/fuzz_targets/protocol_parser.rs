@@ -13,7 +13,9 @@ fn dialect() -> &'static Dialect {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else { return };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
     let _ = parser::parse(text);
     if let Err(e) = lint(dialect(), &[("fuzz.vproto".to_string(), text.to_string())]) {
         assert!(e.line >= 1 && e.col >= 1);

@@ -27,12 +27,17 @@ pub struct MessageBuilder<'d> {
 
 impl<'d> MessageBuilder<'d> {
     pub fn new(dialect: &'d Dialect, name: &str) -> Result<Self, EncodeError> {
-        let def = dialect.by_name(name).ok_or_else(|| EncodeError::UnknownMessage(name.to_string()))?;
+        let def = dialect
+            .by_name(name)
+            .ok_or_else(|| EncodeError::UnknownMessage(name.to_string()))?;
         Ok(Self::for_def(def))
     }
 
     pub fn for_def(def: &'d MessageDef) -> Self {
-        MessageBuilder { def, payload: [0; 255] }
+        MessageBuilder {
+            def,
+            payload: [0; 255],
+        }
     }
 
     pub fn def(&self) -> &'d MessageDef {
@@ -46,18 +51,34 @@ impl<'d> MessageBuilder<'d> {
         Ok(self)
     }
 
-    pub fn set_value(&mut self, field: &str, index: usize, value: Value) -> Result<(), EncodeError> {
-        let f = self.def.field(field).ok_or_else(|| EncodeError::UnknownField {
-            msg: self.def.name.clone(),
-            field: field.to_string(),
-        })?;
+    pub fn set_value(
+        &mut self,
+        field: &str,
+        index: usize,
+        value: Value,
+    ) -> Result<(), EncodeError> {
+        let f = self
+            .def
+            .field(field)
+            .ok_or_else(|| EncodeError::UnknownField {
+                msg: self.def.name.clone(),
+                field: field.to_string(),
+            })?;
         if f.ty == PrimType::Char && f.array_len > 0 {
             return Err(EncodeError::TextField(field.to_string()));
         }
         let off = usize::from(f.offset) + index * f.ty.size();
         let v = value.as_f64();
-        let exact_u = |v: Value| match v { Value::U(u) => u, Value::I(i) => i as u64, Value::F(x) => x as u64 };
-        let exact_i = |v: Value| match v { Value::U(u) => u as i64, Value::I(i) => i, Value::F(x) => x as i64 };
+        let exact_u = |v: Value| match v {
+            Value::U(u) => u,
+            Value::I(i) => i as u64,
+            Value::F(x) => x as u64,
+        };
+        let exact_i = |v: Value| match v {
+            Value::U(u) => u as i64,
+            Value::I(i) => i,
+            Value::F(x) => x as i64,
+        };
         let bytes: ([u8; 8], usize) = match f.ty {
             PrimType::U8 | PrimType::Char => (((exact_u(value)) as u8 as u64).to_le_bytes(), 1),
             PrimType::I8 => ((exact_i(value) as i8 as u8 as u64).to_le_bytes(), 1),
@@ -78,10 +99,13 @@ impl<'d> MessageBuilder<'d> {
 
     /// Sets a char array field from text (truncated to the field size; NUL-padded).
     pub fn set_str(mut self, field: &str, text: &str) -> Result<Self, EncodeError> {
-        let f = self.def.field(field).ok_or_else(|| EncodeError::UnknownField {
-            msg: self.def.name.clone(),
-            field: field.to_string(),
-        })?;
+        let f = self
+            .def
+            .field(field)
+            .ok_or_else(|| EncodeError::UnknownField {
+                msg: self.def.name.clone(),
+                field: field.to_string(),
+            })?;
         let off = usize::from(f.offset);
         let size = f.wire_size();
         let src = text.as_bytes();
@@ -112,7 +136,11 @@ impl<'d> MessageBuilder<'d> {
         let id = self.def.id;
         let mut out = Vec::with_capacity(12 + len);
         out.extend_from_slice(&[MAGIC_V2, len as u8, 0, 0, seq, sysid, compid]);
-        out.extend_from_slice(&[(id & 0xFF) as u8, ((id >> 8) & 0xFF) as u8, ((id >> 16) & 0xFF) as u8]);
+        out.extend_from_slice(&[
+            (id & 0xFF) as u8,
+            ((id >> 8) & 0xFF) as u8,
+            ((id >> 16) & 0xFF) as u8,
+        ]);
         out.extend_from_slice(&self.payload[..len]);
         let crc = frame_crc(&out[1..], self.def.crc_extra);
         out.extend_from_slice(&crc.to_le_bytes());

@@ -45,7 +45,11 @@ impl Frame<'_> {
 
     /// The 13 signature bytes (link id, timestamp, signature) of a signed frame.
     pub fn signature(&self) -> Option<&[u8]> {
-        if self.is_signed() { Some(&self.bytes[self.bytes.len() - SIGNATURE_LEN..]) } else { None }
+        if self.is_signed() {
+            Some(&self.bytes[self.bytes.len() - SIGNATURE_LEN..])
+        } else {
+            None
+        }
     }
 }
 
@@ -157,12 +161,20 @@ pub fn parse_frame<'a>(buf: &'a [u8], dialect: &Dialect, unknown_ok: bool) -> Pa
     if h.incompat & !INCOMPAT_SIGNED != 0 {
         return Parse::Invalid(InvalidKind::BadIncompat);
     }
-    let sig = if h.incompat & INCOMPAT_SIGNED != 0 { SIGNATURE_LEN } else { 0 };
+    let sig = if h.incompat & INCOMPAT_SIGNED != 0 {
+        SIGNATURE_LEN
+    } else {
+        0
+    };
     let total = h.header_len + h.len + 2 + sig;
     let msg = dialect.index_of_id(h.msgid);
     if let Some(idx) = msg {
         let def: &MessageDef = dialect.message(idx);
-        let max = if h.version == Version::V1 { def.base_len.max(def.max_len) } else { def.max_len };
+        let max = if h.version == Version::V1 {
+            def.base_len.max(def.max_len)
+        } else {
+            def.max_len
+        };
         if h.len > usize::from(max) {
             return Parse::Invalid(InvalidKind::BadLength);
         }

@@ -34,7 +34,14 @@ const MAX_JUMP_US: u64 = 86_400_000_000;
 
 impl<'a> TlogReader<'a> {
     pub fn new(data: &'a [u8], dialect: &'a Dialect) -> Self {
-        TlogReader { data, pos: 0, dialect, last_time: None, counter: FrameSplitter::new(), skipped_records: 0 }
+        TlogReader {
+            data,
+            pos: 0,
+            dialect,
+            last_time: None,
+            counter: FrameSplitter::new(),
+            skipped_records: 0,
+        }
     }
 
     pub fn stats(&self) -> CodecStats {
@@ -110,7 +117,11 @@ impl<'a> Iterator for TlogReader<'a> {
                         self.skip_byte(&mut resyncing);
                         continue;
                     }
-                    let rec = TlogRecord { time_us: time, offset: self.pos, frame: f };
+                    let rec = TlogRecord {
+                        time_us: time,
+                        offset: self.pos,
+                        frame: f,
+                    };
                     self.counter.count(&f);
                     self.last_time = Some(time);
                     self.pos = end;

@@ -50,7 +50,11 @@ fn read_le(payload: &[u8], offset: usize, size: usize) -> u64 {
 /// Reads element `index` of a field (0 for scalars) from a payload.
 #[inline]
 pub fn read_field(payload: &[u8], field: &FieldDef, index: usize) -> Value {
-    read_prim(payload, field.ty, usize::from(field.offset) + index * field.ty.size())
+    read_prim(
+        payload,
+        field.ty,
+        usize::from(field.offset) + index * field.ty.size(),
+    )
 }
 
 /// Reads a primitive at a byte offset (used with offsets precomputed at protocol load time).
@@ -58,7 +62,9 @@ pub fn read_field(payload: &[u8], field: &FieldDef, index: usize) -> Value {
 pub fn read_prim(payload: &[u8], ty: PrimType, offset: usize) -> Value {
     let raw = read_le(payload, offset, ty.size());
     match ty {
-        PrimType::U8 | PrimType::Char | PrimType::U16 | PrimType::U32 | PrimType::U64 => Value::U(raw),
+        PrimType::U8 | PrimType::Char | PrimType::U16 | PrimType::U32 | PrimType::U64 => {
+            Value::U(raw)
+        }
         PrimType::I8 => Value::I(i64::from(raw as u8 as i8)),
         PrimType::I16 => Value::I(i64::from(raw as u16 as i16)),
         PrimType::I32 => Value::I(i64::from(raw as u32 as i32)),
@@ -89,9 +95,16 @@ pub struct MessageView<'a> {
 
 impl<'a> MessageView<'a> {
     /// Views a frame of a known message; `None` for an unknown id.
-    pub fn of_frame(frame: &Frame<'a>, dialect: &'a crate::dialect::Dialect) -> Option<MessageView<'a>> {
+    pub fn of_frame(
+        frame: &Frame<'a>,
+        dialect: &'a crate::dialect::Dialect,
+    ) -> Option<MessageView<'a>> {
         let index = frame.msg?;
-        Some(MessageView { index, def: dialect.message(index), payload: frame.payload })
+        Some(MessageView {
+            index,
+            def: dialect.message(index),
+            payload: frame.payload,
+        })
     }
 
     pub fn name(&self) -> &'a str {
@@ -100,7 +113,9 @@ impl<'a> MessageView<'a> {
 
     /// Scalar field (or first element of an array) by name.
     pub fn get(&self, field: &str) -> Option<Value> {
-        self.def.field(field).map(|f| read_field(self.payload, f, 0))
+        self.def
+            .field(field)
+            .map(|f| read_field(self.payload, f, 0))
     }
 
     pub fn get_f64(&self, field: &str) -> Option<f64> {
@@ -120,7 +135,11 @@ impl<'a> MessageView<'a> {
     }
 
     /// Name of the enum entry a field holds (fields declared with `enum="…"`), if any.
-    pub fn get_enum_name<'d>(&self, field: &str, dialect: &'d crate::dialect::Dialect) -> Option<&'d str> {
+    pub fn get_enum_name<'d>(
+        &self,
+        field: &str,
+        dialect: &'d crate::dialect::Dialect,
+    ) -> Option<&'d str> {
         let f = self.def.field(field)?;
         let v = read_field(self.payload, f, 0);
         let raw = match v {
@@ -140,8 +159,9 @@ impl<'a> MessageView<'a> {
                 let v = if f.ty == PrimType::Char {
                     format!("{:?}", String::from_utf8_lossy(read_chars(self.payload, f)))
                 } else if f.array_len > 0 {
-                    let items: Vec<String> =
-                        (0..usize::from(f.array_len)).map(|i| read_field(self.payload, f, i).to_string()).collect();
+                    let items: Vec<String> = (0..usize::from(f.array_len))
+                        .map(|i| read_field(self.payload, f, i).to_string())
+                        .collect();
                     format!("[{}]", items.join(", "))
                 } else {
                     read_field(self.payload, f, 0).to_string()

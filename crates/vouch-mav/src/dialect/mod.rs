@@ -114,7 +114,9 @@ pub struct MessageDef {
 
 impl MessageDef {
     pub fn field(&self, name: &str) -> Option<&FieldDef> {
-        self.field_index.get(name).map(|&i| &self.fields[usize::from(i)])
+        self.field_index
+            .get(name)
+            .map(|&i| &self.fields[usize::from(i)])
     }
 
     pub fn field_position(&self, name: &str) -> Option<usize> {
@@ -147,7 +149,11 @@ pub struct Dialect {
 const NO_MSG: MsgIndex = MsgIndex::MAX;
 
 impl Dialect {
-    pub(crate) fn build(name: String, mut messages: Vec<MessageDef>, enums: Vec<EnumDef>) -> Dialect {
+    pub(crate) fn build(
+        name: String,
+        mut messages: Vec<MessageDef>,
+        enums: Vec<EnumDef>,
+    ) -> Dialect {
         messages.sort_by_key(|m| m.id);
         messages.dedup_by_key(|m| m.id);
         for m in &mut messages {
@@ -173,7 +179,15 @@ impl Dialect {
                 entry_by_name.entry(n.clone()).or_insert((i, *v));
             }
         }
-        Dialect { name, messages, by_id, by_name, enums, enum_by_name, entry_by_name }
+        Dialect {
+            name,
+            messages,
+            by_id,
+            by_name,
+            enums,
+            enum_by_name,
+            entry_by_name,
+        }
     }
 
     /// The default dialect: ardupilotmega.xml with its includes, embedded at build time.

@@ -11,11 +11,23 @@ include!(concat!(env!("OUT_DIR"), "/embedded_dialect.rs"));
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum DialectError {
     #[error("cannot read dialect file {path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("{file}:{line}:{col}: invalid XML: {message}")]
-    Xml { file: String, line: u32, col: u32, message: String },
+    Xml {
+        file: String,
+        line: u32,
+        col: u32,
+        message: String,
+    },
     #[error("{file}: message {message}: {problem}")]
-    Message { file: String, message: String, problem: String },
+    Message {
+        file: String,
+        message: String,
+        problem: String,
+    },
     #[error("no default dialect was embedded at build time (set VOUCH_MAV_DEFINITIONS when building, or pass --dialect FILE.xml)")]
     NoEmbedded,
     #[error("include {name} (from {from}) not found")]
@@ -29,7 +41,10 @@ pub fn embedded_origin() -> &'static str {
 
 /// Loads a dialect file and its includes from disk.
 pub fn load_dialect_file(path: &Path) -> Result<Dialect, DialectError> {
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+    let dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
     let root = path
         .file_name()
         .and_then(|n| n.to_str())
@@ -37,7 +52,10 @@ pub fn load_dialect_file(path: &Path) -> Result<Dialect, DialectError> {
         .to_string();
     let read = |name: &str| -> Result<String, DialectError> {
         let p = dir.join(name);
-        std::fs::read_to_string(&p).map_err(|source| DialectError::Io { path: p.display().to_string(), source })
+        std::fs::read_to_string(&p).map_err(|source| DialectError::Io {
+            path: p.display().to_string(),
+            source,
+        })
     };
     load_dialect_from(&root, &read)
 }
@@ -51,7 +69,10 @@ pub(super) fn load_embedded() -> Result<Dialect, DialectError> {
             .iter()
             .find(|(n, _)| *n == name)
             .map(|(_, t)| t.to_string())
-            .ok_or_else(|| DialectError::MissingInclude { name: name.to_string(), from: "embedded".into() })
+            .ok_or_else(|| DialectError::MissingInclude {
+                name: name.to_string(),
+                from: "embedded".into(),
+            })
     };
     load_dialect_from(EMBEDDED_XML[0].0, &read)
 }
@@ -75,7 +96,11 @@ pub fn load_dialect_from(
     Ok(Dialect::build(name, acc.messages, acc.enums))
 }
 
-fn load_one(file: &str, read: &dyn Fn(&str) -> Result<String, DialectError>, acc: &mut Acc) -> Result<(), DialectError> {
+fn load_one(
+    file: &str,
+    read: &dyn Fn(&str) -> Result<String, DialectError>,
+    acc: &mut Acc,
+) -> Result<(), DialectError> {
     if acc.seen_files.iter().any(|f| f == file) {
         return Ok(());
     }
@@ -83,7 +108,12 @@ fn load_one(file: &str, read: &dyn Fn(&str) -> Result<String, DialectError>, acc
     let text = read(file)?;
     let doc = roxmltree::Document::parse(&text).map_err(|e| {
         let pos = e.pos();
-        DialectError::Xml { file: file.to_string(), line: pos.row, col: pos.col, message: e.to_string() }
+        DialectError::Xml {
+            file: file.to_string(),
+            line: pos.row,
+            col: pos.col,
+            message: e.to_string(),
+        }
     })?;
     let root = doc.root_element();
     for inc in root.children().filter(|n| n.has_tag_name("include")) {
@@ -108,16 +138,28 @@ fn load_one(file: &str, read: &dyn Fn(&str) -> Result<String, DialectError>, acc
 }
 
 fn read_enum(e: roxmltree::Node, acc: &mut Acc) {
-    let Some(name) = e.attribute("name") else { return };
+    let Some(name) = e.attribute("name") else {
+        return;
+    };
     let bitmask = e.attribute("bitmask") == Some("true");
     let idx = *acc.enum_index.entry(name.to_string()).or_insert_with(|| {
-        acc.enums.push(EnumDef { name: name.to_string(), bitmask, entries: Vec::new() });
+        acc.enums.push(EnumDef {
+            name: name.to_string(),
+            bitmask,
+            entries: Vec::new(),
+        });
         acc.enums.len() - 1
     });
     // Entries without a value continue from the previous one (MAVLink generator convention).
-    let mut next = acc.enums[idx].entries.last().map(|(_, v)| v + 1).unwrap_or(0);
+    let mut next = acc.enums[idx]
+        .entries
+        .last()
+        .map(|(_, v)| v + 1)
+        .unwrap_or(0);
     for entry in e.children().filter(|n| n.has_tag_name("entry")) {
-        let Some(en) = entry.attribute("name") else { continue };
+        let Some(en) = entry.attribute("name") else {
+            continue;
+        };
         let value = entry.attribute("value").and_then(parse_int).unwrap_or(next);
         next = value + 1;
         acc.enums[idx].entries.push((en.to_string(), value));
@@ -139,7 +181,11 @@ fn parse_int(s: &str) -> Option<u64> {
 
 fn read_message(file: &str, m: roxmltree::Node) -> Result<MessageDef, DialectError> {
     let name = m.attribute("name").unwrap_or("").to_string();
-    let bad = |problem: String| DialectError::Message { file: file.to_string(), message: name.clone(), problem };
+    let bad = |problem: String| DialectError::Message {
+        file: file.to_string(),
+        message: name.clone(),
+        problem,
+    };
     let id: u32 = m
         .attribute("id")
         .and_then(|s| s.trim().parse().ok())
@@ -155,9 +201,14 @@ fn read_message(file: &str, m: roxmltree::Node) -> Result<MessageDef, DialectErr
         if !c.has_tag_name("field") {
             continue;
         }
-        let fname = c.attribute("name").ok_or_else(|| bad("field without name".into()))?;
-        let ty = c.attribute("type").ok_or_else(|| bad(format!("field {fname} without type")))?;
-        let (prim, array_len) = parse_type(ty).ok_or_else(|| bad(format!("field {fname}: unknown type {ty}")))?;
+        let fname = c
+            .attribute("name")
+            .ok_or_else(|| bad("field without name".into()))?;
+        let ty = c
+            .attribute("type")
+            .ok_or_else(|| bad(format!("field {fname} without type")))?;
+        let (prim, array_len) =
+            parse_type(ty).ok_or_else(|| bad(format!("field {fname}: unknown type {ty}")))?;
         let f = FieldDef {
             name: fname.to_string(),
             ty: prim,
@@ -166,7 +217,11 @@ fn read_message(file: &str, m: roxmltree::Node) -> Result<MessageDef, DialectErr
             is_extension: in_ext,
             enum_name: c.attribute("enum").map(str::to_string),
         };
-        if in_ext { ext.push(f) } else { base.push(f) }
+        if in_ext {
+            ext.push(f)
+        } else {
+            base.push(f)
+        }
     }
     // Wire order: base fields by element size, largest first; stable, so ties keep XML order.
     base.sort_by_key(|f| std::cmp::Reverse(f.ty.size()));

@@ -52,7 +52,9 @@ pub struct PathResult {
     /// Frames delivered per CPU-second the relay process used during saturation: its capacity
     /// on one core, much less sensitive to other load on the machine than wall-clock rates.
     pub msgs_per_cpu_second: Option<f64>,
-    /// VmHWM (peak, includes start-up such as parsing the dialect) and VmRSS at the end.
+    /// VmHWM right after start-up (includes parsing the dialect), VmHWM during the measured
+    /// traffic (reset through /proc/PID/clear_refs after start-up), and VmRSS at the end.
+    pub startup_peak_rss_kb: Option<u64>,
     pub peak_rss_kb: Option<u64>,
     pub end_rss_kb: Option<u64>,
 }
@@ -331,6 +333,11 @@ fn measure(label: &str, relay: &mut Relay, vehicle: UdpSocket, a: &BenchArgs) ->
     };
     let rig = handshake(gcs, vehicle, entry)?;
     let mut r = PathResult { path: label.to_string(), stream_rate: a.rate, ..Default::default() };
+    if let Relay::Process { child, .. } = relay {
+        r.startup_peak_rss_kb = status_kb(child.id(), "VmHWM:");
+        // "5" resets the peak RSS counter (Linux ≥ 4.0), so VmHWM below covers the traffic only
+        let _ = std::fs::write(format!("/proc/{}/clear_refs", child.id()), "5");
+    }
     let mut up = vec![];
     upload_latencies(&rig, a.uploads, &mut up)?;
     up.sort_by(f64::total_cmp);
@@ -442,14 +449,14 @@ pub fn run_bench(a: BenchArgs) -> Result<Vec<PathResult>, String> {
 fn print_table(rs: &[PathResult], rate: u32) {
     let direct = rs.first().cloned().unwrap_or_default();
     println!(
-        "{:<17} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8} {:>8}",
+        "{:<17} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8} {:>8} {:>8}",
         "path", "upl p50", "upl p99", "ping p50", "ping p99", "+p50 vs d", "+p99 vs d",
-        "strm ok%", "strm p99", "sat msg/s", "msg/CPU-s", "peak kB", "end kB"
+        "strm ok%", "strm p99", "sat msg/s", "msg/CPU-s", "start kB", "peak kB", "end kB"
     );
     let kb = |k: Option<u64>| k.map(|k| k.to_string()).unwrap_or_else(|| "-".into());
     for r in rs {
         println!(
-            "{:<17} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>9.1} {:>8.2} {:>9.1} {:>9.0} {:>10} {:>8} {:>8}",
+            "{:<17} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>9.1} {:>8.2} {:>9.1} {:>9.0} {:>10} {:>8} {:>8} {:>8}",
             r.path,
             r.upload_p50_us,
             r.upload_p99_us,
@@ -461,6 +468,7 @@ fn print_table(rs: &[PathResult], rate: u32) {
             r.stream_p99_us,
             r.saturation_msgs_per_s,
             r.msgs_per_cpu_second.map(|m| format!("{m:.0}")).unwrap_or_else(|| "-".into()),
+            kb(r.startup_peak_rss_kb),
             kb(r.peak_rss_kb),
             kb(r.end_rss_kb),
         );
@@ -468,7 +476,8 @@ fn print_table(rs: &[PathResult], rate: u32) {
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     println!(
         "(µs one-way, one message in flight; +vs d = added over direct; stream = {rate} msg/s vehicle→GCS; \
-         sat = blast with the relay pinned to CPU 0; loadavg {})",
+         sat = blast with the relay pinned to CPU 0; start kB = peak RSS at start-up, peak kB = peak RSS \
+         during the measured traffic, end kB = RSS at the end; loadavg {})",
         load.split_whitespace().take(3).collect::<Vec<_>>().join(" ")
     );
 }

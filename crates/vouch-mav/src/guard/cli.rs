@@ -56,6 +56,9 @@ pub fn run_guard(a: GuardArgs) -> u8 {
 
 fn run(a: GuardArgs) -> Result<(), (u8, String)> {
     let usage = |e: String| (EXIT_USAGE, e);
+    if let Some(d) = a.duration {
+        Duration::try_from_secs_f64(d).map_err(|_| usage(format!("--duration {d}: not a number of seconds")))?;
+    }
     let gcs = a.gcs.parse().map_err(usage)?;
     let vehicle = a.vehicle.parse().map_err(usage)?;
     let signing = match &a.signing_key {
@@ -101,7 +104,10 @@ fn run(a: GuardArgs) -> Result<(), (u8, String)> {
         if a.alert_gcs { ", STATUSTEXT alerts" } else { "" },
     );
     let started = Instant::now();
-    let limit = a.duration.map(Duration::from_secs_f64);
+    let limit = match a.duration {
+        Some(d) => Some(Duration::try_from_secs_f64(d).map_err(|_| usage(format!("--duration {d}: not a number of seconds")))?),
+        None => None,
+    };
     while !stop.load(Ordering::Relaxed) && limit.is_none_or(|l| started.elapsed() < l) {
         std::thread::sleep(Duration::from_millis(50));
     }
@@ -110,11 +116,8 @@ fn run(a: GuardArgs) -> Result<(), (u8, String)> {
         println!("{}", serde_json::to_string(&c).unwrap_or_default());
     } else {
         eprintln!("vouch mav guard: stopped after {:.1} s", started.elapsed().as_secs_f64());
-        let v = serde_json::to_value(&c).unwrap_or_default();
-        if let Some(map) = v.as_object() {
-            for (k, v) in map {
-                eprintln!("  {k:<24} {v}");
-            }
+        for (name, value) in c.rows() {
+            eprintln!("  {name:<22} {value}");
         }
     }
     Ok(())

@@ -21,9 +21,9 @@ pub const V1_HEADER_LEN: usize = 6;
 /// Total length of the frame starting at `buf[0]`, if the header is complete enough to tell.
 /// `None` means "not a frame start" (wrong magic) or "need more bytes" (see [`frame_len_hint`]).
 pub fn frame_len(buf: &[u8]) -> Option<usize> {
-    match buf.first()? {
-        &MAGIC_V1 => Some(V1_HEADER_LEN + *buf.get(1)? as usize + 2),
-        &MAGIC_V2 => {
+    match *buf.first()? {
+        MAGIC_V1 => Some(V1_HEADER_LEN + *buf.get(1)? as usize + 2),
+        MAGIC_V2 => {
             let payload = *buf.get(1)? as usize;
             let signed = *buf.get(2)? & IFLAG_SIGNED != 0;
             Some(V2_HEADER_LEN + payload + 2 + if signed { SIGNATURE_LEN } else { 0 })

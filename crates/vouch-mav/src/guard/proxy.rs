@@ -17,7 +17,7 @@ use super::frame::{split_datagram, FrameRef, Piece};
 use super::link::{self, Egress, Origin, Received};
 use super::messages::{encode_v2, statustext, SEVERITY_WARNING};
 use super::{Endpoint, Inspector, Reply, Side, Verdict};
-use crate::signing::{timestamp_now, SigReject, Signer, SigningKey, Verifier, SETUP_SIGNING_ID};
+use crate::signing::{timestamp_now, Signer, SigningKey, Verifier, SETUP_SIGNING_ID};
 
 /// Everything `vouch mav guard` is told on its command line.
 pub struct GuardConfig {
@@ -81,6 +81,28 @@ pub struct CounterSnapshot {
     pub replies_sent: u64,
     pub alerts_sent: u64,
     pub alerts_suppressed: u64,
+}
+
+impl CounterSnapshot {
+    /// (name, value) in the order they are printed at shutdown.
+    pub fn rows(&self) -> [(&'static str, u64); 14] {
+        [
+            ("frames from gcs", self.frames_from_gcs),
+            ("forwarded to vehicle", self.forwarded_to_vehicle),
+            ("frames from vehicle", self.frames_from_vehicle),
+            ("forwarded to gcs", self.forwarded_to_gcs),
+            ("violations", self.violations),
+            ("dropped violations", self.dropped_violations),
+            ("malformed frames", self.malformed),
+            ("dropped malformed", self.dropped_malformed),
+            ("junk bytes", self.junk_bytes),
+            ("signing rejected", self.signing_rejected),
+            ("SETUP_SIGNING dropped", self.setup_signing_dropped),
+            ("replies sent", self.replies_sent),
+            ("alerts sent", self.alerts_sent),
+            ("alerts rate-limited", self.alerts_suppressed),
+        ]
+    }
 }
 
 struct Core {
@@ -222,7 +244,6 @@ impl Core {
                             "kind": "signing", "reason": why.as_str(), "sysid": fr.sysid(), "compid": fr.compid(),
                             "msgid": fr.msgid()}));
                     }
-                    let _: SigReject = why;
                     return false;
                 }
             }

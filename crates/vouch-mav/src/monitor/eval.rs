@@ -2,7 +2,7 @@
 //! (a parameter never reported, an altitude before the first GLOBAL_POSITION_INT) is `Unknown`,
 //! and a refinement that is not known to hold is treated as failing.
 
-use crate::codec::view::{read_prim};
+use crate::codec::view::read_prim;
 use crate::protocol::ast::BinOp;
 use crate::protocol::ir::{Expr, FieldLoc, Pred, VehicleAttr};
 use crate::vehicle_state::VehicleState;
@@ -29,9 +29,15 @@ impl Val {
     pub fn render(&self, enum_name: Option<&str>, dialect: &crate::dialect::Dialect) -> String {
         match self {
             Val::Num(v) => {
-                let base = if v.fract() == 0.0 && v.abs() < 1e15 { format!("{}", *v as i64) } else { format!("{v}") };
+                let base = if v.fract() == 0.0 && v.abs() < 1e15 {
+                    format!("{}", *v as i64)
+                } else {
+                    format!("{v}")
+                };
                 match enum_name.and_then(|e| {
-                    (v.fract() == 0.0 && *v >= 0.0).then(|| dialect.enum_value_name(e, *v as u64)).flatten()
+                    (v.fract() == 0.0 && *v >= 0.0)
+                        .then(|| dialect.enum_value_name(e, *v as u64))
+                        .flatten()
                 }) {
                     Some(n) => format!("{base} ({n})"),
                     None => base,
@@ -77,11 +83,21 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
         Expr::Str(s) => Val::text(s),
         Expr::Bool(b) => Val::Bool(*b),
         Expr::Var(s) => env.vars.get(*s).copied().unwrap_or(Val::Unknown),
-        Expr::Field(i) => env.fields.get(*i).map(|l| read_loc(env.payload, l)).unwrap_or(Val::Unknown),
-        Expr::Const(i) => env.consts.get(*i).map(|v| Val::Num(*v)).unwrap_or(Val::Unknown),
+        Expr::Field(i) => env
+            .fields
+            .get(*i)
+            .map(|l| read_loc(env.payload, l))
+            .unwrap_or(Val::Unknown),
+        Expr::Const(i) => env
+            .consts
+            .get(*i)
+            .map(|v| Val::Num(*v))
+            .unwrap_or(Val::Unknown),
         Expr::Key(i) => env.keys.get(*i).copied().unwrap_or(Val::Unknown),
         Expr::Vehicle(a) => {
-            let Some(v) = env.vehicle else { return Val::Unknown };
+            let Some(v) = env.vehicle else {
+                return Val::Unknown;
+            };
             let num = |x: Option<f64>| x.map(Val::Num).unwrap_or(Val::Unknown);
             match a {
                 VehicleAttr::Armed => v.armed.map(Val::Bool).unwrap_or(Val::Unknown),
@@ -91,7 +107,10 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
                 VehicleAttr::Type => num(v.mav_type.map(f64::from)),
             }
         }
-        Expr::Param(i) => match env.vehicle.and_then(|v| v.params.get(*i).copied().flatten()) {
+        Expr::Param(i) => match env
+            .vehicle
+            .and_then(|v| v.params.get(*i).copied().flatten())
+        {
             Some(x) => Val::Num(x),
             None => Val::Unknown,
         },
@@ -161,7 +180,9 @@ fn bin(op: BinOp, a: &Expr, b: &Expr, env: &Env) -> Val {
 /// Index of the first conjunct that is not known to hold, or `None` when all hold.
 #[inline]
 pub fn first_failing(p: &Pred, env: &Env) -> Option<usize> {
-    p.conjuncts.iter().position(|c| eval(&c.expr, env) != Val::Bool(true))
+    p.conjuncts
+        .iter()
+        .position(|c| eval(&c.expr, env) != Val::Bool(true))
 }
 
 /// Whether a selector (`when`) holds; unknown counts as not selected.

@@ -21,14 +21,28 @@ impl Monitor {
         let p = &self.set.protocols[s.proto];
         let st = &p.states[s.state];
         let (ti, kind, conj) = match r {
-            StepResult::Refused { transition, conjunct } => {
+            StepResult::Refused {
+                transition,
+                conjunct,
+            } => {
                 let t = &st.transitions[transition];
-                (transition, ViolationKind::Refinement, t.where_.as_ref().and_then(|w| w.conjuncts.get(conjunct)))
+                (
+                    transition,
+                    ViolationKind::Refinement,
+                    t.where_.as_ref().and_then(|w| w.conjuncts.get(conjunct)),
+                )
             }
-            StepResult::Invariant { transition, rec, conjunct } => (
+            StepResult::Invariant {
+                transition,
+                rec,
+                conjunct,
+            } => (
                 transition,
                 ViolationKind::Invariant,
-                p.recs[rec].invariant.as_ref().and_then(|w| w.conjuncts.get(conjunct)),
+                p.recs[rec]
+                    .invariant
+                    .as_ref()
+                    .and_then(|w| w.conjuncts.get(conjunct)),
             ),
             _ => (0, ViolationKind::Refinement, None),
         };
@@ -53,7 +67,9 @@ impl Monitor {
             vars: &vars,
             consts: &self.consts,
             keys: &s.keys,
-            vehicle: self.tracker.state(s.ids[role_index(p, RoleKind::Vehicle)].0),
+            vehicle: self
+                .tracker
+                .state(s.ids[role_index(p, RoleKind::Vehicle)].0),
         };
         let values = conj.map(|c| self.show_values(c, &env)).unwrap_or_default();
         let reason = match kind {
@@ -73,7 +89,11 @@ impl Monitor {
             session: self.describe_session(p, s, is_start),
             message: describe_message(msg, s.ids[role], &self.targets_of(msg)),
             step: format!("{}: {}", t.label, t.text),
-            expected: st.transitions.iter().map(|t| format!("{}: {}", t.label, t.text)).collect(),
+            expected: st
+                .transitions
+                .iter()
+                .map(|t| format!("{}: {}", t.label, t.text))
+                .collect(),
             predicate: conj.map(|c| c.text.clone()),
             values,
             reason,
@@ -104,10 +124,31 @@ impl Monitor {
         let keys: Vec<Val> = proto
             .keys
             .iter()
-            .map(|k| k.locs.iter().find(|(m, _)| *m == msg.index).map(|(_, l)| read_loc(msg.payload, l)).unwrap_or(Val::Unknown))
+            .map(|k| {
+                k.locs
+                    .iter()
+                    .find(|(m, _)| *m == msg.index)
+                    .map(|(_, l)| read_loc(msg.payload, l))
+                    .unwrap_or(Val::Unknown)
+            })
             .collect();
-        let s = Session { proto: p, state: 0, ids, keys, vars: vec![Val::Unknown; proto.var_names.len()], last_us: 0, serial: 0 };
-        let env = Env { payload: msg.payload, fields: &[], vars: &s.vars, consts: &self.consts, keys: &s.keys, vehicle: None };
+        let s = Session {
+            proto: p,
+            state: 0,
+            ids,
+            keys,
+            vars: vec![Val::Unknown; proto.var_names.len()],
+            last_us: 0,
+            serial: 0,
+        };
+        let env = Env {
+            payload: msg.payload,
+            fields: &[],
+            vars: &s.vars,
+            consts: &self.consts,
+            keys: &s.keys,
+            vehicle: None,
+        };
         let key_text: Vec<String> = proto
             .keys
             .iter()
@@ -120,11 +161,19 @@ impl Monitor {
             session: "no open session".into(),
             message: describe_message(msg, (sysid, compid), &self.targets_of(msg)),
             step: format!("strict {}", rule.text),
-            expected: proto.states[0].transitions.iter().map(|t| format!("{}: {}", t.label, t.text)).collect(),
+            expected: proto.states[0]
+                .transitions
+                .iter()
+                .map(|t| format!("{}: {}", t.label, t.text))
+                .collect(),
             predicate: None,
             values: Vec::new(),
             reason: if key_text.is_empty() {
-                format!("{} outside of any {} session (nothing announced it)", msg.name(), proto.name)
+                format!(
+                    "{} outside of any {} session (nothing announced it)",
+                    msg.name(),
+                    proto.name
+                )
             } else {
                 format!(
                     "{} for {} outside of any {} session (nothing announced it)",
@@ -166,8 +215,12 @@ impl Monitor {
             .zip(&s.ids)
             .map(|((n, _), (sy, co))| format!("{n} {sy}/{co}"))
             .collect();
-        let keys: Vec<String> =
-            p.keys.iter().zip(&s.keys).map(|(k, v)| format!(", {} = {}", k.name, self.render_key(k, v))).collect();
+        let keys: Vec<String> = p
+            .keys
+            .iter()
+            .zip(&s.keys)
+            .map(|(k, v)| format!(", {} = {}", k.name, self.render_key(k, v)))
+            .collect();
         let what = if is_start { "opening" } else { "session" };
         format!("{what} {}{}", ids.join(" ↔ "), keys.concat())
     }
@@ -175,7 +228,12 @@ impl Monitor {
     fn reply_for(&self, p: &Protocol, s: &Session, env: &Env) -> Option<Reply> {
         let r = p.reply.as_ref()?;
         let def = self.dialect.message(r.msg);
-        let env = Env { vars: &s.vars, keys: &s.keys, fields: &[], ..*env };
+        let env = Env {
+            vars: &s.vars,
+            keys: &s.keys,
+            fields: &[],
+            ..*env
+        };
         let (to_sys, to_comp) = s.ids[r.to];
         let (from_sys, from_comp) = s.ids[1 - r.to];
         let mut fields = Vec::new();
@@ -184,7 +242,10 @@ impl Monitor {
             match eval(e, &env) {
                 Val::Num(x) => fields.push((name.clone(), x)),
                 Val::Bool(b) => fields.push((name.clone(), f64::from(u8::from(b)))),
-                Val::Text(b, n) => text_fields.push((name.clone(), String::from_utf8_lossy(&b[..usize::from(n)]).into_owned())),
+                Val::Text(b, n) => text_fields.push((
+                    name.clone(),
+                    String::from_utf8_lossy(&b[..usize::from(n)]).into_owned(),
+                )),
                 Val::Unknown => fields.push((name.clone(), 0.0)),
             }
         }
@@ -207,7 +268,11 @@ impl Monitor {
 }
 
 fn role_index(p: &Protocol, k: RoleKind) -> usize {
-    if p.roles[0].1 == k { 0 } else { 1 }
+    if p.roles[0].1 == k {
+        0
+    } else {
+        1
+    }
 }
 
 fn describe_message(msg: &MessageView, from: (u8, u8), target: &Option<(u8, u8)>) -> String {

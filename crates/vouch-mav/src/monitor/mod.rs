@@ -16,7 +16,7 @@ mod session;
 pub mod step;
 
 pub use report::{Reply, Violation, ViolationKind};
-pub use session::{ProtocolStats, Summary};
+pub use session::{ProtocolStats, Summary, MAX_SESSIONS_PER_PROTOCOL};
 
 use std::sync::Arc;
 
@@ -86,14 +86,23 @@ impl Monitor {
             }
         }
         let loc = |m: &crate::dialect::MessageDef, f: &str| {
-            m.field(f).map(|d| FieldLoc { ty: d.ty, offset: d.offset, text_len: 0, enum_name: None })
+            m.field(f).map(|d| FieldLoc {
+                ty: d.ty,
+                offset: d.offset,
+                text_len: 0,
+                enum_name: None,
+            })
         };
         let targets = dialect
             .messages()
             .iter()
             .map(|m| Some((loc(m, "target_system")?, loc(m, "target_component")?)))
             .collect();
-        let stats = set.protocols.iter().map(|p| ProtocolStats::new(&p.name)).collect();
+        let stats = set
+            .protocols
+            .iter()
+            .map(|p| ProtocolStats::new(&p.name))
+            .collect();
         let consts = set.consts.iter().map(|c| c.value).collect();
         let tracker = VehicleTracker::new(&dialect, set.params.clone());
         Monitor {
@@ -126,7 +135,10 @@ impl Monitor {
     }
 
     /// A monitor running the standard library of protocols.
-    pub fn with_stdlib(dialect: Arc<Dialect>, overrides: &[(String, f64)]) -> Result<Monitor, ProtocolError> {
+    pub fn with_stdlib(
+        dialect: Arc<Dialect>,
+        overrides: &[(String, f64)],
+    ) -> Result<Monitor, ProtocolError> {
         Self::from_sources(dialect, &stdlib::sources(), overrides)
     }
 
@@ -155,11 +167,26 @@ impl Monitor {
     }
 
     /// Checks one decoded message sent by `sysid/compid` at `time_us`.
-    pub fn observe(&mut self, msg: &MessageView, sysid: u8, compid: u8, origin: Origin, time_us: u64) -> Verdict {
+    pub fn observe(
+        &mut self,
+        msg: &MessageView,
+        sysid: u8,
+        compid: u8,
+        origin: Origin,
+        time_us: u64,
+    ) -> Verdict {
         self.messages += 1;
         self.tracker.observe(sysid, compid, msg);
         if let Some(is_gcs) = self.tracker.heartbeat_is_gcs(msg) {
-            self.learn_role(sysid, compid, if is_gcs { RoleKind::Gcs } else { RoleKind::Vehicle });
+            self.learn_role(
+                sysid,
+                compid,
+                if is_gcs {
+                    RoleKind::Gcs
+                } else {
+                    RoleKind::Vehicle
+                },
+            );
         }
         if time_us >= self.last_sweep_us + SWEEP_US {
             self.last_sweep_us = time_us;
@@ -189,7 +216,11 @@ impl Monitor {
     }
 
     fn learn_role(&mut self, sysid: u8, compid: u8, kind: RoleKind) {
-        match self.roles.iter_mut().find(|(ids, _)| *ids == (sysid, compid)) {
+        match self
+            .roles
+            .iter_mut()
+            .find(|(ids, _)| *ids == (sysid, compid))
+        {
             Some(r) => r.1 = kind,
             None => self.roles.push(((sysid, compid), kind)),
         }
@@ -209,7 +240,11 @@ impl Monitor {
         if let Some((_, k)) = self.roles.iter().find(|(ids, _)| ids.0 == sysid) {
             return *k;
         }
-        if sysid >= 200 || compid == 190 { RoleKind::Gcs } else { RoleKind::Vehicle }
+        if sysid >= 200 || compid == 190 {
+            RoleKind::Gcs
+        } else {
+            RoleKind::Vehicle
+        }
     }
 
     /// Ends sessions idle past their protocol's timeout (completed if their state allows it).
@@ -218,7 +253,9 @@ impl Monitor {
         while i < self.sessions.len() {
             let s = &self.sessions[i];
             let p = &self.set.protocols[s.proto];
-            if p.timeout_us.is_some_and(|t| now_us.saturating_sub(s.last_us) > t) {
+            if p.timeout_us
+                .is_some_and(|t| now_us.saturating_sub(s.last_us) > t)
+            {
                 self.close(i, false);
             } else {
                 i += 1;

@@ -36,7 +36,10 @@ pub struct ProtocolStats {
 
 impl ProtocolStats {
     pub fn new(name: &str) -> Self {
-        ProtocolStats { name: name.to_string(), ..Default::default() }
+        ProtocolStats {
+            name: name.to_string(),
+            ..Default::default()
+        }
     }
 }
 
@@ -56,8 +59,15 @@ impl Summary {
     }
 }
 
+/// Open sessions kept per protocol (see `make_room`).
+pub const MAX_SESSIONS_PER_PROTOCOL: usize = 64;
+
 fn role_of_kind(p: &Protocol, k: RoleKind) -> usize {
-    if p.roles[0].1 == k { 0 } else { 1 }
+    if p.roles[0].1 == k {
+        0
+    } else {
+        1
+    }
 }
 
 fn vehicle_sys(p: &Protocol, ids: &[(u8, u8); 2]) -> u8 {
@@ -152,7 +162,9 @@ impl Monitor {
                         // could not use this message (e.g. MISSION_COUNT sent again).
                         if let Some(serial) = mismatch_here {
                             if serial != started {
-                                if let Some(j) = self.sessions.iter().position(|s| s.serial == serial) {
+                                if let Some(j) =
+                                    self.sessions.iter().position(|s| s.serial == serial)
+                                {
                                     self.close(j, false);
                                 }
                             }
@@ -199,24 +211,39 @@ impl Monitor {
         }
         if let Some((p, si)) = orphan {
             self.stats[p].violations += 1;
-            return Verdict::Violation(Box::new(self.orphan_violation(p, si, msg, sysid, compid, target, time_us)));
+            return Verdict::Violation(Box::new(
+                self.orphan_violation(p, si, msg, sysid, compid, target, time_us),
+            ));
         }
         Verdict::Ignore
     }
 
     /// Which role of session `i` sent this message, if the message belongs to its participants.
-    fn participant(&self, i: usize, sysid: u8, compid: u8, target: Option<(u8, u8)>, kind: RoleKind) -> Option<usize> {
+    fn participant(
+        &self,
+        i: usize,
+        sysid: u8,
+        compid: u8,
+        target: Option<(u8, u8)>,
+        kind: RoleKind,
+    ) -> Option<usize> {
         let s = &self.sessions[i];
         let p = &self.set.protocols[s.proto];
         (0..2).find(|&r| {
             let (ss, sc) = s.ids[r];
-            let sender_ok = if ss == 0 { p.roles[r].1 == kind } else { ss == sysid && (sc == 0 || sc == compid) };
+            let sender_ok = if ss == 0 {
+                p.roles[r].1 == kind
+            } else {
+                ss == sysid && (sc == 0 || sc == compid)
+            };
             if !sender_ok {
                 return false;
             }
             let (os, oc) = s.ids[1 - r];
             match target {
-                Some((ts, tc)) => (ts == 0 || os == 0 || ts == os) && (tc == 0 || oc == 0 || tc == oc),
+                Some((ts, tc)) => {
+                    (ts == 0 || os == 0 || ts == os) && (tc == 0 || oc == 0 || tc == oc)
+                }
                 None => true,
             }
         })
@@ -225,14 +252,25 @@ impl Monitor {
     fn keys_match(&self, i: usize, msg: &MessageView) -> bool {
         let s = &self.sessions[i];
         let p = &self.set.protocols[s.proto];
-        p.keys.iter().enumerate().all(|(k, key)| match key.locs.iter().find(|(m, _)| *m == msg.index) {
-            Some((_, loc)) => s.keys[k] == Val::Unknown || s.keys[k] == read_loc(msg.payload, loc),
-            None => true,
+        p.keys.iter().enumerate().all(|(k, key)| {
+            match key.locs.iter().find(|(m, _)| *m == msg.index) {
+                Some((_, loc)) => {
+                    s.keys[k] == Val::Unknown || s.keys[k] == read_loc(msg.payload, loc)
+                }
+                None => true,
+            }
         })
     }
 
     fn step_session(&mut self, i: usize, role: usize, msg: &MessageView) -> StepResult {
-        let Monitor { sessions, set, tracker, scratch, consts, .. } = self;
+        let Monitor {
+            sessions,
+            set,
+            tracker,
+            scratch,
+            consts,
+            ..
+        } = self;
         let s = &mut sessions[i];
         let p = &set.protocols[s.proto];
         let input = StepInput {
@@ -266,13 +304,23 @@ impl Monitor {
             ids[1 - role] = t;
         }
         // Cheap pre-check so that most messages allocate nothing here.
-        if !proto.states[0].transitions.iter().any(|t| t.from == role && t.msgs.iter().any(|l| l.msg == msg.index)) {
+        if !proto.states[0]
+            .transitions
+            .iter()
+            .any(|t| t.from == role && t.msgs.iter().any(|l| l.msg == msg.index))
+        {
             return None;
         }
         let keys: Vec<Val> = proto
             .keys
             .iter()
-            .map(|k| k.locs.iter().find(|(m, _)| *m == msg.index).map(|(_, l)| read_loc(msg.payload, l)).unwrap_or(Val::Unknown))
+            .map(|k| {
+                k.locs
+                    .iter()
+                    .find(|(m, _)| *m == msg.index)
+                    .map(|(_, l)| read_loc(msg.payload, l))
+                    .unwrap_or(Val::Unknown)
+            })
             .collect();
         let mut vars = vec![Val::Unknown; proto.var_names.len()];
         let input = StepInput {
@@ -290,22 +338,55 @@ impl Monitor {
                 self.serial += 1;
                 match next {
                     None => self.stats[p].completed += 1,
-                    Some(state) => self.sessions.push(Session {
-                        proto: p,
-                        state,
-                        ids,
-                        keys,
-                        vars,
-                        last_us: time_us,
-                        serial: self.serial,
-                    }),
+                    Some(state) => {
+                        self.make_room(p);
+                        self.sessions.push(Session {
+                            proto: p,
+                            state,
+                            ids,
+                            keys,
+                            vars,
+                            last_us: time_us,
+                            serial: self.serial,
+                        })
+                    }
                 }
                 Some(Ok(self.serial))
             }
             r => {
-                let s = Session { proto: p, state: 0, ids, keys, vars, last_us: time_us, serial: 0 };
-                Some(Err(Box::new(self.violation_for(&s, role, msg, r, time_us, true))))
+                let s = Session {
+                    proto: p,
+                    state: 0,
+                    ids,
+                    keys,
+                    vars,
+                    last_us: time_us,
+                    serial: 0,
+                };
+                Some(Err(Box::new(
+                    self.violation_for(&s, role, msg, r, time_us, true),
+                )))
             }
+        }
+    }
+
+    /// Bounds the sessions of one protocol, so that a flood of opening messages (e.g. parameter
+    /// reads, which may run concurrently) cannot make every later message slow: the session idle
+    /// the longest is closed first.
+    fn make_room(&mut self, p: usize) {
+        let mine = self.sessions.iter().filter(|s| s.proto == p).count();
+        if mine < MAX_SESSIONS_PER_PROTOCOL {
+            return;
+        }
+        let oldest = self
+            .sessions
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.proto == p)
+            .min_by_key(|(_, s)| s.last_us)
+            .map(|(i, _)| i);
+        if let Some(i) = oldest {
+            self.close(i, false);
         }
     }
 
@@ -342,7 +423,14 @@ impl Monitor {
         }
     }
 
-    fn session_violation(&self, i: usize, role: usize, msg: &MessageView, r: StepResult, time_us: u64) -> Violation {
+    fn session_violation(
+        &self,
+        i: usize,
+        role: usize,
+        msg: &MessageView,
+        r: StepResult,
+        time_us: u64,
+    ) -> Violation {
         self.violation_for(&self.sessions[i], role, msg, r, time_us, false)
     }
 }

@@ -3,6 +3,7 @@
 
 use super::eval::{eval, first_failing, holds, read_loc, Env, Val};
 use crate::codec::MessageView;
+use crate::protocol::check::MAX_CONTINUE_ASSIGNS;
 use crate::protocol::ir::{Cont, Protocol, StateId};
 use crate::vehicle_state::VehicleState;
 
@@ -10,11 +11,18 @@ use crate::vehicle_state::VehicleState;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StepResult {
     /// A branch was taken; `next` is the new state, `None` when the session ended.
-    Took { next: Option<StateId>, transition: usize },
+    Took {
+        next: Option<StateId>,
+        transition: usize,
+    },
     /// A branch matched by sender, message and selector but its refinement failed.
     Refused { transition: usize, conjunct: usize },
     /// A branch was taken but the invariant of the recursion it entered failed.
-    Invariant { transition: usize, rec: usize, conjunct: usize },
+    Invariant {
+        transition: usize,
+        rec: usize,
+        conjunct: usize,
+    },
     /// No branch of the state is about this message.
     Mismatch,
 }
@@ -30,14 +38,22 @@ pub struct StepInput<'a> {
 
 /// Tries the transitions of `state` in order. On success `vars` holds the updated variables;
 /// on failure `vars` is unchanged. `scratch` is a reusable buffer.
-pub fn step(proto: &Protocol, state: StateId, input: &StepInput, vars: &mut [Val], scratch: &mut Vec<Val>) -> StepResult {
+pub fn step(
+    proto: &Protocol,
+    state: StateId,
+    input: &StepInput,
+    vars: &mut [Val],
+    scratch: &mut Vec<Val>,
+) -> StepResult {
     let st = &proto.states[state];
     let mut refused = None;
     for (ti, t) in st.transitions.iter().enumerate() {
         if t.from != input.role {
             continue;
         }
-        let Some(lf) = t.msgs.iter().find(|l| l.msg == input.msg.index) else { continue };
+        let Some(lf) = t.msgs.iter().find(|l| l.msg == input.msg.index) else {
+            continue;
+        };
         scratch.clear();
         scratch.extend_from_slice(vars);
         for &(slot, f) in &t.binds {
@@ -58,7 +74,10 @@ pub fn step(proto: &Protocol, state: StateId, input: &StepInput, vars: &mut [Val
         }
         if let Some(w) = &t.where_ {
             if let Some(c) = first_failing(w, &env) {
-                refused.get_or_insert(StepResult::Refused { transition: ti, conjunct: c });
+                refused.get_or_insert(StepResult::Refused {
+                    transition: ti,
+                    conjunct: c,
+                });
                 continue;
             }
         }
@@ -68,37 +87,68 @@ pub fn step(proto: &Protocol, state: StateId, input: &StepInput, vars: &mut [Val
             Cont::Goto(s) => Some(*s),
             Cont::Enter { rec, assigns, then } => {
                 for (slot, e) in assigns {
-                    let v = eval(e, &Env { vars: scratch, ..env_like(input, &lf.fields) });
+                    let v = eval(
+                        e,
+                        &Env {
+                            vars: scratch,
+                            ..env_like(input, &lf.fields)
+                        },
+                    );
                     scratch[*slot] = v;
                 }
                 if let Some(c) = invariant_fails(proto, *rec, input, &lf.fields, scratch) {
-                    return StepResult::Invariant { transition: ti, rec: *rec, conjunct: c };
+                    return StepResult::Invariant {
+                        transition: ti,
+                        rec: *rec,
+                        conjunct: c,
+                    };
                 }
                 Some(*then)
             }
             Cont::Continue { rec, assigns } => {
-                // Simultaneous update: evaluate every new value before storing any.
-                let mut new = [Val::Unknown; 8];
-                for (k, (_, e)) in assigns.iter().enumerate().take(8) {
-                    new[k] = eval(e, &Env { vars: scratch, ..env_like(input, &lf.fields) });
+                // Simultaneous update: evaluate every new value before storing any. The checker
+                // allows at most MAX_CONTINUE_ASSIGNS updates per `continue`.
+                let mut new = [Val::Unknown; MAX_CONTINUE_ASSIGNS];
+                for (k, (_, e)) in assigns.iter().enumerate().take(MAX_CONTINUE_ASSIGNS) {
+                    new[k] = eval(
+                        e,
+                        &Env {
+                            vars: scratch,
+                            ..env_like(input, &lf.fields)
+                        },
+                    );
                 }
-                for (k, (slot, _)) in assigns.iter().enumerate().take(8) {
+                for (k, (slot, _)) in assigns.iter().enumerate().take(MAX_CONTINUE_ASSIGNS) {
                     scratch[*slot] = new[k];
                 }
                 if let Some(c) = invariant_fails(proto, *rec, input, &lf.fields, scratch) {
-                    return StepResult::Invariant { transition: ti, rec: *rec, conjunct: c };
+                    return StepResult::Invariant {
+                        transition: ti,
+                        rec: *rec,
+                        conjunct: c,
+                    };
                 }
                 Some(proto.recs[*rec].entry)
             }
         };
         vars.copy_from_slice(scratch);
-        return StepResult::Took { next, transition: ti };
+        return StepResult::Took {
+            next,
+            transition: ti,
+        };
     }
     refused.unwrap_or(StepResult::Mismatch)
 }
 
 fn env_like<'a>(input: &'a StepInput<'a>, fields: &'a [crate::protocol::ir::FieldLoc]) -> Env<'a> {
-    Env { payload: input.msg.payload, fields, vars: &[], consts: input.consts, keys: input.keys, vehicle: input.vehicle }
+    Env {
+        payload: input.msg.payload,
+        fields,
+        vars: &[],
+        consts: input.consts,
+        keys: input.keys,
+        vehicle: input.vehicle,
+    }
 }
 
 fn invariant_fails(
@@ -109,5 +159,11 @@ fn invariant_fails(
     vars: &[Val],
 ) -> Option<usize> {
     let inv = proto.recs[rec].invariant.as_ref()?;
-    first_failing(inv, &Env { vars, ..env_like(input, fields) })
+    first_failing(
+        inv,
+        &Env {
+            vars,
+            ..env_like(input, fields)
+        },
+    )
 }

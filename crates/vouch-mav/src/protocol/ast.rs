@@ -107,10 +107,26 @@ pub struct VarDecl {
 #[derive(Debug, Clone)]
 pub enum Stmt {
     /// A step; with `block` the block is its continuation, else the following statements are.
-    Step { head: StepHead, block: Option<Vec<Stmt>> },
-    Choice { branches: Vec<Branch>, complete_when: Option<Expr>, span: Span },
-    Rec { name: Ident, vars: Vec<VarDecl>, invariant: Option<Expr>, body: Vec<Stmt> },
-    Continue { name: Ident, assigns: Vec<(Ident, Expr)>, span: Span },
+    Step {
+        head: StepHead,
+        block: Option<Vec<Stmt>>,
+    },
+    Choice {
+        branches: Vec<Branch>,
+        complete_when: Option<Expr>,
+        span: Span,
+    },
+    Rec {
+        name: Ident,
+        vars: Vec<VarDecl>,
+        invariant: Option<Expr>,
+        body: Vec<Stmt>,
+    },
+    Continue {
+        name: Ident,
+        assigns: Vec<(Ident, Expr)>,
+        span: Span,
+    },
     End(Span),
 }
 

@@ -3,9 +3,9 @@
 //! unbound variables and type mismatches are located errors (`vouch mav lint`).
 
 use super::ast::{self, BinOp, ExprKind, Stmt, UnOp};
-pub(crate) use super::typing::Ty;
 use super::error::{ProtocolError, Span};
 use super::ir::*;
+pub(crate) use super::typing::Ty;
 use crate::dialect::{Dialect, MessageDef, MsgIndex, PrimType};
 
 /// Field context of the step being compiled: which messages, which field slots.
@@ -35,6 +35,9 @@ pub(crate) struct Compiler<'a> {
     pub(super) in_reply: bool,
 }
 
+/// The monitor updates recursion variables through a fixed-size buffer (no allocation).
+pub const MAX_CONTINUE_ASSIGNS: usize = 8;
+
 pub(super) type CResult<T> = Result<T, ProtocolError>;
 
 pub(super) fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
@@ -42,18 +45,35 @@ pub(super) fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
     Some(FieldLoc {
         ty: f.ty,
         offset: f.offset,
-        text_len: if f.ty == PrimType::Char && f.array_len > 0 { f.array_len } else { 0 },
+        text_len: if f.ty == PrimType::Char && f.array_len > 0 {
+            f.array_len
+        } else {
+            0
+        },
         enum_name: f.enum_name.clone(),
     })
 }
 
 pub(super) fn ty_of_loc(l: &FieldLoc) -> Ty {
-    if l.text_len > 0 { Ty::Str } else { Ty::Num { enum_: l.enum_name.clone() } }
+    if l.text_len > 0 {
+        Ty::Str
+    } else {
+        Ty::Num {
+            enum_: l.enum_name.clone(),
+        }
+    }
 }
 
 impl<'a> Compiler<'a> {
     pub fn new(dialect: &'a Dialect, src: &'a str, set: &'a mut ProtocolSet) -> Self {
-        Compiler { dialect, src, set, proto: None, keys: vec![], in_reply: false }
+        Compiler {
+            dialect,
+            src,
+            set,
+            proto: None,
+            keys: vec![],
+            in_reply: false,
+        }
     }
 
     pub(super) fn err<T>(&self, span: Span, msg: impl Into<String>) -> CResult<T> {
@@ -69,7 +89,10 @@ impl<'a> Compiler<'a> {
                 self.const_decl(c)?;
             }
             if self.set.protocols.iter().any(|q| q.name == p.name.name) {
-                return self.err(p.name.span, format!("protocol `{}` is defined twice", p.name.name));
+                return self.err(
+                    p.name.span,
+                    format!("protocol `{}` is defined twice", p.name.name),
+                );
             }
             let proto = self.protocol(p)?;
             self.set.protocols.push(proto);
@@ -79,10 +102,16 @@ impl<'a> Compiler<'a> {
 
     fn const_decl(&mut self, c: &ast::ConstDecl) -> CResult<()> {
         if self.set.consts.iter().any(|k| k.name == c.name.name) {
-            return self.err(c.name.span, format!("constant `{}` is defined twice", c.name.name));
+            return self.err(
+                c.name.span,
+                format!("constant `{}` is defined twice", c.name.name),
+            );
         }
         let value = self.const_value(&c.value)?;
-        self.set.consts.push(ConstIR { name: c.name.name.clone(), value });
+        self.set.consts.push(ConstIR {
+            name: c.name.name.clone(),
+            value,
+        });
         Ok(())
     }
 
@@ -116,7 +145,10 @@ impl<'a> Compiler<'a> {
 
     fn protocol(&mut self, p: &ast::ProtocolDecl) -> CResult<Protocol> {
         if p.roles.len() != 2 {
-            return self.err(p.name.span, "a protocol declares exactly two roles: `roles gcs, uav;`");
+            return self.err(
+                p.name.span,
+                "a protocol declares exactly two roles: `roles gcs, uav;`",
+            );
         }
         let mut roles = vec![];
         for r in &p.roles {
@@ -130,7 +162,10 @@ impl<'a> Compiler<'a> {
             roles.push((r.name.clone(), kind));
         }
         if roles[0].1 == roles[1].1 {
-            return self.err(p.roles[1].span, "the two roles must be a ground station and a vehicle");
+            return self.err(
+                p.roles[1].span,
+                "the two roles must be a ground station and a vehicle",
+            );
         }
         self.keys = p.keys.iter().map(|k| k.name.clone()).collect();
         self.proto = Some(Protocol {
@@ -147,8 +182,18 @@ impl<'a> Compiler<'a> {
         });
         match p.body.first() {
             Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
-            Some(_) => return self.err(p.name.span, "a protocol must start with a message step or a choice"),
-            None => return self.err(p.name.span, "empty protocol: it needs at least one message step"),
+            Some(_) => {
+                return self.err(
+                    p.name.span,
+                    "a protocol must start with a message step or a choice",
+                )
+            }
+            None => {
+                return self.err(
+                    p.name.span,
+                    "empty protocol: it needs at least one message step",
+                )
+            }
         }
         let mut scope = Scope::default();
         self.state_for(&p.body, &mut scope)?;
@@ -163,7 +208,11 @@ impl<'a> Compiler<'a> {
                 "{} -> {} : {}",
                 s.from.name,
                 s.to.name,
-                s.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ")
+                s.labels
+                    .iter()
+                    .map(|l| l.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" | ")
             );
             self.proto_mut().strict.push(StrictIR { from, msgs, text });
         }
@@ -171,7 +220,11 @@ impl<'a> Compiler<'a> {
         let mut alphabet: Vec<MsgIndex> = proto
             .states
             .iter()
-            .flat_map(|s| s.transitions.iter().flat_map(|t| t.msgs.iter().map(|m| m.msg)))
+            .flat_map(|s| {
+                s.transitions
+                    .iter()
+                    .flat_map(|t| t.msgs.iter().map(|m| m.msg))
+            })
             .chain(proto.strict.iter().flat_map(|s| s.msgs.iter().copied()))
             .collect();
         alphabet.sort_unstable();
@@ -182,9 +235,18 @@ impl<'a> Compiler<'a> {
                 .filter_map(|&m| loc_of(self.dialect.message(m), &k.name).map(|l| (m, l)))
                 .collect();
             if locs.is_empty() {
-                return self.err(k.span, format!("key `{}` is a field of none of the protocol's messages", k.name));
+                return self.err(
+                    k.span,
+                    format!(
+                        "key `{}` is a field of none of the protocol's messages",
+                        k.name
+                    ),
+                );
             }
-            proto.keys.push(KeyIR { name: k.name.clone(), locs });
+            proto.keys.push(KeyIR {
+                name: k.name.clone(),
+                locs,
+            });
         }
         proto.alphabet = alphabet;
         if let Some(r) = &p.reply {
@@ -204,7 +266,10 @@ impl<'a> Compiler<'a> {
         let proto = self.proto.as_ref().expect("protocol under construction");
         match proto.roles.iter().position(|(n, _)| *n == r.name) {
             Some(i) => Ok(i),
-            None => self.err(r.span, format!("`{}` is not a role of this protocol", r.name)),
+            None => self.err(
+                r.span,
+                format!("`{}` is not a role of this protocol", r.name),
+            ),
         }
     }
 
@@ -213,7 +278,13 @@ impl<'a> Compiler<'a> {
             .iter()
             .map(|l| match self.dialect.index_of_name(&l.name) {
                 Some(i) => Ok(i),
-                None => self.err(l.span, format!("unknown message `{}` in dialect {}", l.name, self.dialect.name)),
+                None => self.err(
+                    l.span,
+                    format!(
+                        "unknown message `{}` in dialect {}",
+                        l.name, self.dialect.name
+                    ),
+                ),
             })
             .collect()
     }
@@ -227,7 +298,10 @@ impl<'a> Compiler<'a> {
         for (f, e) in &r.fields {
             let Some(loc) = loc_of(def, &f.name) else {
                 self.in_reply = false;
-                return self.err(f.span, format!("message {} has no field `{}`", def.name, f.name));
+                return self.err(
+                    f.span,
+                    format!("message {} has no field `{}`", def.name, f.name),
+                );
             };
             let mut scope = Scope::default();
             let mut shows = vec![];
@@ -246,11 +320,21 @@ impl<'a> Compiler<'a> {
     }
 
     /// Continuation of the statements `stmts`, compiled in the context of the step just taken.
-    fn seq(&mut self, stmts: &[Stmt], scope: &mut Scope, mut step: Option<&mut StepCx>) -> CResult<Cont> {
-        let Some(first) = stmts.first() else { return Ok(Cont::End) };
+    fn seq(
+        &mut self,
+        stmts: &[Stmt],
+        scope: &mut Scope,
+        mut step: Option<&mut StepCx>,
+    ) -> CResult<Cont> {
+        let Some(first) = stmts.first() else {
+            return Ok(Cont::End);
+        };
         let trailing = |this: &Self, what: &str| -> CResult<()> {
             if let Some(next) = stmts.get(1) {
-                return this.err(stmt_span(next), format!("unreachable: nothing can follow {what}"));
+                return this.err(
+                    stmt_span(next),
+                    format!("unreachable: nothing can follow {what}"),
+                );
             }
             Ok(())
         };
@@ -261,15 +345,35 @@ impl<'a> Compiler<'a> {
             }
             Stmt::Continue { name, assigns, .. } => {
                 trailing(self, "`continue`")?;
-                let Some((_, rec, vars)) = scope.recs.iter().rev().find(|(n, _, _)| *n == name.name).cloned() else {
-                    return self.err(name.span, format!("`continue {}` outside of `rec {}`", name.name, name.name));
+                let Some((_, rec, vars)) = scope
+                    .recs
+                    .iter()
+                    .rev()
+                    .find(|(n, _, _)| *n == name.name)
+                    .cloned()
+                else {
+                    return self.err(
+                        name.span,
+                        format!("`continue {}` outside of `rec {}`", name.name, name.name),
+                    );
                 };
+                if assigns.len() > MAX_CONTINUE_ASSIGNS {
+                    return self.err(name.span, format!("at most {MAX_CONTINUE_ASSIGNS} variables can be updated by one `continue`"));
+                }
                 let mut out = vec![];
                 for (v, e) in assigns {
                     let Some((_, slot)) = vars.iter().find(|(n, _)| *n == v.name) else {
-                        return self.err(v.span, format!("`{}` is not a variable of `rec {}`", v.name, name.name));
+                        return self.err(
+                            v.span,
+                            format!("`{}` is not a variable of `rec {}`", v.name, name.name),
+                        );
                     };
-                    let want = scope.vars.iter().rev().find(|(_, s, _)| s == slot).map(|(_, _, t)| t.clone());
+                    let want = scope
+                        .vars
+                        .iter()
+                        .rev()
+                        .find(|(_, s, _)| s == slot)
+                        .map(|(_, _, t)| t.clone());
                     let mut shows = vec![];
                     let (x, ty) = self.expr(e, scope, step.as_deref_mut(), &mut shows)?;
                     if let Some(want) = want {
@@ -279,10 +383,22 @@ impl<'a> Compiler<'a> {
                 }
                 Ok(Cont::Continue { rec, assigns: out })
             }
-            Stmt::Rec { name, vars, invariant, body } => {
-                trailing(self, "a `rec` block (end its body with `end` or `continue`)")?;
+            Stmt::Rec {
+                name,
+                vars,
+                invariant,
+                body,
+            } => {
+                trailing(
+                    self,
+                    "a `rec` block (end its body with `end` or `continue`)",
+                )?;
                 let rec = self.proto_mut().recs.len();
-                self.proto_mut().recs.push(Rec { name: name.name.clone(), invariant: None, entry: 0 });
+                self.proto_mut().recs.push(Rec {
+                    name: name.name.clone(),
+                    invariant: None,
+                    entry: 0,
+                });
                 let mut assigns = vec![];
                 let mut rec_vars = vec![];
                 let mark = scope.vars.len();
@@ -308,14 +424,23 @@ impl<'a> Compiler<'a> {
                 for (n, s, t) in &rec_vars {
                     scope.vars.push((n.clone(), *s, t.clone()));
                 }
-                scope.recs.push((name.name.clone(), rec, rec_vars.iter().map(|(n, s, _)| (n.clone(), *s)).collect()));
+                scope.recs.push((
+                    name.name.clone(),
+                    rec,
+                    rec_vars.iter().map(|(n, s, _)| (n.clone(), *s)).collect(),
+                ));
                 if let Some(inv) = invariant {
                     let pred = self.pred(inv, scope, None)?;
                     self.proto_mut().recs[rec].invariant = Some(pred);
                 }
                 match body.first() {
                     Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
-                    _ => return self.err(name.span, "the body of a `rec` must start with a message step or a choice"),
+                    _ => {
+                        return self.err(
+                            name.span,
+                            "the body of a `rec` must start with a message step or a choice",
+                        )
+                    }
                 }
                 let then = self.state_for(body, scope)?;
                 self.proto_mut().recs[rec].entry = then;
@@ -323,7 +448,9 @@ impl<'a> Compiler<'a> {
                 scope.vars.truncate(mark);
                 Ok(Cont::Enter { rec, assigns, then })
             }
-            Stmt::Step { .. } | Stmt::Choice { .. } => Ok(Cont::Goto(self.state_for(stmts, scope)?)),
+            Stmt::Step { .. } | Stmt::Choice { .. } => {
+                Ok(Cont::Goto(self.state_for(stmts, scope)?))
+            }
         }
     }
 
@@ -338,7 +465,10 @@ impl<'a> Compiler<'a> {
                 let rest = match block {
                     Some(b) => {
                         if let Some(next) = stmts.get(1) {
-                            return self.err(stmt_span(next), "unreachable: a step with a block is followed by its block only");
+                            return self.err(
+                                stmt_span(next),
+                                "unreachable: a step with a block is followed by its block only",
+                            );
                         }
                         &b[..]
                     }
@@ -347,15 +477,33 @@ impl<'a> Compiler<'a> {
                 let label = head.labels[0].name.to_ascii_lowercase();
                 transitions.push(self.transition(label, head, rest, scope)?);
             }
-            Stmt::Choice { branches, complete_when, .. } => {
+            Stmt::Choice {
+                branches,
+                complete_when,
+                ..
+            } => {
                 if let Some(next) = stmts.get(1) {
-                    return self.err(stmt_span(next), "unreachable: put what follows a choice into its branches");
+                    return self.err(
+                        stmt_span(next),
+                        "unreachable: put what follows a choice into its branches",
+                    );
                 }
                 for b in branches {
-                    if transitions.iter().any(|t: &Transition| t.label == b.label.name) {
-                        return self.err(b.label.span, format!("branch label `{}` used twice", b.label.name));
+                    if transitions
+                        .iter()
+                        .any(|t: &Transition| t.label == b.label.name)
+                    {
+                        return self.err(
+                            b.label.span,
+                            format!("branch label `{}` used twice", b.label.name),
+                        );
                     }
-                    transitions.push(self.transition(b.label.name.clone(), &b.head, &b.body, scope)?);
+                    transitions.push(self.transition(
+                        b.label.name.clone(),
+                        &b.head,
+                        &b.body,
+                        scope,
+                    )?);
                 }
                 if let Some(c) = complete_when {
                     complete = Some(self.pred(c, scope, None)?);
@@ -369,15 +517,31 @@ impl<'a> Compiler<'a> {
         Ok(id)
     }
 
-    fn transition(&mut self, label: String, head: &ast::StepHead, rest: &[Stmt], scope: &mut Scope) -> CResult<Transition> {
+    fn transition(
+        &mut self,
+        label: String,
+        head: &ast::StepHead,
+        rest: &[Stmt],
+        scope: &mut Scope,
+    ) -> CResult<Transition> {
         let from = self.role(&head.from)?;
         let to = self.role(&head.to)?;
         if from == to {
             return self.err(head.to.span, "sender and receiver must differ");
         }
         let msgs = self.messages(&head.labels)?;
-        let label_text = head.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ");
-        let mut step = StepCx { msgs: msgs.clone(), names: vec![], locs: vec![vec![]; msgs.len()], label_text: label_text.clone() };
+        let label_text = head
+            .labels
+            .iter()
+            .map(|l| l.name.as_str())
+            .collect::<Vec<_>>()
+            .join(" | ");
+        let mut step = StepCx {
+            msgs: msgs.clone(),
+            names: vec![],
+            locs: vec![vec![]; msgs.len()],
+            label_text: label_text.clone(),
+        };
         let mark = scope.vars.len();
         let mut binds = vec![];
         for (v, f) in &head.binds {
@@ -396,7 +560,11 @@ impl<'a> Compiler<'a> {
         };
         let cont = self.seq(rest, scope, Some(&mut step))?;
         scope.vars.truncate(mark);
-        let msgs = msgs.iter().zip(step.locs).map(|(&msg, fields)| LabelFields { msg, fields }).collect();
+        let msgs = msgs
+            .iter()
+            .zip(step.locs)
+            .map(|(&msg, fields)| LabelFields { msg, fields })
+            .collect();
         Ok(Transition {
             label,
             from,
@@ -412,7 +580,12 @@ impl<'a> Compiler<'a> {
     }
 
     /// Slot of field `name` in the current step; the field must exist in every alternative message.
-    pub(super) fn field_slot(&self, step: &mut StepCx, name: &str, span: Span) -> CResult<(usize, Ty)> {
+    pub(super) fn field_slot(
+        &self,
+        step: &mut StepCx,
+        name: &str,
+        span: Span,
+    ) -> CResult<(usize, Ty)> {
         if let Some(i) = step.names.iter().position(|n| n == name) {
             return Ok((i, ty_of_loc(&step.locs[0][i])));
         }
@@ -421,12 +594,17 @@ impl<'a> Compiler<'a> {
             let def = self.dialect.message(m);
             match loc_of(def, name) {
                 Some(l) => locs.push(l),
-                None => return self.err(span, format!("message {} has no field `{name}`", def.name)),
+                None => {
+                    return self.err(span, format!("message {} has no field `{name}`", def.name))
+                }
             }
         }
         let ty = ty_of_loc(&locs[0]);
         if locs.iter().any(|l| ty_of_loc(l) != ty) {
-            return self.err(span, format!("field `{name}` has different types in {}", step.label_text));
+            return self.err(
+                span,
+                format!("field `{name}` has different types in {}", step.label_text),
+            );
         }
         step.names.push(name.to_string());
         for (i, l) in locs.into_iter().enumerate() {
@@ -434,7 +612,6 @@ impl<'a> Compiler<'a> {
         }
         Ok((step.names.len() - 1, ty))
     }
-
 }
 
 fn stmt_span(s: &Stmt) -> Span {

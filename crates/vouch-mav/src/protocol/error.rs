@@ -15,7 +15,10 @@ impl Span {
 
     pub fn to(self, other: Span) -> Span {
         let end = (other.start + other.len).max(self.start + self.len);
-        Span { start: self.start, len: end - self.start }
+        Span {
+            start: self.start,
+            len: end - self.start,
+        }
     }
 }
 
@@ -45,7 +48,12 @@ impl ProtocolError {
         let start = span.start.min(src.len());
         let before = &src[..start];
         let line = before.matches('\n').count() + 1;
-        let col = before.rsplit('\n').next().map(|l| l.chars().count()).unwrap_or(0) + 1;
+        let col = before
+            .rsplit('\n')
+            .next()
+            .map(|l| l.chars().count())
+            .unwrap_or(0)
+            + 1;
         ProtocolError {
             message: message.into(),
             src: NamedSource::new(name, src.to_string()),
@@ -73,6 +81,12 @@ impl ProtocolError {
 
     /// `file:line:col: message` for plain output.
     pub fn short(&self) -> String {
-        format!("{}:{}:{}: {}", self.src.name(), self.line, self.col, self.message)
+        format!(
+            "{}:{}:{}: {}",
+            self.src.name(),
+            self.line,
+            self.col,
+            self.message
+        )
     }
 }

@@ -70,9 +70,16 @@ pub enum Cont {
     End,
     Goto(StateId),
     /// Enter `rec`: assign initial values (evaluated in order), check the invariant, go to its body.
-    Enter { rec: usize, assigns: Vec<(Slot, Expr)>, then: StateId },
+    Enter {
+        rec: usize,
+        assigns: Vec<(Slot, Expr)>,
+        then: StateId,
+    },
     /// Loop back to `rec`: assign new values (all evaluated before any is stored), check the invariant.
-    Continue { rec: usize, assigns: Vec<(Slot, Expr)> },
+    Continue {
+        rec: usize,
+        assigns: Vec<(Slot, Expr)>,
+    },
 }
 
 #[derive(Debug, Clone)]

@@ -19,8 +19,8 @@ pub struct Token {
 }
 
 const SYMS: &[&str] = &[
-    "->", "==", "!=", "<=", ">=", "&&", "||", "=>", "{", "}", "(", ")", ",", ";", ":", "|", "=", "<", ">", "!", "+", "-",
-    "*", "/", ".",
+    "->", "==", "!=", "<=", ">=", "&&", "||", "=>", "{", "}", "(", ")", ",", ";", ":", "|", "=",
+    "<", ">", "!", "+", "-", "*", "/", ".",
 ];
 
 pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
@@ -45,7 +45,10 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             while i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'_') {
                 i += 1;
             }
-            out.push(Token { tok: Tok::Ident(src[start..i].to_string()), span: Span::new(start, i - start) });
+            out.push(Token {
+                tok: Tok::Ident(src[start..i].to_string()),
+                span: Span::new(start, i - start),
+            });
             continue;
         }
         if c.is_ascii_digit() {
@@ -54,9 +57,17 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
                 while i < b.len() && b[i].is_ascii_hexdigit() {
                     i += 1;
                 }
-                let v = u64::from_str_radix(&src[start + 2..i], 16)
-                    .map_err(|_| ProtocolError::at(src, Span::new(start, i - start), "invalid hexadecimal number"))?;
-                out.push(Token { tok: Tok::Num(v as f64), span: Span::new(start, i - start) });
+                let v = u64::from_str_radix(&src[start + 2..i], 16).map_err(|_| {
+                    ProtocolError::at(
+                        src,
+                        Span::new(start, i - start),
+                        "invalid hexadecimal number",
+                    )
+                })?;
+                out.push(Token {
+                    tok: Tok::Num(v as f64),
+                    span: Span::new(start, i - start),
+                });
                 continue;
             }
             while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
@@ -67,10 +78,13 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
                 }
                 i += 1;
             }
-            let v: f64 = src[start..i]
-                .parse()
-                .map_err(|_| ProtocolError::at(src, Span::new(start, i - start), "invalid number"))?;
-            out.push(Token { tok: Tok::Num(v), span: Span::new(start, i - start) });
+            let v: f64 = src[start..i].parse().map_err(|_| {
+                ProtocolError::at(src, Span::new(start, i - start), "invalid number")
+            })?;
+            out.push(Token {
+                tok: Tok::Num(v),
+                span: Span::new(start, i - start),
+            });
             continue;
         }
         if c == b'"' {
@@ -79,24 +93,41 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
                 i += 1;
             }
             if i >= b.len() || b[i] != b'"' {
-                return Err(ProtocolError::at(src, Span::new(start, i - start), "unterminated string"));
+                return Err(ProtocolError::at(
+                    src,
+                    Span::new(start, i - start),
+                    "unterminated string",
+                ));
             }
             i += 1;
-            out.push(Token { tok: Tok::Str(src[start + 1..i - 1].to_string()), span: Span::new(start, i - start) });
+            out.push(Token {
+                tok: Tok::Str(src[start + 1..i - 1].to_string()),
+                span: Span::new(start, i - start),
+            });
             continue;
         }
         let rest = &src[i..];
         match SYMS.iter().find(|s| rest.starts_with(**s)) {
             Some(s) => {
                 i += s.len();
-                out.push(Token { tok: Tok::Sym(s), span: Span::new(start, s.len()) });
+                out.push(Token {
+                    tok: Tok::Sym(s),
+                    span: Span::new(start, s.len()),
+                });
             }
             None => {
                 let ch = rest.chars().next().unwrap_or('?');
-                return Err(ProtocolError::at(src, Span::new(start, ch.len_utf8()), format!("unexpected character `{ch}`")));
+                return Err(ProtocolError::at(
+                    src,
+                    Span::new(start, ch.len_utf8()),
+                    format!("unexpected character `{ch}`"),
+                ));
             }
         }
     }
-    out.push(Token { tok: Tok::Eof, span: Span::new(src.len(), 0) });
+    out.push(Token {
+        tok: Tok::Eof,
+        span: Span::new(src.len(), 0),
+    });
     Ok(out)
 }

@@ -7,7 +7,7 @@
 #![allow(clippy::result_large_err)]
 
 pub mod ast;
-mod check;
+pub(crate) mod check;
 pub mod error;
 pub mod ir;
 pub mod lexer;
@@ -38,8 +38,13 @@ pub fn load_protocols(
             Some(k) => k.value = *value,
             None => {
                 let known: Vec<&str> = set.consts.iter().map(|k| k.name.as_str()).collect();
-                return Err(ProtocolError::named("--set", name, Span::new(0, name.len()), format!("no constant `{name}` is declared"))
-                    .with_help(format!("declared constants: {}", known.join(", "))));
+                return Err(ProtocolError::named(
+                    "--set",
+                    name,
+                    Span::new(0, name.len()),
+                    format!("no constant `{name}` is declared"),
+                )
+                .with_help(format!("declared constants: {}", known.join(", "))));
             }
         }
     }

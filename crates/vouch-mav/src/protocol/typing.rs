@@ -9,7 +9,9 @@ use super::ir::*;
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Ty {
     /// A number; `enum_` names the MAVLink enum its values come from, when known.
-    Num { enum_: Option<String> },
+    Num {
+        enum_: Option<String>,
+    },
     Str,
     Bool,
 }
@@ -40,11 +42,23 @@ impl<'a> Compiler<'a> {
         if ok {
             Ok(())
         } else {
-            self.err(span, format!("type mismatch: expected {}, found {}", want.describe(), got.describe()))
+            self.err(
+                span,
+                format!(
+                    "type mismatch: expected {}, found {}",
+                    want.describe(),
+                    got.describe()
+                ),
+            )
         }
     }
 
-    pub(super) fn pred(&mut self, e: &ast::Expr, scope: &mut Scope, mut step: Option<&mut StepCx>) -> CResult<Pred> {
+    pub(super) fn pred(
+        &mut self,
+        e: &ast::Expr,
+        scope: &mut Scope,
+        mut step: Option<&mut StepCx>,
+    ) -> CResult<Pred> {
         let mut parts = vec![];
         flatten_and(e, &mut parts);
         let mut conjuncts = vec![];
@@ -52,10 +66,21 @@ impl<'a> Compiler<'a> {
             let mut shows = vec![];
             let (x, ty) = self.expr(p, scope, step.as_deref_mut(), &mut shows)?;
             if ty != Ty::Bool {
-                return self.err(p.span, format!("a condition must be a boolean, this is {}", ty.describe()));
+                return self.err(
+                    p.span,
+                    format!("a condition must be a boolean, this is {}", ty.describe()),
+                );
             }
-            let text = self.src.get(p.span.start..p.span.start + p.span.len).unwrap_or("").to_string();
-            conjuncts.push(Conjunct { expr: x, text, shows });
+            let text = self
+                .src
+                .get(p.span.start..p.span.start + p.span.len)
+                .unwrap_or("")
+                .to_string();
+            conjuncts.push(Conjunct {
+                expr: x,
+                text,
+                shows,
+            });
         }
         Ok(Pred { conjuncts })
     }
@@ -83,25 +108,42 @@ impl<'a> Compiler<'a> {
             ExprKind::Str(s) => (Expr::Str(s.as_bytes().into()), Ty::Str),
             ExprKind::Bool(b) => (Expr::Bool(*b), Ty::Bool),
             ExprKind::Name(n) => {
-                let r = if let Some((_, slot, ty)) = scope.vars.iter().rev().find(|(v, _, _)| v == n) {
+                let r = if let Some((_, slot, ty)) =
+                    scope.vars.iter().rev().find(|(v, _, _)| v == n)
+                {
                     (Expr::Var(*slot), ty.clone())
-                } else if self.in_reply && self.proto.as_ref().is_some_and(|p| p.var_names.contains(n)) {
+                } else if self.in_reply
+                    && self.proto.as_ref().is_some_and(|p| p.var_names.contains(n))
+                {
                     let p = self.proto.as_ref().expect("protocol under construction");
                     let slot = p.var_names.iter().rposition(|v| v == n).unwrap_or(0);
                     (Expr::Var(slot), Ty::num())
-                } else if let Some(i) = self.keys.iter().position(|k| k == n).filter(|_| self.in_reply) {
+                } else if let Some(i) = self
+                    .keys
+                    .iter()
+                    .position(|k| k == n)
+                    .filter(|_| self.in_reply)
+                {
                     (Expr::Key(i), Ty::num())
                 } else if let Some(st) = step.as_deref_mut().filter(|st| {
-                    st.msgs.iter().any(|&m| self.dialect.message(m).field(n).is_some())
+                    st.msgs
+                        .iter()
+                        .any(|&m| self.dialect.message(m).field(n).is_some())
                 }) {
                     let (slot, ty) = self.field_slot(st, n, e.span)?;
                     (Expr::Field(slot), ty)
                 } else if let Some(i) = self.set.consts.iter().position(|k| &k.name == n) {
                     (Expr::Const(i), Ty::num())
                 } else if let Some((en, v)) = self.dialect.enum_entry(n) {
-                    return Ok((Expr::Num(v as f64), Ty::Num { enum_: Some(en.to_string()) }));
+                    return Ok((
+                        Expr::Num(v as f64),
+                        Ty::Num {
+                            enum_: Some(en.to_string()),
+                        },
+                    ));
                 } else {
-                    let mut err = ProtocolError::at(self.src, e.span, format!("unbound name `{n}`"));
+                    let mut err =
+                        ProtocolError::at(self.src, e.span, format!("unbound name `{n}`"));
                     err = err.with_help(match &step {
                         Some(st) => format!(
                             "not a variable in scope, a field of {}, a constant or an enum entry of the dialect",
@@ -120,10 +162,19 @@ impl<'a> Compiler<'a> {
                     "mode" => (VehicleAttr::Mode, Ty::num()),
                     "alt" => (VehicleAttr::Alt, Ty::num()),
                     "climb" => (VehicleAttr::Climb, Ty::num()),
-                    "type" => (VehicleAttr::Type, Ty::Num { enum_: Some("MAV_TYPE".into()) }),
+                    "type" => (
+                        VehicleAttr::Type,
+                        Ty::Num {
+                            enum_: Some("MAV_TYPE".into()),
+                        },
+                    ),
                     _ => {
-                        return Err(ProtocolError::at(self.src, m.span, format!("unknown vehicle attribute `{}`", m.name))
-                            .with_help("vehicle attributes: armed, mode, alt, climb, type"))
+                        return Err(ProtocolError::at(
+                            self.src,
+                            m.span,
+                            format!("unknown vehicle attribute `{}`", m.name),
+                        )
+                        .with_help("vehicle attributes: armed, mode, alt, climb, type"))
                     }
                 };
                 let x = Expr::Vehicle(attr);
@@ -162,15 +213,29 @@ impl<'a> Compiler<'a> {
 
     fn binary_type(&self, op: BinOp, a: &Ty, b: &Ty, span: Span) -> CResult<Ty> {
         let mismatch = || {
-            self.err(span, format!("type mismatch: `{}` between {} and {}", op.text(), a.describe(), b.describe()))
+            self.err(
+                span,
+                format!(
+                    "type mismatch: `{}` between {} and {}",
+                    op.text(),
+                    a.describe(),
+                    b.describe()
+                ),
+            )
         };
         match op {
             BinOp::And | BinOp::Or => {
-                if *a == Ty::Bool && *b == Ty::Bool { Ok(Ty::Bool) } else { mismatch() }
+                if *a == Ty::Bool && *b == Ty::Bool {
+                    Ok(Ty::Bool)
+                } else {
+                    mismatch()
+                }
             }
             BinOp::Eq | BinOp::Ne => match (a, b) {
                 (Ty::Num { enum_: Some(x) }, Ty::Num { enum_: Some(y) }) if x != y => mismatch(),
-                (Ty::Num { .. }, Ty::Num { .. }) | (Ty::Str, Ty::Str) | (Ty::Bool, Ty::Bool) => Ok(Ty::Bool),
+                (Ty::Num { .. }, Ty::Num { .. }) | (Ty::Str, Ty::Str) | (Ty::Bool, Ty::Bool) => {
+                    Ok(Ty::Bool)
+                }
                 _ => mismatch(),
             },
             BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match (a, b) {
@@ -195,4 +260,3 @@ pub(super) fn flatten_and<'e>(e: &'e ast::Expr, out: &mut Vec<&'e ast::Expr>) {
         _ => out.push(e),
     }
 }
-

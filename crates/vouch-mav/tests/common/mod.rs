@@ -30,11 +30,22 @@ pub struct Craft {
 
 impl Craft {
     pub fn new() -> Option<Craft> {
-        Some(Craft { d: dialect()?, bytes: Vec::new(), t: 1_700_000_000_000_000, seq: 0 })
+        Some(Craft {
+            d: dialect()?,
+            bytes: Vec::new(),
+            t: 1_700_000_000_000_000,
+            seq: 0,
+        })
     }
 
     /// Appends one record: `from` sends `name` with numeric and text fields.
-    pub fn send_full(&mut self, from: (u8, u8), name: &str, fields: &[(&str, f64)], texts: &[(&str, &str)]) {
+    pub fn send_full(
+        &mut self,
+        from: (u8, u8),
+        name: &str,
+        fields: &[(&str, f64)],
+        texts: &[(&str, &str)],
+    ) {
         let mut b = MessageBuilder::new(&self.d, name).expect("message in dialect");
         for (f, v) in fields {
             b = b.set(f, *v).unwrap_or_else(|e| panic!("{name}.{f}: {e}"));
@@ -62,8 +73,16 @@ impl Craft {
 
     /// Vehicle → GCS 255/190 (target fields filled in when the message has them).
     pub fn uav(&mut self, name: &str, fields: &[(&str, f64)]) {
-        let has_target = self.d.by_name(name).and_then(|m| m.field("target_system")).is_some();
-        let mut f = if has_target { vec![("target_system", 255.0), ("target_component", 190.0)] } else { vec![] };
+        let has_target = self
+            .d
+            .by_name(name)
+            .and_then(|m| m.field("target_system"))
+            .is_some();
+        let mut f = if has_target {
+            vec![("target_system", 255.0), ("target_component", 190.0)]
+        } else {
+            vec![]
+        };
         f.extend_from_slice(fields);
         self.send(UAV, name, &f);
     }
@@ -76,7 +95,16 @@ impl Craft {
         // MAV_TYPE_GCS = 6, MAV_AUTOPILOT_INVALID = 8; QUADROTOR = 2, ARDUPILOTMEGA = 3.
         self.send(GCS, "HEARTBEAT", &[("type", 6.0), ("autopilot", 8.0)]);
         let base_mode = if armed { 128.0 + 1.0 } else { 1.0 };
-        self.send(UAV, "HEARTBEAT", &[("type", 2.0), ("autopilot", 3.0), ("base_mode", base_mode), ("custom_mode", f64::from(custom_mode))]);
+        self.send(
+            UAV,
+            "HEARTBEAT",
+            &[
+                ("type", 2.0),
+                ("autopilot", 3.0),
+                ("base_mode", base_mode),
+                ("custom_mode", f64::from(custom_mode)),
+            ],
+        );
     }
 
     pub fn check(&self) -> RecordingReport {
@@ -96,23 +124,53 @@ impl Craft {
     // ---- mission helpers ----
 
     pub fn count(&mut self, n: u16, mission_type: u8) {
-        self.gcs("MISSION_COUNT", &[("count", f64::from(n)), ("mission_type", f64::from(mission_type))]);
+        self.gcs(
+            "MISSION_COUNT",
+            &[
+                ("count", f64::from(n)),
+                ("mission_type", f64::from(mission_type)),
+            ],
+        );
     }
 
     pub fn request(&mut self, seq: u16, mission_type: u8, deprecated: bool) {
-        let name = if deprecated { "MISSION_REQUEST" } else { "MISSION_REQUEST_INT" };
-        self.uav(name, &[("seq", f64::from(seq)), ("mission_type", f64::from(mission_type))]);
+        let name = if deprecated {
+            "MISSION_REQUEST"
+        } else {
+            "MISSION_REQUEST_INT"
+        };
+        self.uav(
+            name,
+            &[
+                ("seq", f64::from(seq)),
+                ("mission_type", f64::from(mission_type)),
+            ],
+        );
     }
 
     pub fn item(&mut self, seq: u16, mission_type: u8) {
         self.gcs(
             "MISSION_ITEM_INT",
-            &[("seq", f64::from(seq)), ("mission_type", f64::from(mission_type)), ("command", 16.0), ("frame", 3.0), ("x", 473_977_420.0), ("y", 85_455_940.0), ("z", 50.0)],
+            &[
+                ("seq", f64::from(seq)),
+                ("mission_type", f64::from(mission_type)),
+                ("command", 16.0),
+                ("frame", 3.0),
+                ("x", 473_977_420.0),
+                ("y", 85_455_940.0),
+                ("z", 50.0),
+            ],
         );
     }
 
     pub fn ack(&mut self, result: u8, mission_type: u8) {
-        self.uav("MISSION_ACK", &[("type", f64::from(result)), ("mission_type", f64::from(mission_type))]);
+        self.uav(
+            "MISSION_ACK",
+            &[
+                ("type", f64::from(result)),
+                ("mission_type", f64::from(mission_type)),
+            ],
+        );
     }
 
     /// A complete, correct upload of `n` items.
@@ -127,10 +185,22 @@ impl Craft {
 }
 
 pub fn only_violation(r: &RecordingReport) -> &Violation {
-    assert_eq!(r.violations.len(), 1, "expected exactly one violation, got: {:#?}", r.violations.iter().map(|v| v.to_string()).collect::<Vec<_>>());
+    assert_eq!(
+        r.violations.len(),
+        1,
+        "expected exactly one violation, got: {:#?}",
+        r.violations
+            .iter()
+            .map(|v| v.to_string())
+            .collect::<Vec<_>>()
+    );
     &r.violations[0]
 }
 
 pub fn value<'a>(v: &'a Violation, name: &str) -> &'a str {
-    v.values.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_str()).unwrap_or_else(|| panic!("no value {name} in {v}"))
+    v.values
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v.as_str())
+        .unwrap_or_else(|| panic!("no value {name} in {v}"))
 }

@@ -272,7 +272,14 @@ impl NavfnPlanner {
                     best_sdist = sdist;
                     best = Some([x, y]);
                 }
+                // a step that no longer moves x (huge coordinates) would loop forever upstream
+                if x + res == x {
+                    break;
+                }
                 x += res;
+            }
+            if y + res == y {
+                break;
             }
             y += res;
         }
