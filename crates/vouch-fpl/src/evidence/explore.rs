@@ -132,26 +132,46 @@ pub fn enumerate_call<'p>(
     Ok(CallTree { paths, cut: false })
 }
 
-/// A hashable summary of an interpreter state: the observation, the depth of both
-/// continuation stacks and the `for` counters. Two states with equal keys behave the same: the
-/// continuation of a block is determined by its top item, whose number the observation holds
-/// (the stack depth separates a `NavMain` from a same-numbered item in another nesting).
+/// A hashable, exact summary of an interpreter state: the stage number of every item of both
+/// continuation stacks (which identifies each item: a stage, its loop test, its loop-back and
+/// its navigation main step all have distinct numbers), both blocks, and the `for` counters.
+/// Stage numbers are read through the public [`Interp::observe`] on one-item stacks, so the
+/// numbering is the interpreter's own.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct StateKey {
     pub obs: (usize, usize, usize, usize),
-    pub depths: (usize, usize),
+    pub remaining: Vec<usize>,
+    pub last_remaining: Vec<usize>,
     pub counters: Vec<((usize, usize), (i8, i8))>,
 }
 
+fn numbers<'p>(interp: &mut Interp<'p>, block: usize, stack: &[crate::semantics::Item<'p>]) -> Vec<usize> {
+    stack
+        .iter()
+        .map(|item| {
+            interp.state.block = block;
+            interp.state.remaining.clear();
+            interp.state.remaining.push(*item);
+            interp.observe().stage
+        })
+        .collect()
+}
+
 pub fn state_key<'p>(interp: &mut Interp<'p>, state: &State<'p>) -> StateKey {
-    let saved = std::mem::replace(&mut interp.state, state.clone());
+    let empty = State {
+        block: state.block,
+        remaining: Vec::new(),
+        last_block: state.last_block,
+        last_remaining: Vec::new(),
+        counters: Default::default(),
+    };
+    let saved = std::mem::replace(&mut interp.state, empty);
+    let remaining = numbers(interp, state.block, &state.remaining);
+    let last_remaining = numbers(interp, state.last_block, &state.last_remaining);
+    interp.state = state.clone();
     let o = interp.observe();
     interp.state = saved;
     let mut counters: Vec<_> = state.counters.iter().map(|(k, v)| (*k, *v)).collect();
     counters.sort();
-    StateKey {
-        obs: (o.block, o.stage, o.last_block, o.last_stage),
-        depths: (state.remaining.len(), state.last_remaining.len()),
-        counters,
-    }
+    StateKey { obs: (o.block, o.stage, o.last_block, o.last_stage), remaining, last_remaining, counters }
 }

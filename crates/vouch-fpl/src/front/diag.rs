@@ -91,7 +91,7 @@ impl Diagnostic {
         self
     }
     /// Fills `file`/`line`/`col` from the span.
-    pub(crate) fn locate(&mut self, sources: &SourceMap) {
+    pub fn locate(&mut self, sources: &SourceMap) {
         if let Some(sp) = self.span {
             self.file = Some(sources.path(sp.file).to_string());
             self.line = Some(sp.line);
@@ -109,6 +109,14 @@ pub struct Diagnostics {
 }
 
 impl Diagnostics {
+    /// Builds a report over `sources` (for example `plan.sources.clone()` in later passes),
+    /// filling every item's file/line/column from its span.
+    pub fn new(mut items: Vec<Diagnostic>, sources: SourceMap) -> Self {
+        for d in items.iter_mut() {
+            d.locate(&sources);
+        }
+        Diagnostics { items, sources }
+    }
     pub fn errors(&self) -> impl Iterator<Item = &Diagnostic> {
         self.items.iter().filter(|d| d.severity == Severity::Error)
     }
