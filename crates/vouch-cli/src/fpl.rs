@@ -21,6 +21,9 @@ pub enum FplCmd {
         /// ancestor directory holding flight_plan.dtd)
         #[arg(long = "include-dir")]
         include_dirs: Vec<PathBuf>,
+        /// Refuse the VFPG <forbidden_deroutes> extension, as upstream's DTD does
+        #[arg(long)]
+        no_extensions: bool,
     },
     /// Compile a flight plan to a drop-in flight_plan.h (upstream Paparazzi generator, 2024-10).
     /// Exit 0 on success, 1 when the plan is rejected, 2 on a read/write error.
@@ -145,7 +148,7 @@ pub enum FplCmd {
 
 pub fn run(cmd: FplCmd) -> ExitCode {
     match cmd {
-        FplCmd::Parse { plan, json, include_dirs } => parse_cmd(&plan, json, include_dirs),
+        FplCmd::Parse { plan, json, include_dirs, no_extensions } => parse_cmd(&plan, json, include_dirs, no_extensions),
         FplCmd::BenchParse { dir, iterations } => bench_parse_cmd(dir, iterations),
         FplCmd::Compile { plan, output, dump, instrumented, include_dirs } => {
             compile_cmd(&plan, output, dump, instrumented, include_dirs)
@@ -174,9 +177,9 @@ pub fn run(cmd: FplCmd) -> ExitCode {
     }
 }
 
-fn parse_cmd(plan: &std::path::Path, json: bool, include_dirs: Vec<PathBuf>) -> ExitCode {
+fn parse_cmd(plan: &std::path::Path, json: bool, include_dirs: Vec<PathBuf>, no_extensions: bool) -> ExitCode {
     use std::io::IsTerminal;
-    let opts = vouch_fpl::front::Options { search_dirs: include_dirs, ..Default::default() };
+    let opts = vouch_fpl::front::Options { search_dirs: include_dirs, allow_forbidden_deroutes: !no_extensions };
     match vouch_fpl::front::parse_file_with(plan, &opts) {
         Ok(p) => {
             if json {
@@ -249,6 +252,8 @@ fn compile_cmd(
         Ok(p) => p,
         Err(code) => return code,
     };
+    // Lint findings (issue 4) are shown on stderr; they never change the exit code.
+    eprint!("{}", vouch_fpl::lint::render(&plan, &vouch_fpl::lint::lint(&plan)));
     let opts = EmitOptions {
         source_path: plan_path.display().to_string(),
         flavor: if instrumented { Flavor::Instrumented } else { Flavor::DropIn },

@@ -11,6 +11,7 @@ use vouch_fpl::emit::{compile_file, EmitOptions};
 
 #[test]
 fn demo_dropin_header_compiles_and_runs() {
+    let Some(cc) = common::c_compiler() else { return };
     let plan = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml");
     let header = compile_file(&plan, &EmitOptions::default()).map_err(|e| e.diagnostics().to_string()).expect("compiles");
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("dropin_demo");
@@ -18,7 +19,7 @@ fn demo_dropin_header_compiles_and_runs() {
     std::fs::write(work.join("flight_plan.h"), header).expect("write header");
     let stub = common::stub_dir();
     let exe = work.join("demo");
-    let out = Command::new(std::env::var("CC").unwrap_or_else(|_| "cc".into()))
+    let out = Command::new(cc)
         .args(["-std=c99", "-Wall", "-Wextra", "-Werror"])
         .arg("-I")
         .arg(stub.join("include"))

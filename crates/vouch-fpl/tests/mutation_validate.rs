@@ -72,3 +72,69 @@ fn every_mutation_is_caught() {
         assert!(!cx.what.contains("died"), "{name}: {}", cx.what);
     }
 }
+
+mod common;
+
+/// Condition texts the semantics asks within `depth` calls (every answer explored).
+fn conditions_asked(fp: &vouch_fpl::passes::fp::Fp, depth: usize) -> std::collections::HashSet<String> {
+    use vouch_fpl::evidence::explore::{enumerate_call, state_key};
+    use vouch_fpl::semantics::trace::Event;
+    let mut interp = vouch_fpl::semantics::Interp::new(fp);
+    let mut seen = std::collections::HashSet::new();
+    let mut asked = std::collections::HashSet::new();
+    let mut level = vec![interp.state.clone()];
+    for _ in 0..depth {
+        let mut next = Vec::new();
+        for st in &level {
+            let tree = enumerate_call(&mut interp, st, 100_000).expect("interpreter");
+            for p in tree.paths {
+                for e in &p.events {
+                    if let Event::Cond { text, .. } = e {
+                        asked.insert(text.clone());
+                    }
+                }
+                if seen.insert(state_key(&mut interp, &p.state)) {
+                    next.push(p.state);
+                }
+            }
+        }
+        level = next;
+    }
+    asked
+}
+
+/// On real plans too: inverting the first condition of `auto_nav` (a global exception, or the
+/// first condition of a block) is caught on every fourth corpus plan where the semantics asks
+/// that condition within the explored depth (elsewhere the mutated code is dead).
+#[test]
+fn inverted_first_condition_is_caught_on_corpus_plans() {
+    use rayon::prelude::*;
+    let Some(dir) = common::corpus_dir() else { return };
+    let plans: Vec<_> = common::corpus_plans(&dir).into_iter().step_by(4).collect();
+    let results: Vec<(String, Option<bool>)> = plans
+        .par_iter()
+        .map(|p| {
+            let plan = vouch_fpl::front::parse_file(p).expect("corpus plan parses");
+            let fp = vouch_fpl::passes::lower::lower(&plan).expect("lowers");
+            let h = compile_plan(&plan, &EmitOptions { flavor: Flavor::Instrumented, ..EmitOptions::default() }).expect("compiles");
+            let name = p.display().to_string();
+            let Some(start) = h.find("static inline void auto_nav(void)") else { return (name, None) };
+            let Some(i) = h[start..].find("FP_C(\"").map(|i| i + start) else { return (name, None) };
+            let lit_start = i + "FP_C(\"".len();
+            let Some(len) = h[lit_start..].find("\")") else { return (name, None) };
+            let text = h[lit_start..lit_start + len].replace("\\\"", "\"").replace("\\\\", "\\");
+            if !conditions_asked(&fp, 8).contains(&text) {
+                return (name, None);
+            }
+            let mutated = format!("{}!{}", &h[..i], &h[i..]);
+            let r = validate_header(&fp, &mutated, &Options { depth: 8, random_runs: 1, random_steps: 200, ..Options::default() })
+                .expect("driver builds");
+            (name, Some(r.counterexample.is_some()))
+        })
+        .collect();
+    let missed: Vec<&String> = results.iter().filter(|r| r.1 == Some(false)).map(|r| &r.0).collect();
+    let checked = results.iter().filter(|r| r.1.is_some()).count();
+    eprintln!("inverted first condition: caught on {checked} of {} plans (others: condition not reached)", results.len());
+    assert!(checked >= 20, "only {checked} plans reach their first condition");
+    assert!(missed.is_empty(), "mutation not caught on: {missed:?}");
+}

@@ -16,7 +16,8 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
-use vouch_mav::guard::{start, standard_inspector, CounterSnapshot, GuardConfig};
+use vouch_mav::guard::{start, standard_inspector, CounterSnapshot, GuardConfig, SigningConfig};
+use vouch_mav::signing::SigningKey;
 
 fn python() -> Option<PathBuf> {
     match std::env::var_os("VOUCH_PYTHON") {
@@ -96,11 +97,20 @@ struct Outcome {
 
 /// Runs one MAVProxy `wp load` of 100 items through a guard to the given vehicle.
 fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -> Outcome {
-    upload(py, tag, vehicle, Some(enforce))
+    upload(py, tag, vehicle, Some(enforce), None)
+}
+
+/// MAVLink 2 signing: the guard requires `guard_pass`; MAVProxy signs with `mavproxy_pass`
+/// (`signing setup`, key = SHA-256 of the passphrase) or not at all.
+struct Signing {
+    guard_pass: &'static str,
+    mavproxy_pass: Option<&'static str>,
+    /// How long to let MAVProxy try when the upload is expected to fail.
+    give_up_after: Duration,
 }
 
 /// `guard`: None = MAVProxy talks to the vehicle directly (baseline of the peers themselves).
-fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcome {
+fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>, signing: Option<Signing>) -> Outcome {
     let dir = tempdir(tag);
     let mission = write_mission(&dir);
     let vport = free_port();
@@ -118,6 +128,9 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcom
         }
     }
     cmd.args(["--duration", "40", "--exit-after-upload", "--summary"]).arg(&summary);
+    if matches!(vehicle, Vehicle::Pymavlink { .. }) {
+        cmd.arg("--stop-file").arg(dir.join("stop"));
+    }
     let _vehicle = Peer(cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("start vehicle peer"));
 
     let log = dir.join("violations.jsonl");
@@ -129,7 +142,11 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcom
             alert_gcs: true,
             log_path: Some(log.clone()),
             tlog_path: None,
-            signing: None,
+            signing: signing.as_ref().map(|s| SigningConfig {
+                key: SigningKey::from_passphrase(s.guard_pass),
+                sign_to_vehicle: false,
+                link_id: 0,
+            }),
         };
         let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
         start(cfg, inspector).expect("guard starts")
@@ -142,7 +159,10 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcom
         .arg(format!("--master=udpout:127.0.0.1:{gport}"))
         .args(["--daemon", "--non-interactive", "--target-system=1", "--target-component=1"])
         .arg(format!("--state-basedir={}", dir.join("mps").display()))
-        .arg(format!("--cmd=wp load {}", mission.display()))
+        .arg(match signing.as_ref().and_then(|s| s.mavproxy_pass) {
+            Some(pass) => format!("--cmd=signing setup {pass}; wp load {}", mission.display()),
+            None => format!("--cmd=wp load {}", mission.display()),
+        })
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::null());
@@ -157,7 +177,7 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcom
         }
     });
     let mut text = String::new();
-    let end = Instant::now() + Duration::from_secs(45);
+    let end = Instant::now() + signing.as_ref().map_or(Duration::from_secs(45), |s| s.give_up_after);
     let mut settle: Option<Instant> = None;
     while Instant::now() < end && settle.is_none_or(|s| s.elapsed() < Duration::from_secs(2)) {
         if let Ok(line) = rx.recv_timeout(Duration::from_millis(100)) {
@@ -169,6 +189,7 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcom
         }
     }
     drop(mp);
+    std::fs::write(dir.join("stop"), b"").unwrap();
     let vehicle = read_summary(&summary);
     let counters = guard.map(|g| g.stop()).unwrap_or_default();
     let log = std::fs::read_to_string(&log).unwrap_or_default();
@@ -179,7 +200,7 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>) -> Outcom
 #[test]
 fn baseline_mavproxy_uploads_100_to_pymavlink_vehicle_directly() {
     let Some(py) = python() else { return };
-    let o = upload(&py, "direct", Vehicle::Pymavlink { ack_after: None }, None);
+    let o = upload(&py, "direct", Vehicle::Pymavlink { ack_after: None }, None, None);
     assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
     assert_eq!(o.vehicle["uploads"][0]["received"], 100, "{}", o.vehicle);
 }
@@ -303,4 +324,28 @@ fn parachute_while_disarmed_is_reported_in_monitor_mode() {
     assert_eq!(vehicle["parachute_commands"], 1, "{vehicle}");
     assert_eq!(gcs["command_ack"], 0, "the vehicle's own ACCEPTED is forwarded: {gcs}");
     assert!(c.violations >= 1 && c.dropped_violations == 0, "{c:?}");
+}
+
+#[test]
+fn mavproxy_signed_upload_passes_a_guard_that_requires_signing() {
+    let Some(py) = python() else { return };
+    let signing = Signing { guard_pass: "vouch-interop", mavproxy_pass: Some("vouch-interop"), give_up_after: Duration::from_secs(45) };
+    let o = upload(&py, "signed", Vehicle::Pymavlink { ack_after: None }, Some(true), Some(signing));
+    assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
+    assert_eq!(o.vehicle["uploads"][0]["received"], 100, "{}", o.vehicle);
+    assert_eq!(o.counters.violations, 0, "{}", o.log);
+    // MAVProxy's own SETUP_SIGNING goes out unsigned: rejected, never forwarded
+    assert!(o.counters.signing_rejected >= 1, "{:?}", o.counters);
+    assert!(o.counters.forwarded_to_vehicle >= 101, "{:?}", o.counters);
+}
+
+#[test]
+fn mavproxy_with_the_wrong_key_gets_nothing_through() {
+    let Some(py) = python() else { return };
+    let signing = Signing { guard_pass: "vouch-interop", mavproxy_pass: Some("not-the-key"), give_up_after: Duration::from_secs(8) };
+    let o = upload(&py, "wrongkey", Vehicle::Pymavlink { ack_after: None }, Some(true), Some(signing));
+    assert!(!o.mavproxy.contains("Sent all"), "MAVProxy output:\n{}", o.mavproxy);
+    assert_eq!(o.vehicle["uploads"].as_array().map(Vec::len), Some(0), "{}", o.vehicle);
+    assert_eq!(o.counters.forwarded_to_vehicle, 0, "{:?}", o.counters);
+    assert!(o.counters.signing_rejected >= 3, "{:?}", o.counters);
 }

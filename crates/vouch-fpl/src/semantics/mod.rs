@@ -47,6 +47,16 @@ pub enum StepError {
     Diverged { block: usize },
 }
 
+/// See [`Interp::key`].
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct StateKey {
+    pub block: BlockIx,
+    pub remaining: Vec<usize>,
+    pub last_block: BlockIx,
+    pub last_remaining: Vec<usize>,
+    pub counters: Vec<((BlockIx, usize), (i8, i8))>,
+}
+
 #[derive(Debug, Clone)]
 pub struct State<'p> {
     pub block: BlockIx,
@@ -142,7 +152,8 @@ impl<'p> Interp<'p> {
         self.fp.init.iter().map(|c| Event::Code { text: c.text.clone() }).collect()
     }
 
-    fn item_number(&self, item: &Item<'p>) -> usize {
+    /// The C stage number at which `item` resumes (what `nav_stage` holds when it is next).
+    pub fn item_number(&self, item: &Item<'p>) -> usize {
         let key = |s: &&FpStage| *s as *const FpStage;
         match item {
             Item::Stage(s) => self.first.get(&key(s)).copied().unwrap_or(0),
@@ -155,6 +166,22 @@ impl<'p> Interp<'p> {
         match remaining.last() {
             Some(top) => self.item_number(top),
             None => self.ends.get(block).copied().unwrap_or(0),
+        }
+    }
+
+    /// A hashable summary of the whole state (for model checkers merging states): the block,
+    /// the stage number of every item of the remaining stack (bottom first), the same for the
+    /// last position, and the `for` counters, sorted.
+    pub fn key(&self) -> StateKey {
+        let s = &self.state;
+        let mut counters: Vec<((BlockIx, usize), (i8, i8))> = s.counters.iter().map(|(k, v)| (*k, *v)).collect();
+        counters.sort_unstable();
+        StateKey {
+            block: s.block,
+            remaining: s.remaining.iter().map(|i| self.item_number(i)).collect(),
+            last_block: s.last_block,
+            last_remaining: s.last_remaining.iter().map(|i| self.item_number(i)).collect(),
+            counters,
         }
     }
 

@@ -31,3 +31,15 @@ pub fn corpus_plans(dir: &Path) -> Vec<PathBuf> {
 pub fn stub_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/stub")
 }
+
+/// The C compiler (`$CC` or `cc`), or `None` with a message when none can be run.
+pub fn c_compiler() -> Option<String> {
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
+    match std::process::Command::new(&cc).arg("--version").output() {
+        Ok(o) if o.status.success() => Some(cc),
+        _ => {
+            eprintln!("skipping: no C compiler ({cc}) can be run");
+            None
+        }
+    }
+}
