@@ -81,3 +81,13 @@ fn geoid_height_at_a_grid_node_matches_the_egm96_reference() {
     // Truncation toward zero: 41.9N 1.9E uses the same node.
     assert_eq!(vouch_fpl::emit::geoid::geoid_height(rad_of_deg(41.9), rad_of_deg(1.9)), n);
 }
+
+#[test]
+fn ltp_frame_enu_rows_are_the_written_coordinates() {
+    // GENERATOR_FACTS §10: in LTP frame the ENU row is (x, y, ALT - ground_alt).
+    // ENAC/demo_aruco_drop_indoor.xml: alt 148, ground_alt 146, STDBY at x=-0.7 y=-0.8.
+    let Some(h) = header("ENAC/demo_aruco_drop_indoor.xml") else { return };
+    let rows: Vec<&str> = h.lines().skip_while(|l| !l.starts_with("#define WAYPOINTS_ENU {")).skip(1).take(3).collect();
+    assert_eq!(rows[0], " {0.00, 0.00, 2.00}, /* ENU in meters  */ \\");
+    assert_eq!(rows[2], " {-0.70, -0.80, 2.00}, /* ENU in meters  */ \\");
+}

@@ -140,6 +140,7 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>, signing: 
             vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
             enforce,
             alert_gcs: true,
+            print_violations: false,
             log_path: Some(log.clone()),
             tlog_path: None,
             signing: signing.as_ref().map(|s| SigningConfig {
@@ -279,6 +280,7 @@ fn parachute_through_guard(py: &Path, tag: &str, enforce: bool) -> (Value, Value
         vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
         enforce,
         alert_gcs: true,
+        print_violations: false,
         log_path: None,
         tlog_path: None,
         signing: None,

@@ -20,6 +20,7 @@ fn config(gcs: &str, vehicle: &str) -> GuardConfig {
         vehicle: vehicle.parse().expect("vehicle endpoint"),
         enforce: false,
         alert_gcs: false,
+        print_violations: false,
         log_path: None,
         tlog_path: None,
         signing: None,

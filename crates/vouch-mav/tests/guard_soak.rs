@@ -185,6 +185,7 @@ fn soak(target_frames: u64) {
         vehicle: format!("udpout:{v_addr}").parse().unwrap(),
         enforce: true,
         alert_gcs: true,
+        print_violations: false,
         log_path: None,
         tlog_path: None,
         signing: Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: false, link_id: 0 }),

@@ -23,6 +23,8 @@ struct WpRow {
     global: bool,
     /// Geodetic position when already known (LTP frame).
     geo: Option<Geo>,
+    /// LTP frame: the ENU row is simply (x, y, ALT - ground_alt) of the written coordinates.
+    ltp_enu: Option<[f64; 3]>,
 }
 
 fn parse_alt(text: &str, what: &str, span: crate::ast::Span) -> Result<f64, CompileError> {
@@ -41,7 +43,11 @@ fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, Compil
         alt_text: plan_alt.clone(),
         global: false,
         geo: None,
+        ltp_enu: None,
     }];
+    if ltp {
+        out[0].ltp_enu = Some([0.0, 0.0, out[0].alt - ground]);
+    }
     let ecef0 = geo::ecef_of_geo(ref_geo, ground);
     for w in &plan.waypoints {
         let alt_text = match (&w.alt, &w.height) {
@@ -86,7 +92,11 @@ fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, Compil
                 }
             }
         };
-        out.push(WpRow { name: w.name.value.clone(), x, y, alt_text, alt, global: latlon.is_some(), geo: g });
+        let ltp_enu = match (&w.x, &w.y) {
+            (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
+            _ => None,
+        };
+        out.push(WpRow { name: w.name.value.clone(), x, y, alt_text, alt, global: latlon.is_some(), geo: g, ltp_enu });
     }
     Ok(out)
 }
@@ -241,8 +251,14 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, groun
     let geo_of = |r: &WpRow| r.geo.unwrap_or_else(|| geo::of_utm(Utm { x: utm0.x + r.x, y: utm0.y + r.y, zone: utm0.zone }));
     w.raw("#define WAYPOINTS_ENU { \\");
     for r in wps {
-        let ned = geo::ned_of_ecef(ecef0, geo::ecef_of_geo(geo_of(r), r.alt));
-        w.raw(&format!(" {{{:.2}, {:.2}, {:.2}}}, /* ENU in meters  */ \\", ned[1], ned[0], -ned[2]));
+        let enu = match r.ltp_enu {
+            Some(e) => e,
+            None => {
+                let ned = geo::ned_of_ecef(ecef0, geo::ecef_of_geo(geo_of(r), r.alt));
+                [ned[1], ned[0], -ned[2]]
+            }
+        };
+        w.raw(&format!(" {{{:.2}, {:.2}, {:.2}}}, /* ENU in meters  */ \\", enu[0], enu[1], enu[2]));
     }
     w.raw("};");
     w.raw("#define WAYPOINTS_LLA { \\");

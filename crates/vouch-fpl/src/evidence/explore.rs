@@ -175,3 +175,38 @@ pub fn state_key<'p>(interp: &mut Interp<'p>, state: &State<'p>) -> StateKey {
     counters.sort();
     StateKey { obs: (o.block, o.stage, o.last_block, o.last_stage), remaining, last_remaining, counters }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PLAN: &str = r#"<flight_plan name="t" lat0="43.5" lon0="1.4" alt="250" ground_alt="150"
+        security_height="30" max_dist_from_home="1000">
+      <waypoints><waypoint name="HOME" x="0" y="0"/></waypoints>
+      <exceptions><exception cond="e()" deroute="HOME"/></exceptions>
+      <blocks><block name="B"><call fun="f()"/></block></blocks></flight_plan>"#;
+
+    #[test]
+    fn paths_of_one_call_in_lexicographic_order() {
+        let plan = crate::front::parse_str("t.xml", PLAN).expect("parses");
+        let fp = crate::passes::lower::lower(&plan).expect("lowers");
+        let mut interp = Interp::new(&fp);
+        let init = interp.state.clone();
+        let tree = enumerate_call(&mut interp, &init, 100).expect("runs");
+        // e() false then f() false (next block) or true (stay); e() true (exception)
+        let answers: Vec<Vec<i64>> = tree.paths.iter().map(|p| p.answers.clone()).collect();
+        assert_eq!(answers, vec![vec![0, 0], vec![0, 1], vec![1]]);
+        assert!(!tree.cut);
+        let blocks: Vec<usize> = tree.paths.iter().map(|p| p.after.block).collect();
+        assert_eq!(blocks, vec![1, 0, 1], "B is block 0, HOME block 1");
+        // the budget cuts and says so
+        let cut = enumerate_call(&mut interp, &init, 2).expect("runs");
+        assert!(cut.cut && cut.paths.len() == 2);
+        // equal states have equal keys, different ones differ
+        let k0 = state_key(&mut interp, &tree.paths[0].state);
+        let k1 = state_key(&mut interp, &tree.paths[1].state);
+        assert_eq!(k0.obs.0, 1);
+        assert_ne!(k0, k1);
+        assert_eq!(k1, state_key(&mut interp, &init), "f() true stays on the call stage");
+    }
+}

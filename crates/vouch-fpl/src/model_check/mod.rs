@@ -44,6 +44,9 @@ pub struct Graph {
     /// Set when the state budget stopped the construction (properties are then checked on a
     /// part of the state space only, and are reported as not established).
     pub cut: Option<String>,
+    /// States some of whose transitions were dropped by the budget (their successor lists are
+    /// incomplete; checks that need every successor treat them as unknown).
+    pub incomplete: Vec<bool>,
 }
 
 const OPERATOR: &str = "op:";
@@ -101,6 +104,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
         states: Vec::new(),
         edges: Vec::new(),
         cut: None,
+        incomplete: Vec::new(),
     };
     let mut next = 0;
     while next < states.len() {
@@ -108,6 +112,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
         interp.state = from.clone();
         graph.states.push(interp.observe());
         let tree = enumerate_call(&mut interp, &from, 100_000).map_err(|e| format!("interpreter: {e:?}"))?;
+        let mut incomplete = tree.cut;
         if tree.cut {
             graph.cut = Some("more than 100000 paths in one call".into());
         }
@@ -124,6 +129,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
                 None => {
                     if states.len() >= max_states {
                         graph.cut = Some(format!("more than {max_states} states"));
+                        incomplete = true;
                         continue;
                     }
                     index.insert(k, states.len());
@@ -148,6 +154,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
             }
         }
         graph.edges.push(out);
+        graph.incomplete.push(incomplete);
         next += 1;
     }
     Ok(graph)

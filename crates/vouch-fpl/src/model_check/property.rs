@@ -174,3 +174,29 @@ pub fn parse(text: &str, blocks: &[String]) -> Result<Property, String> {
     }
     Ok(Property { temporal, formula })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn blocks() -> Vec<String> {
+        vec!["Take off".into(), "Land".into()]
+    }
+
+    #[test]
+    fn parses_the_language() {
+        let p = parse("always eventually block(Land)", &blocks()).expect("parses");
+        assert_eq!(p, Property { temporal: Temporal::AlwaysEventually, formula: StateFormula::Block(1) });
+        let p = parse("never (block('Take off') && !stage(2)) or last_block(Land)", &blocks()).expect("parses");
+        assert_eq!(p.temporal, Temporal::Always);
+        let o = Observation { block: 0, stage: 1, last_block: 0, last_stage: 0 };
+        // in Take off at stage 1 (not 2), last block not Land: the inner formula holds, never fails
+        assert!(!p.formula.holds(&o));
+        let p = parse("eventually always true", &blocks()).expect("parses");
+        assert_eq!(p.temporal, Temporal::EventuallyAlways);
+        assert!(parse("always block(Nowhere)", &blocks()).is_err());
+        assert!(parse("always stage(x)", &blocks()).is_err());
+        assert!(parse("always block(Land) extra", &blocks()).is_err());
+        assert!(parse("alwaysblock(Land)", &blocks()).is_err());
+    }
+}

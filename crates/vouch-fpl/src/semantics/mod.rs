@@ -236,21 +236,21 @@ impl<'p> Interp<'p> {
             self.state.last_block = self.state.block;
             self.state.last_remaining = self.state.remaining.clone();
         }
-        if let Some(c) = &self.fp.blocks[self.state.block].on_exit {
+        if let Some(c) = self.fp.blocks.get(self.state.block).and_then(|b| b.on_exit.as_ref()) {
             Self::code(ev, c);
         }
         let nb = self.fp.blocks.len();
         let target = target.min(nb.saturating_sub(1));
         self.state.block = target;
         self.state.remaining = Self::full_of(self.fp, target);
-        if let Some(c) = &self.fp.blocks[target].on_enter {
+        if let Some(c) = self.fp.blocks.get(target).and_then(|b| b.on_enter.as_ref()) {
             Self::code(ev, c);
         }
     }
 
     /// `Return(x)`: back to the last position (stage 0 when `x` is 1); last is not updated.
     fn do_return(&mut self, ev: &mut Vec<Event>, reset: &str) {
-        if let Some(c) = &self.fp.blocks[self.state.block].on_exit {
+        if let Some(c) = self.fp.blocks.get(self.state.block).and_then(|b| b.on_exit.as_ref()) {
             Self::code(ev, c);
         }
         let reset = match reset.trim() {
@@ -260,7 +260,7 @@ impl<'p> Interp<'p> {
         self.state.block = self.state.last_block;
         self.state.remaining =
             if reset { Self::full_of(self.fp, self.state.last_block) } else { self.state.last_remaining.clone() };
-        if let Some(c) = &self.fp.blocks[self.state.block].on_enter {
+        if let Some(c) = self.fp.blocks.get(self.state.block).and_then(|b| b.on_enter.as_ref()) {
             Self::code(ev, c);
         }
     }
@@ -287,7 +287,10 @@ impl<'p> Interp<'p> {
         let fp = self.fp;
         if !self.exceptions(&mut ev, oracle, &fp.exceptions) {
             let b = self.state.block;
-            let block = &fp.blocks[b];
+            // Every lowered plan has at least the HOME block; a hand-built empty one does nothing.
+            let Some(block) = fp.blocks.get(b) else {
+                return Ok(StepRecord { call: self.calls, operator_goto: None, before, events: ev, after: self.observe() });
+            };
             if let Some(c) = &block.pre_call {
                 Self::code(&mut ev, c);
             }

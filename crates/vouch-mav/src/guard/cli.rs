@@ -83,6 +83,7 @@ fn run(a: GuardArgs) -> Result<(), (u8, String)> {
         vehicle,
         enforce: a.enforce,
         alert_gcs: a.alert_gcs,
+        print_violations: true,
         log_path: a.log.clone(),
         tlog_path: a.tlog.clone(),
         signing,

@@ -27,6 +27,8 @@ pub struct GuardConfig {
     pub enforce: bool,
     /// Send a STATUSTEXT to the GCS for each violation.
     pub alert_gcs: bool,
+    /// Print one line per violation on stderr (at most 20 per second; the CLI turns it on).
+    pub print_violations: bool,
     /// Violations log, one JSON object per line.
     pub log_path: Option<PathBuf>,
     /// Recording of every received frame (8-byte big-endian µs timestamp + frame), both ways.
@@ -45,6 +47,8 @@ pub struct SigningConfig {
 
 /// Most STATUSTEXT alerts per second: a violation flood must not flood the pilot's link too.
 const MAX_ALERTS_PER_SECOND: u64 = 5;
+/// Most violation lines printed on stderr per second (all go to the log and the counters).
+const MAX_PRINTS_PER_SECOND: u64 = 20;
 /// Most signing rejections written to the violations log (all are counted).
 const MAX_LOGGED_SIG_REJECTS: u64 = 100;
 
@@ -120,6 +124,8 @@ struct Core {
     /// (0 = not seen yet); alerts are sent in the vehicle's name so GCSs display them.
     vehicle_ids: AtomicU64,
     alert_window: Mutex<(Instant, u64)>,
+    print_violations: bool,
+    print_window: Mutex<(Instant, u64)>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -131,18 +137,26 @@ fn unix_micros() -> u64 {
 }
 
 /// Accepted byte ranges of one datagram; contiguous ranges merge so that a datagram whose frames
-/// are all accepted is sent once, exactly as received.
+/// are all accepted is sent once, exactly as received. The first range is stored inline: the
+/// common case (everything accepted) allocates nothing.
 #[derive(Default)]
 struct Ranges {
-    v: Vec<(usize, usize)>,
+    first: Option<(usize, usize)>,
+    more: Vec<(usize, usize)>,
 }
 
 impl Ranges {
     fn push(&mut self, a: usize, b: usize) {
-        match self.v.last_mut() {
+        let last = if self.more.is_empty() { self.first.as_mut() } else { self.more.last_mut() };
+        match last {
             Some(last) if last.1 == a => last.1 = b,
-            _ => self.v.push((a, b)),
+            Some(_) => self.more.push((a, b)),
+            None => self.first = Some((a, b)),
         }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &(usize, usize)> {
+        self.first.iter().chain(self.more.iter())
     }
 }
 
@@ -192,7 +206,7 @@ impl Core {
             }
         });
         let resign = side == Side::Gcs && self.signer.is_some();
-        for &(a, b) in &keep.v {
+        for &(a, b) in keep.iter() {
             self.forward(side, &d[a..b], resign);
         }
     }
@@ -279,6 +293,9 @@ impl Core {
                 self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(), "action": action,
                     "kind": "violation", "summary": f.summary, "sysid": fr.sysid(), "compid": fr.compid(),
                     "msgid": fr.msgid(), "frame": hex(bytes), "violation": f.record}));
+                if self.print_violations && within_rate(&self.print_window, MAX_PRINTS_PER_SECOND) {
+                    eprintln!("vouch mav guard: violation from {} ({action}): {}", side.as_str(), f.summary);
+                }
                 if self.alert_gcs {
                     self.alert(&f.summary);
                 }
@@ -319,16 +336,9 @@ impl Core {
     }
 
     fn alert(&self, summary: &str) {
-        {
-            let mut w = lock(&self.alert_window);
-            if w.0.elapsed().as_secs() >= 1 {
-                *w = (Instant::now(), 0);
-            }
-            if w.1 >= MAX_ALERTS_PER_SECOND {
-                self.counters.alerts_suppressed.fetch_add(1, Ordering::Relaxed);
-                return;
-            }
-            w.1 += 1;
+        if !within_rate(&self.alert_window, MAX_ALERTS_PER_SECOND) {
+            self.counters.alerts_suppressed.fetch_add(1, Ordering::Relaxed);
+            return;
         }
         let packed = self.vehicle_ids.load(Ordering::Relaxed);
         let (sysid, compid) = if packed == 0 { (1, 1) } else { (((packed - 1) >> 8) as u8, (packed - 1) as u8) };
@@ -370,6 +380,16 @@ impl Core {
             alerts_suppressed: g(&c.alerts_suppressed),
         }
     }
+}
+
+/// Fixed one-second window rate limiter: true while fewer than `max` events happened in it.
+fn within_rate(window: &Mutex<(Instant, u64)>, max: u64) -> bool {
+    let mut w = lock(window);
+    if w.0.elapsed().as_secs() >= 1 {
+        *w = (Instant::now(), 0);
+    }
+    w.1 += 1;
+    w.1 <= max
 }
 
 fn hex(b: &[u8]) -> String {
@@ -427,6 +447,8 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
         own_seq: AtomicU8::new(0),
         vehicle_ids: AtomicU64::new(0),
         alert_window: Mutex::new((Instant::now(), 0)),
+        print_violations: cfg.print_violations,
+        print_window: Mutex::new((Instant::now(), 0)),
     });
     let stop = Arc::new(AtomicBool::new(false));
     let mut threads = vec![];

@@ -64,42 +64,53 @@ fn from_storage(ss: &libc::sockaddr_storage) -> Option<SocketAddr> {
     }
 }
 
-/// Receive buffers for one reader thread.
+/// Receive buffers for one reader thread. The message headers point into the buffers; all of
+/// them are heap allocations owned here and never resized, so the pointers stay valid when the
+/// struct moves, and a receive allocates nothing.
 pub struct RecvBatch {
     bufs: Vec<u8>,
     addrs: Vec<libc::sockaddr_storage>,
+    iovs: Vec<libc::iovec>,
+    hdrs: Vec<libc::mmsghdr>,
     lens: Vec<(usize, bool)>,
 }
 
 impl RecvBatch {
     pub fn new() -> Self {
-        // SAFETY: zeroed sockaddr_storage is a valid "unspecified" address.
-        RecvBatch { bufs: vec![0; BATCH * SLOT], addrs: vec![unsafe { zeroed() }; BATCH], lens: Vec::with_capacity(BATCH) }
+        let mut bufs = vec![0u8; BATCH * SLOT];
+        // SAFETY: zeroed sockaddr_storage / mmsghdr are valid plain data.
+        let mut addrs: Vec<libc::sockaddr_storage> = vec![unsafe { zeroed() }; BATCH];
+        let mut iovs: Vec<libc::iovec> = (0..BATCH)
+            .map(|i| libc::iovec { iov_base: bufs[i * SLOT..].as_mut_ptr().cast(), iov_len: SLOT })
+            .collect();
+        let mut hdrs: Vec<libc::mmsghdr> = (0..BATCH).map(|_| unsafe { zeroed() }).collect();
+        for i in 0..BATCH {
+            hdrs[i].msg_hdr.msg_name = (&mut addrs[i] as *mut libc::sockaddr_storage).cast();
+            hdrs[i].msg_hdr.msg_iov = &mut iovs[i];
+            hdrs[i].msg_hdr.msg_iovlen = 1;
+        }
+        RecvBatch { bufs, addrs, iovs, hdrs, lens: Vec::with_capacity(BATCH) }
     }
 
     /// Blocks (up to the socket's read timeout) for at least one datagram, then takes all that
     /// are queued, up to BATCH. Returns how many arrived.
     pub fn recv(&mut self, sock: &UdpSocket) -> io::Result<usize> {
-        let mut iovs: Vec<libc::iovec> = (0..BATCH)
-            .map(|i| libc::iovec { iov_base: self.bufs[i * SLOT..].as_mut_ptr().cast(), iov_len: SLOT })
-            .collect();
-        // SAFETY: mmsghdr is plain data; every pointer set below stays valid during the call.
-        let mut hdrs: Vec<libc::mmsghdr> = (0..BATCH).map(|_| unsafe { zeroed() }).collect();
-        for i in 0..BATCH {
-            hdrs[i].msg_hdr.msg_name = (&mut self.addrs[i] as *mut libc::sockaddr_storage).cast();
-            hdrs[i].msg_hdr.msg_namelen = size_of::<libc::sockaddr_storage>() as libc::socklen_t;
-            hdrs[i].msg_hdr.msg_iov = &mut iovs[i];
-            hdrs[i].msg_hdr.msg_iovlen = 1;
+        debug_assert_eq!(self.iovs.len(), BATCH);
+        for h in &mut self.hdrs {
+            // the kernel overwrites these on every call
+            h.msg_hdr.msg_namelen = size_of::<libc::sockaddr_storage>() as libc::socklen_t;
+            h.msg_hdr.msg_flags = 0;
+            h.msg_len = 0;
         }
-        // SAFETY: fd is an open UDP socket; hdrs/iovs/bufs/addrs outlive the call.
+        // SAFETY: fd is an open UDP socket; headers point into buffers owned by self.
         let n = unsafe {
-            libc::recvmmsg(sock.as_raw_fd(), hdrs.as_mut_ptr(), BATCH as libc::c_uint, libc::MSG_WAITFORONE, std::ptr::null_mut())
+            libc::recvmmsg(sock.as_raw_fd(), self.hdrs.as_mut_ptr(), BATCH as libc::c_uint, libc::MSG_WAITFORONE, std::ptr::null_mut())
         };
         if n < 0 {
             return Err(io::Error::last_os_error());
         }
         self.lens.clear();
-        for h in &hdrs[..n as usize] {
+        for h in &self.hdrs[..n as usize] {
             let truncated = h.msg_hdr.msg_flags & libc::MSG_TRUNC != 0;
             self.lens.push(((h.msg_len as usize).min(SLOT), truncated));
         }
@@ -126,6 +137,9 @@ struct SendQueue {
     active: bool,
     data: Vec<u8>,
     items: Vec<Pending>,
+    /// Scratch for `sendmmsg`, kept between flushes so a flush allocates nothing once warm.
+    iovs: Vec<libc::iovec>,
+    hdrs: Vec<libc::mmsghdr>,
 }
 
 thread_local! {
@@ -163,13 +177,14 @@ pub fn flush() {
             q.data.clear();
             return;
         }
-        let SendQueue { data, items, .. } = &mut *q;
-        let mut iovs: Vec<libc::iovec> = items
-            .iter()
-            .map(|p| libc::iovec { iov_base: data[p.start..].as_mut_ptr().cast(), iov_len: p.end - p.start })
-            .collect();
+        let SendQueue { data, items, iovs, hdrs, .. } = &mut *q;
+        iovs.clear();
+        iovs.extend(
+            items.iter().map(|p| libc::iovec { iov_base: data[p.start..].as_mut_ptr().cast(), iov_len: p.end - p.start }),
+        );
+        hdrs.clear();
         // SAFETY: plain data, pointers into `items`/`iovs`/`data` that live through the calls.
-        let mut hdrs: Vec<libc::mmsghdr> = (0..items.len()).map(|_| unsafe { zeroed() }).collect();
+        hdrs.extend((0..items.len()).map(|_| unsafe { zeroed::<libc::mmsghdr>() }));
         for (i, p) in items.iter_mut().enumerate() {
             hdrs[i].msg_hdr.msg_name = (&mut p.to as *mut libc::sockaddr_storage).cast();
             hdrs[i].msg_hdr.msg_namelen = p.to_len;
