@@ -1,4 +1,7 @@
-//! Embeds the default MAVLink dialect (ardupilotmega.xml and its includes) into the library.
+//! Embeds the default MAVLink dialect (ardupilotmega.xml and its includes) into the library, as a
+//! digest: the XML is read here, at build time, with the same reader the library uses for
+//! `--dialect` (`src/dialect/raw.rs`), and only the records (messages, fields, enums) are embedded.
+//! Start-up then builds no XML DOM, which is what kept the guard's peak RSS above 8 MB.
 //!
 //! The XML is not committed to this repository: it is taken from the `mavlink` crate package that
 //! cargo downloaded as a build-dependency (`mavlink/message_definitions/v1.0/` inside the package).
@@ -9,6 +12,10 @@
 use std::env;
 use std::fs;
 use std::path::{Path, PathBuf};
+
+#[path = "src/dialect/raw.rs"]
+#[allow(dead_code)]
+mod raw;
 
 const ROOT: &str = "ardupilotmega.xml";
 const REL: &str = "mavlink/message_definitions/v1.0";
@@ -71,6 +78,7 @@ fn collect(dir: &Path, name: &str, out: &mut Vec<(String, String)>) {
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=src/dialect/raw.rs");
     println!("cargo:rerun-if-env-changed=VOUCH_MAV_DEFINITIONS");
     let mut dirs = Vec::new();
     if let Ok(d) = env::var("VOUCH_MAV_DEFINITIONS") {
@@ -86,20 +94,29 @@ fn main() {
             break;
         }
     }
+    let mut digest = String::new();
     if files.is_empty() {
         println!("cargo:warning=vouch-mav: no MAVLink definitions found; the default dialect will be unavailable (use --dialect)");
+    } else {
+        let read = |name: &str| -> Result<String, String> {
+            files.iter().find(|(n, _)| n == name).map(|(_, t)| t.clone()).ok_or_else(|| format!("include {name} not found"))
+        };
+        match raw::read_xml(ROOT, &read).ok().and_then(|d| raw::write_digest(&d)) {
+            Some(d) => digest = d,
+            None => println!("cargo:warning=vouch-mav: the MAVLink definitions in {origin} could not be digested; the default dialect will be unavailable (use --dialect)"),
+        }
     }
     let out_dir = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
-    let mut table = String::from("/// (file name, XML text) of the embedded default dialect.\npub static EMBEDDED_XML: &[(&str, &str)] = &[\n");
-    for (name, text) in &files {
-        let path = out_dir.join(name);
-        fs::write(&path, text).expect("write definition into OUT_DIR");
-        table.push_str(&format!(
-            "    ({name:?}, include_str!({:?})),\n",
-            path.display().to_string()
-        ));
-    }
-    table.push_str("];\n");
-    table.push_str(&format!("/// Where the embedded definitions were taken from at build time.\npub static EMBEDDED_ORIGIN: &str = {origin:?};\n"));
+    let digest_path = out_dir.join("ardupilotmega.digest");
+    fs::write(&digest_path, &digest).expect("write dialect digest into OUT_DIR");
+    let table = format!(
+        "/// Records of the embedded default dialect (see `raw.rs` for the format; empty if none).\n\
+         pub static EMBEDDED_DIGEST: &str = include_str!({:?});\n\
+         /// Root file name of the embedded dialect.\n\
+         pub static EMBEDDED_ROOT: &str = {ROOT:?};\n\
+         /// Where the embedded definitions were taken from at build time.\n\
+         pub static EMBEDDED_ORIGIN: &str = {origin:?};\n",
+        digest_path.display().to_string()
+    );
     fs::write(out_dir.join("embedded_dialect.rs"), table).expect("write embedded_dialect.rs");
 }

@@ -5,7 +5,6 @@
 
 struct stub_point waypoints[NB_WAYPOINT];
 
-float WaypointAlt(uint8_t wp) { return wp < NB_WAYPOINT ? waypoints[wp].a : 0.f; }
 bool NavApproaching(uint8_t wp, float t) { (void)wp; (void)t; return false; }
 bool NavApproachingFrom(uint8_t wp, uint8_t from, float t) { (void)wp; (void)from; (void)t; return false; }
 void NavSetMaxSpeed(float s) { (void)s; }

@@ -3,6 +3,7 @@
 //! Everything the hot path needs is precomputed here: wire offsets, CRC_EXTRA, payload lengths and
 //! a dense id → message table, so decoding a frame is a table lookup plus bounded byte reads.
 
+pub mod raw;
 mod xml;
 
 pub use xml::{embedded_origin, load_dialect_file, load_dialect_from, DialectError};

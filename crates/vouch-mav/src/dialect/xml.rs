@@ -1,8 +1,10 @@
-//! XML front of the dialect loader (roxmltree): root file plus relative `<include>`s.
+//! Dialect loading: XML files (`--dialect`, through `raw.rs` and roxmltree) or the digest of the
+//! default dialect that `build.rs` produced from the embedded XML; both end in `from_raw`.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use super::raw::{read_digest, read_xml, RawDialect, RawError, RawMessage};
 use super::{compute_crc_extra, Dialect, EnumDef, FieldDef, MessageDef, PrimType};
 
 include!(concat!(env!("OUT_DIR"), "/embedded_dialect.rs"));
@@ -61,28 +63,16 @@ pub fn load_dialect_file(path: &Path) -> Result<Dialect, DialectError> {
 }
 
 pub(super) fn load_embedded() -> Result<Dialect, DialectError> {
-    if EMBEDDED_XML.is_empty() {
+    if EMBEDDED_DIGEST.is_empty() {
         return Err(DialectError::NoEmbedded);
     }
-    let read = |name: &str| -> Result<String, DialectError> {
-        EMBEDDED_XML
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, t)| t.to_string())
-            .ok_or_else(|| DialectError::MissingInclude {
-                name: name.to_string(),
-                from: "embedded".into(),
-            })
-    };
-    load_dialect_from(EMBEDDED_XML[0].0, &read)
-}
-
-#[derive(Default)]
-struct Acc {
-    messages: Vec<MessageDef>,
-    enums: Vec<EnumDef>,
-    enum_index: HashMap<String, usize>,
-    seen_files: Vec<String>,
+    let raw = read_digest(EMBEDDED_DIGEST).map_err(|line| DialectError::Xml {
+        file: "embedded dialect digest".into(),
+        line: line as u32,
+        col: 1,
+        message: "unreadable record (the build script and the loader disagree)".into(),
+    })?;
+    from_raw(EMBEDDED_ROOT, raw)
 }
 
 /// Loads `root` through `read` (file name → text), following includes depth-first.
@@ -90,137 +80,49 @@ pub fn load_dialect_from(
     root: &str,
     read: &dyn Fn(&str) -> Result<String, DialectError>,
 ) -> Result<Dialect, DialectError> {
-    let mut acc = Acc::default();
-    load_one(root, read, &mut acc)?;
-    let name = root.trim_end_matches(".xml").to_string();
-    Ok(Dialect::build(name, acc.messages, acc.enums))
-}
-
-fn load_one(
-    file: &str,
-    read: &dyn Fn(&str) -> Result<String, DialectError>,
-    acc: &mut Acc,
-) -> Result<(), DialectError> {
-    if acc.seen_files.iter().any(|f| f == file) {
-        return Ok(());
-    }
-    acc.seen_files.push(file.to_string());
-    let text = read(file)?;
-    let doc = roxmltree::Document::parse(&text).map_err(|e| {
-        let pos = e.pos();
-        DialectError::Xml {
-            file: file.to_string(),
-            line: pos.row,
-            col: pos.col,
-            message: e.to_string(),
-        }
+    let raw = read_xml(root, read).map_err(|e| match e {
+        RawError::Read(e) => e,
+        RawError::Xml { file, line, col, message } => DialectError::Xml { file, line, col, message },
+        RawError::Message { file, message, problem } => DialectError::Message { file, message, problem },
     })?;
-    let root = doc.root_element();
-    for inc in root.children().filter(|n| n.has_tag_name("include")) {
-        let name = inc.text().unwrap_or("").trim();
-        if !name.is_empty() {
-            load_one(name, read, acc)?;
-        }
-    }
-    for enums in root.children().filter(|n| n.has_tag_name("enums")) {
-        for e in enums.children().filter(|n| n.has_tag_name("enum")) {
-            read_enum(e, acc);
-        }
-    }
-    for msgs in root.children().filter(|n| n.has_tag_name("messages")) {
-        for m in msgs.children().filter(|n| n.has_tag_name("message")) {
-            let def = read_message(file, m)?;
-            acc.messages.retain(|old| old.id != def.id);
-            acc.messages.push(def);
-        }
-    }
-    Ok(())
+    from_raw(root, raw)
 }
 
-fn read_enum(e: roxmltree::Node, acc: &mut Acc) {
-    let Some(name) = e.attribute("name") else {
-        return;
-    };
-    let bitmask = e.attribute("bitmask") == Some("true");
-    let idx = *acc.enum_index.entry(name.to_string()).or_insert_with(|| {
-        acc.enums.push(EnumDef {
-            name: name.to_string(),
-            bitmask,
-            entries: Vec::new(),
-        });
-        acc.enums.len() - 1
-    });
-    // Entries without a value continue from the previous one (MAVLink generator convention).
-    let mut next = acc.enums[idx]
-        .entries
-        .last()
-        .map(|(_, v)| v + 1)
-        .unwrap_or(0);
-    for entry in e.children().filter(|n| n.has_tag_name("entry")) {
-        let Some(en) = entry.attribute("name") else {
-            continue;
-        };
-        let value = entry.attribute("value").and_then(parse_int).unwrap_or(next);
-        next = value + 1;
-        acc.enums[idx].entries.push((en.to_string(), value));
+/// Raw records → dialect tables (wire order, offsets, CRC_EXTRA): shared by XML and digest.
+fn from_raw(root: &str, raw: RawDialect) -> Result<Dialect, DialectError> {
+    let mut messages = Vec::with_capacity(raw.messages.len());
+    for m in raw.messages {
+        messages.push(finish_message(m)?);
     }
+    let enums = raw
+        .enums
+        .into_iter()
+        .map(|e| EnumDef { name: e.name, bitmask: e.bitmask, entries: e.entries })
+        .collect();
+    let name = root.trim_end_matches(".xml").to_string();
+    Ok(Dialect::build(name, messages, enums))
 }
 
-fn parse_int(s: &str) -> Option<u64> {
-    let s = s.trim();
-    if let Some(h) = s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        u64::from_str_radix(h, 16).ok()
-    } else if let Some(b) = s.strip_prefix("0b") {
-        u64::from_str_radix(b, 2).ok()
-    } else if let Some(p) = s.strip_prefix("2**") {
-        p.parse::<u32>().ok().and_then(|p| 1u64.checked_shl(p))
-    } else {
-        s.parse().ok()
-    }
-}
-
-fn read_message(file: &str, m: roxmltree::Node) -> Result<MessageDef, DialectError> {
-    let name = m.attribute("name").unwrap_or("").to_string();
-    let bad = |problem: String| DialectError::Message {
-        file: file.to_string(),
-        message: name.clone(),
-        problem,
-    };
-    let id: u32 = m
-        .attribute("id")
-        .and_then(|s| s.trim().parse().ok())
-        .ok_or_else(|| bad("missing or invalid id".into()))?;
+fn finish_message(m: RawMessage) -> Result<MessageDef, DialectError> {
+    let RawMessage { id, name, file, fields: raw_fields } = m;
+    let bad = |problem: String| DialectError::Message { file: file.clone(), message: name.clone(), problem };
     let mut base = Vec::new();
     let mut ext = Vec::new();
-    let mut in_ext = false;
-    for c in m.children().filter(|n| n.is_element()) {
-        if c.has_tag_name("extensions") {
-            in_ext = true;
-            continue;
-        }
-        if !c.has_tag_name("field") {
-            continue;
-        }
-        let fname = c
-            .attribute("name")
-            .ok_or_else(|| bad("field without name".into()))?;
-        let ty = c
-            .attribute("type")
-            .ok_or_else(|| bad(format!("field {fname} without type")))?;
+    for f in raw_fields {
         let (prim, array_len) =
-            parse_type(ty).ok_or_else(|| bad(format!("field {fname}: unknown type {ty}")))?;
-        let f = FieldDef {
-            name: fname.to_string(),
+            parse_type(&f.ty).ok_or_else(|| bad(format!("field {}: unknown type {}", f.name, f.ty)))?;
+        let def = FieldDef {
+            name: f.name,
             ty: prim,
             array_len,
             offset: 0,
-            is_extension: in_ext,
-            enum_name: c.attribute("enum").map(str::to_string),
+            is_extension: f.is_extension,
+            enum_name: f.enum_name,
         };
-        if in_ext {
-            ext.push(f)
+        if def.is_extension {
+            ext.push(def)
         } else {
-            base.push(f)
+            base.push(def)
         }
     }
     // Wire order: base fields by element size, largest first; stable, so ties keep XML order.

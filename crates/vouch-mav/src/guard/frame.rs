@@ -101,25 +101,39 @@ pub enum Piece {
     Garbage(usize, usize),
 }
 
-/// Splits a UDP datagram into frames and garbage. A datagram is self-contained in MAVLink over
-/// UDP, so a truncated frame at its end is garbage, not something to wait for.
+/// Splits a UDP datagram into frames and garbage by length only. A datagram is self-contained in
+/// MAVLink over UDP, so a truncated frame at its end is garbage, not something to wait for.
 pub fn split_datagram(buf: &[u8], mut out: impl FnMut(Piece)) {
+    split_datagram_resync(buf, |p| {
+        out(p);
+        true
+    });
+}
+
+/// Splits a UDP datagram, letting the caller reject a length-cut candidate: `out` returns `false`
+/// for a `Piece::Frame` that is not a frame (bad checksum, …). The scan then resumes at the byte
+/// after the rejected candidate's start marker, not after its claimed length, so a corrupt frame
+/// cannot swallow the frames behind it; the rejected bytes are reported again, as garbage or
+/// inside later pieces. Garbage pieces cover exactly the bytes of no accepted frame; the return
+/// value of `out` for them is ignored.
+pub fn split_datagram_resync(buf: &[u8], mut out: impl FnMut(Piece) -> bool) {
     let mut i = 0;
     let mut junk_start: Option<usize> = None;
     while i < buf.len() {
-        match frame_len(&buf[i..]) {
-            Some(n) if i + n <= buf.len() => {
-                if let Some(s) = junk_start.take() {
-                    out(Piece::Garbage(s, i));
-                }
-                out(Piece::Frame(i, i + n));
-                i += n;
+        if let Some(n) = frame_len(&buf[i..]).filter(|&n| i + n <= buf.len()) {
+            // Garbage before a candidate is reported first so pieces come out in buffer order;
+            // if the candidate is then rejected, its start simply extends the next garbage run.
+            let pending = junk_start.take();
+            if let Some(s) = pending {
+                out(Piece::Garbage(s, i));
             }
-            _ => {
-                junk_start.get_or_insert(i);
-                i += 1;
+            if out(Piece::Frame(i, i + n)) {
+                i += n;
+                continue;
             }
         }
+        junk_start.get_or_insert(i);
+        i += 1;
     }
     if let Some(s) = junk_start {
         out(Piece::Garbage(s, buf.len()));

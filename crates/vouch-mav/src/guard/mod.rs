@@ -79,7 +79,8 @@ pub struct Finding {
 pub enum Verdict {
     /// Part of no tracked protocol, or a correct step of one: forward.
     Accept,
-    /// Not a valid frame (bad checksum, unknown incompatibility flag, …): dropped in enforce mode.
+    /// Not a valid frame (bad checksum, unknown incompatibility flag, …): the proxy treats its
+    /// bytes as garbage and rescans after its start marker (dropped in enforce mode).
     Malformed(&'static str),
     Violation(Finding),
 }
@@ -88,6 +89,14 @@ pub enum Verdict {
 /// frame of both directions in arrival order.
 pub trait Inspector: Send {
     fn inspect(&mut self, from: Side, frame: FrameRef<'_>) -> Verdict;
+
+    /// Whether a length-cut candidate is an intact frame (checksum, incompatibility flags). The
+    /// proxy asks this before checking signatures, so that a corrupt frame is resynchronised over
+    /// rather than judged; without signing, [`Verdict::Malformed`] from `inspect` has the same
+    /// effect. The default trusts the length cut (no dialect, no checksum knowledge).
+    fn is_intact(&mut self, _frame: FrameRef<'_>) -> bool {
+        true
+    }
 }
 
 /// The do-nothing inspector: the guard then behaves as a plain (optionally signing) relay.

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use super::{Finding, FrameRef, Inspector, Reply, Side, Verdict};
-use crate::codec::FrameSplitter;
+use crate::codec::{parse_frame, FrameSplitter, Parse};
 use crate::dialect::{load_dialect_file, Dialect};
 use crate::monitor::{self, Monitor, Origin};
 
@@ -25,6 +25,10 @@ fn now_us() -> u64 {
 }
 
 impl Inspector for MonitorInspector {
+    fn is_intact(&mut self, frame: FrameRef<'_>) -> bool {
+        matches!(parse_frame(frame.bytes, &self.dialect, true), Parse::Frame(f) if f.bytes.len() == frame.bytes.len())
+    }
+
     fn inspect(&mut self, from: Side, frame: FrameRef<'_>) -> Verdict {
         let bytes = frame.bytes;
         let mut pos = 0;

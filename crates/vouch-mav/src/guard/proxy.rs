@@ -13,7 +13,7 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 use serde::Serialize;
 use serde_json::json;
 
-use super::frame::{split_datagram, FrameRef, Piece};
+use super::frame::{split_datagram, split_datagram_resync, FrameRef, Piece};
 use super::link::{self, Egress, Origin, Received};
 use super::messages::{encode_v2, statustext, SEVERITY_WARNING};
 use super::{Endpoint, Inspector, Reply, Side, Verdict};
@@ -160,6 +160,16 @@ impl Ranges {
     }
 }
 
+/// What [`Core::admit`] decided for one candidate frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Admission {
+    Forward,
+    Drop,
+    /// Corrupt: not a frame at all. Datagrams resynchronise after its start marker; streams
+    /// (cut by length) forward it in monitor mode like other junk.
+    NotAFrame,
+}
+
 impl Core {
     fn out(&self, side: Side) -> Option<&Arc<Egress>> {
         self.egress[side.index()].get()
@@ -169,8 +179,16 @@ impl Core {
         match rx {
             Received::Datagram(d) => self.on_datagram(side, origin, d),
             Received::StreamFrame(f) => {
-                if self.admit(side, origin, f) {
-                    self.forward(side, f, true);
+                // Streams are cut by length only (see Known limits): a candidate that is not a
+                // frame is handled like a malformed frame.
+                match self.admit(side, origin, f) {
+                    Admission::Forward => self.forward(side, f, true),
+                    Admission::Drop => {}
+                    Admission::NotAFrame => {
+                        if self.junk_passes(side) {
+                            self.forward(side, f, false);
+                        }
+                    }
                 }
             }
             Received::Oversized(n) => {
@@ -178,31 +196,38 @@ impl Core {
             }
             Received::StreamJunk(j) => {
                 self.counters.junk_bytes.fetch_add(j.len() as u64, Ordering::Relaxed);
-                if self.junk_passes() {
+                if self.junk_passes(side) {
                     self.forward(side, j, false);
                 }
             }
         }
     }
 
-    /// Monitor mode without signing is a transparent relay: bytes that are no frame pass as well.
-    fn junk_passes(&self) -> bool {
-        !self.enforce && self.verifier.is_none()
+    /// Monitor mode is a transparent relay: bytes that are no frame pass as well, except from the
+    /// GCS when signing is checked (only authenticated frames may come in from there).
+    fn junk_passes(&self, side: Side) -> bool {
+        !self.enforce && (self.verifier.is_none() || side == Side::Vehicle)
     }
 
     fn on_datagram(&self, side: Side, origin: Origin, d: &[u8]) {
         let mut keep = Ranges::default();
-        split_datagram(d, |p| match p {
-            Piece::Frame(a, b) => {
-                if self.admit(side, origin, &d[a..b]) {
+        // A candidate the inspector finds corrupt is bytes, not a frame: the splitter rescans
+        // from the byte after its start marker, so it cannot swallow the frames behind it.
+        split_datagram_resync(d, |p| match p {
+            Piece::Frame(a, b) => match self.admit(side, origin, &d[a..b]) {
+                Admission::Forward => {
                     keep.push(a, b);
+                    true
                 }
-            }
+                Admission::Drop => true,
+                Admission::NotAFrame => false,
+            },
             Piece::Garbage(a, b) => {
                 self.counters.junk_bytes.fetch_add((b - a) as u64, Ordering::Relaxed);
-                if self.junk_passes() {
+                if self.junk_passes(side) {
                     keep.push(a, b);
                 }
+                true
             }
         });
         let resign = side == Side::Gcs && self.signer.is_some();
@@ -239,18 +264,25 @@ impl Core {
         out.send_all(bytes);
     }
 
-    /// Decides whether one complete frame goes on. Side effects: counters, log, tlog, alerts,
-    /// enforce-mode answers.
-    fn admit(&self, side: Side, origin: Origin, bytes: &[u8]) -> bool {
+    /// Decides whether one length-cut candidate frame goes on. Side effects: counters, log, tlog,
+    /// alerts, enforce-mode answers. `NotAFrame` (bad checksum, unknown incompatibility flag) is
+    /// counted as malformed and leaves the forwarding of its bytes to the caller (as garbage).
+    fn admit(&self, side: Side, origin: Origin, bytes: &[u8]) -> Admission {
         let c = &self.counters;
+        let Some(fr) = FrameRef::new(bytes) else { return Admission::NotAFrame };
+        let verify = if side == Side::Gcs { self.verifier.as_ref() } else { None };
+        // With signing, integrity is checked before the signature so that a corrupt frame is
+        // resynchronised over (not counted as a forgery); otherwise the inspector checks it.
+        if verify.is_some() && !lock(&self.inspector).is_intact(fr) {
+            return self.not_a_frame();
+        }
         c.rx[side.index()].fetch_add(1, Ordering::Relaxed);
-        let Some(fr) = FrameRef::new(bytes) else { return !self.enforce };
         if let Some(t) = &self.tlog {
             let mut t = lock(t);
             let _ = t.write_all(&unix_micros().to_be_bytes()).and_then(|_| t.write_all(bytes));
         }
-        if side == Side::Gcs {
-            if let Some(v) = &self.verifier {
+        {
+            if let Some(v) = verify {
                 if let Err(why) = lock(v).check(&fr, timestamp_now()) {
                     let n = c.signing_rejected.fetch_add(1, Ordering::Relaxed);
                     if n < MAX_LOGGED_SIG_REJECTS {
@@ -258,14 +290,14 @@ impl Core {
                             "kind": "signing", "reason": why.as_str(), "sysid": fr.sysid(), "compid": fr.compid(),
                             "msgid": fr.msgid()}));
                     }
-                    return false;
+                    return Admission::Drop;
                 }
             }
         }
         if fr.is_v2() && fr.msgid() == SETUP_SIGNING_ID {
             // It carries a secret key: never forwarded, whatever the mode (MAVLink signing spec).
             c.setup_signing_dropped.fetch_add(1, Ordering::Relaxed);
-            return false;
+            return Admission::Drop;
         }
         if side == Side::Vehicle && fr.msgid() == 0 && self.vehicle_ids.load(Ordering::Relaxed) == 0 {
             let packed = (u64::from(fr.sysid()) << 8 | u64::from(fr.compid())) + 1;
@@ -275,17 +307,12 @@ impl Core {
         match verdict {
             Verdict::Accept => {
                 c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
-                true
+                Admission::Forward
             }
             Verdict::Malformed(_) => {
-                c.malformed.fetch_add(1, Ordering::Relaxed);
-                if self.enforce {
-                    c.dropped_malformed.fetch_add(1, Ordering::Relaxed);
-                    false
-                } else {
-                    c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
-                    true
-                }
+                // counted in rx above, but it is no frame: undo so rx counts frames only
+                c.rx[side.index()].fetch_sub(1, Ordering::Relaxed);
+                self.not_a_frame()
             }
             Verdict::Violation(f) => {
                 c.violations.fetch_add(1, Ordering::Relaxed);
@@ -304,13 +331,21 @@ impl Core {
                     for r in &f.replies {
                         self.send_reply(r, side, origin);
                     }
-                    false
+                    Admission::Drop
                 } else {
                     c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
-                    true
+                    Admission::Forward
                 }
             }
         }
+    }
+
+    fn not_a_frame(&self) -> Admission {
+        self.counters.malformed.fetch_add(1, Ordering::Relaxed);
+        if self.enforce {
+            self.counters.dropped_malformed.fetch_add(1, Ordering::Relaxed);
+        }
+        Admission::NotAFrame
     }
 
     /// Sends a guard-made message. An answer to the side the violating frame came from goes back

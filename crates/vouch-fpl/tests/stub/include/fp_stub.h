@@ -45,6 +45,8 @@ void nav_on_exit_block(uint8_t block_id);
 #define Goto(x) { goto label_ ## x; }
 #define Return(x) nav_return(x)
 #define NavBlockTime() (block_time)
+/* 2024-10: address-of usable inside flight-plan expressions. */
+#define Ptr(x) (&(x))
 
 /* Used by the sector functions of the header. */
 float WaypointX(uint8_t wp);

@@ -15,10 +15,11 @@
 #define WE 1
 #define Goto3D(r) { nav_goto3d((float)(r)); }
 
-struct stub_point { float x, y, a; };
+struct stub_point { float x, y, a, z; }; /* z: some plan headers read it */
 extern struct stub_point waypoints[];
 
-float WaypointAlt(uint8_t wp);
+/* An lvalue, as in Paparazzi (plans assign `WaypointAlt(WP_X) = ...`). */
+#define WaypointAlt(wp) (waypoints[wp].a)
 bool NavApproaching(uint8_t wp, float t);
 bool NavApproachingFrom(uint8_t wp, uint8_t from, float t);
 void NavSetMaxSpeed(float s);

@@ -3,6 +3,7 @@
 #define VOUCH_STUB_STD_H
 #include <stdint.h>
 #include <stdbool.h>
+#include <math.h>
 #ifndef TRUE
 #define TRUE true
 #endif
