@@ -33,7 +33,8 @@ pub enum FplCmd {
         /// Output header (default: standard output)
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Also write the stage index dump (XML) used by the ground station
+        /// Also write upstream's dump (XML): the expanded plan with numbered blocks and stages, and
+        /// the stage index used by the ground station
         #[arg(long)]
         dump: Option<PathBuf>,
         /// Emit the instrumented flavour (user C wrapped in FP_C/FP_X/FP_V/FP_I for the stub runtime)

@@ -12,6 +12,8 @@
 #ifndef VOUCH_PAPARAZZI_ENV_H
 #define VOUCH_PAPARAZZI_ENV_H
 #include "std.h"
+/* The runtime first, so that the Return override below is the one in force. */
+#include "fp_stub.h"
 
 float fp_env_any(void);
 float fp_env_call(int unused, ...);
@@ -275,6 +277,7 @@ extern int autopilot_mode_auto2, autopilot_motors_on;
 #define PolySurveySweepNum 1
 #define TAG_TRACKING_COORD_TO_M 0.001f
 #define DegOfRad(x) ((x) * (180. / 3.14159265358979323846))
+
 /* Guidance-vector-field parameter structures. */
 extern struct fp_env_gvf_ellipse_par { float a, alpha, b; } gvf_ellipse_par;
 extern struct fp_env_gvf_line_par { float heading; } gvf_line_par;
@@ -283,9 +286,12 @@ extern struct fp_env_gvf_ellipse3d_par { float alpha, r, zh, zl; } gvf_parametri
 extern struct fp_env_gvf_lissajous_par { float alpha, cx, cy, cz, dx, dy, dz, wx, wy, wz; } gvf_parametric_3d_lissajous_par;
 extern struct fp_env_gvf_segment_par { float d1, d2; } gvf_segment_par;
 extern struct fp_env_gvf_sin_par { float A, alpha, off, w; } gvf_sin_par;
+
 /* One corpus plan (tcas.xml) calls `Return()` from its own C text: an empty argument means 0. */
 #undef Return
 #define Return(...) nav_return((uint8_t)(__VA_ARGS__ + 0))
+
+/* Further module functions (same two shapes as above). */
 #define AirbrakesOff() FP_ENV_FN
 #define AirbrakesOn() FP_ENV_FN
 #define CloseRadAngles(...) fp_env_call(0, __VA_ARGS__)
@@ -320,6 +326,9 @@ extern struct fp_env_gvf_sin_par { float A, alpha, off, w; } gvf_sin_par;
 #define snav_init(...) fp_env_call(0, __VA_ARGS__)
 #define snav_on_time(...) fp_env_call(0, __VA_ARGS__)
 #define snav_route() FP_ENV_FN
+
+/* Further airframe constants (any value: only their use in the plans' C is compiled) and
+ * module variables. */
 #define CLIMB_AIRSPEED 1
 #define COMMAND_MOTOR_PUSHER 1
 #define GLIDE_PITCH 1
@@ -334,7 +343,7 @@ extern float ImageCapture_image_capture_run_status;
 #define LANDING_CIRCLE_RADIUS 1
 #define LOW_BAT_LEVEL 1
 #define MIN_CIRCLE_RADIUS 1
-#define M_PI 1.57079632679489661923
+#define M_PI 3.14159265358979323846
 #define M_PI_2 1.57079632679489661923
 #define NAVIGATION_FREQUENCY 1
 #define NOMINAL_AIRSPEED 1
