@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use guard_support::*;
 use vouch_mav::guard::messages::{command_ack, STATUSTEXT_ID};
-use vouch_mav::guard::{start, Endpoint, Finding, FrameRef, GuardConfig, Inspector, PassThrough, Side, SigningConfig, Verdict};
+use vouch_mav::guard::{standard_inspector, start, Endpoint, Finding, FrameRef, GuardConfig, Inspector, PassThrough, Side, SigningConfig, Verdict};
 use vouch_mav::signing::SigningKey;
 
 const WAIT: Duration = Duration::from_millis(600);
@@ -308,4 +308,82 @@ fn serial_endpoint_over_a_pseudo_terminal() {
     assert_eq!(recv_one(&gcs, WAIT), Some(vhb));
     let c = g.stop();
     assert_eq!((c.forwarded_to_vehicle, c.forwarded_to_gcs), (1, 1));
+}
+
+/// A corrupt frame whose length field claims the next frame's bytes must not swallow it: after
+/// the bad checksum the guard rescans from the byte after the corrupt frame's start marker.
+#[test]
+fn enforce_mode_resynchronises_after_a_corrupt_frame_in_a_datagram() {
+    let vehicle = udp();
+    let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
+    cfg.enforce = true;
+    let tlog = std::env::temp_dir().join(format!("vouch-guard-resync-{}.tlog", std::process::id()));
+    cfg.tlog_path = Some(tlog.clone());
+    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+    let g = start(cfg, inspector).expect("guard");
+    let hb = hex(GCS_HEARTBEAT);
+    assert_eq!(hb.len(), 21);
+    // length byte 9 → 30: the corrupt frame now claims 10 + 30 + 2 = 42 bytes, i.e. itself and
+    // the whole heartbeat behind it; its checksum cannot match
+    let mut corrupt = hb.clone();
+    corrupt[1] = 30;
+    let mut d = corrupt.clone();
+    d.extend(&hb);
+    d.extend(&hb);
+    let gcs = udp();
+    gcs.send_to(&d, g.gcs_addr.unwrap()).unwrap();
+    let mut both = hb.clone();
+    both.extend(&hb);
+    // both good heartbeats, byte for byte and contiguous (one datagram), nothing of the corrupt one
+    assert_eq!(drain(&vehicle, WAIT), vec![both]);
+    // a frame with a wrong checksum alone is dropped, not forwarded
+    let mut bad_crc = hb.clone();
+    bad_crc[20] ^= 0x01;
+    gcs.send_to(&bad_crc, g.gcs_addr.unwrap()).unwrap();
+    assert!(drain(&vehicle, Duration::from_millis(200)).is_empty());
+    let c = g.stop();
+    assert_eq!(c.frames_from_gcs, 2, "{c:?}");
+    assert_eq!(c.forwarded_to_vehicle, 2, "{c:?}");
+    assert_eq!((c.malformed, c.dropped_malformed), (2, 2), "{c:?}");
+    // the tlog holds the two good frames once each (8-byte timestamp + frame), no corrupt bytes
+    let t = std::fs::read(&tlog).expect("tlog written");
+    let _ = std::fs::remove_file(&tlog);
+    assert_eq!(t.len(), 2 * (8 + 21));
+    assert_eq!((&t[8..29], &t[37..58]), (&hb[..], &hb[..]));
+}
+
+/// The same over TCP: the stream reader resynchronises after a corrupt frame (enforce mode).
+#[test]
+fn tcp_stream_resynchronises_after_a_corrupt_frame() {
+    let vehicle = TcpListener::bind("127.0.0.1:0").unwrap();
+    let mut cfg = config("tcpin:127.0.0.1:0", &format!("tcpout:{}", vehicle.local_addr().unwrap()));
+    cfg.enforce = true;
+    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+    let g = start(cfg, inspector).expect("guard");
+    let (mut v, _) = vehicle.accept().unwrap();
+    v.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+    let mut gcs = TcpStream::connect(g.gcs_addr.unwrap()).unwrap();
+    std::thread::sleep(Duration::from_millis(150)); // let the accept thread register the client
+    let hb = hex(GCS_HEARTBEAT);
+    let mut corrupt = hb.clone();
+    corrupt[1] = 30; // claims itself and the heartbeat behind it
+    let mut stream = corrupt;
+    stream.extend(&hb);
+    stream.extend(&hb);
+    for chunk in stream.chunks(5) {
+        gcs.write_all(chunk).unwrap();
+        gcs.flush().unwrap();
+    }
+    let mut got = vec![];
+    let mut buf = [0u8; 512];
+    for _ in 0..10 {
+        if let Ok(n) = v.read(&mut buf) {
+            got.extend_from_slice(&buf[..n]);
+        }
+    }
+    let mut both = hb.clone();
+    both.extend(&hb);
+    assert_eq!(got, both);
+    let c = g.stop();
+    assert_eq!((c.forwarded_to_vehicle, c.dropped_malformed), (2, 1), "{c:?}");
 }

@@ -141,7 +141,7 @@ pub fn split_datagram_resync(buf: &[u8], mut out: impl FnMut(Piece) -> bool) {
 }
 
 /// Reassembles frames from a byte stream (TCP, serial) where reads cut frames anywhere.
-/// Bounded: holds at most one partial frame (≤ 280 bytes) between reads.
+/// Bounded: holds at most one partial frame candidate (≤ 280 bytes) between reads.
 #[derive(Default)]
 pub struct StreamSplitter {
     pending: Vec<u8>,
@@ -149,8 +149,19 @@ pub struct StreamSplitter {
 
 impl StreamSplitter {
     /// Appends `data` and emits every complete frame or garbage run now available, as slices of
-    /// an internal buffer (valid during the callback).
+    /// an internal buffer (valid during the callback). Frames are cut by length only.
     pub fn push(&mut self, data: &[u8], mut out: impl FnMut(&[u8], bool)) {
+        self.push_resync(data, |b, is_frame| {
+            out(b, is_frame);
+            true
+        });
+    }
+
+    /// Like [`push`](Self::push), but `out` may reject a frame candidate (returns `false`, e.g.
+    /// bad checksum): the scan then resumes at the byte after its start marker, as in
+    /// [`split_datagram_resync`], and the rejected bytes come out again as garbage or inside
+    /// later pieces.
+    pub fn push_resync(&mut self, data: &[u8], mut out: impl FnMut(&[u8], bool) -> bool) {
         self.pending.extend_from_slice(data);
         let buf = &self.pending;
         let mut i = 0;
@@ -167,8 +178,12 @@ impl StreamSplitter {
                     if let Some(s) = junk_start.take() {
                         out(&buf[s..i], false);
                     }
-                    out(&buf[i..i + n], true);
-                    i += n;
+                    if out(&buf[i..i + n], true) {
+                        i += n;
+                    } else {
+                        junk_start = Some(i);
+                        i += 1;
+                    }
                 }
                 // incomplete frame at the end: keep it for the next read
                 _ => break,
@@ -263,5 +278,47 @@ mod tests {
             sp.push(chunk, |b, is_frame| if is_frame { assert_eq!(b, &f[..]); frames += 1 } else { junk += b.len() });
         }
         assert_eq!((frames, junk), (2, 1));
+    }
+
+    /// A corrupt candidate that claims the next frame's bytes is rejected by the caller; both
+    /// splitters then find the frame behind it (the stream one whatever the read size).
+    #[test]
+    fn rejected_candidate_does_not_swallow_the_next_frame() {
+        let f = mission_count_frame();
+        let mut bad = f.clone();
+        bad[1] = 4 + 16; // claims 10 + 20 + 2 = 32 bytes: itself and the next frame
+        let mut d = bad.clone();
+        d.extend_from_slice(&f);
+        let crc_ok = |b: &[u8]| FrameRef::new(b).is_some_and(|fr| crc_accumulate(crc_of(fr.crc_covered()), 221) == fr.crc());
+        let mut frames = vec![];
+        split_datagram_resync(&d, |p| match p {
+            Piece::Frame(a, b) => {
+                let ok = crc_ok(&d[a..b]);
+                if ok {
+                    frames.push((a, b));
+                }
+                ok
+            }
+            Piece::Garbage(..) => true,
+        });
+        assert_eq!(frames, vec![(16, 32)]);
+        for read in [1, 3, 7, 32] {
+            let mut sp = StreamSplitter::default();
+            let (mut got, mut junk) = (vec![], 0);
+            for chunk in d.chunks(read) {
+                sp.push_resync(chunk, |b, is_frame| {
+                    if !is_frame {
+                        junk += b.len();
+                        return true;
+                    }
+                    let ok = crc_ok(b);
+                    if ok {
+                        got.push(b.to_vec());
+                    }
+                    ok
+                });
+            }
+            assert_eq!((got, junk), (vec![f.clone()], 16), "reads of {read}");
+        }
     }
 }

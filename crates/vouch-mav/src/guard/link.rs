@@ -42,7 +42,9 @@ pub enum Received<'a> {
     Oversized(usize),
 }
 
-pub type Handler = Arc<dyn Fn(Origin, Received<'_>) + Send + Sync>;
+/// Called for everything a reader receives. Returns `false` only for a `StreamFrame` that is not
+/// a frame after all (bad checksum): the stream reader then resynchronises after its first byte.
+pub type Handler = Arc<dyn Fn(Origin, Received<'_>) -> bool + Send + Sync>;
 
 struct PeerSet {
     peers: Vec<(SocketAddr, Instant)>,
@@ -250,9 +252,9 @@ fn spawn_udp_reader(
                             }
                         }
                         if truncated {
-                            handler(Origin::Udp(from), Received::Oversized(bytes.len()));
+                            let _ = handler(Origin::Udp(from), Received::Oversized(bytes.len()));
                         } else {
-                            handler(Origin::Udp(from), Received::Datagram(bytes));
+                            let _ = handler(Origin::Udp(from), Received::Datagram(bytes));
                         }
                     }
                     udp_batch::flush();
@@ -283,7 +285,7 @@ fn spawn_stream_reader<R: Read + Send + 'static>(
                 // TCP: 0 = peer closed. Serial (VMIN=0, VTIME=1): 0 = read timeout.
                 Ok(0) if zero_is_eof => break,
                 Ok(0) => {}
-                Ok(n) => splitter.push(&buf[..n], |piece, is_frame| {
+                Ok(n) => splitter.push_resync(&buf[..n], |piece, is_frame| {
                     handler(origin, if is_frame { Received::StreamFrame(piece) } else { Received::StreamJunk(piece) })
                 }),
                 Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut | io::ErrorKind::Interrupted) => {}

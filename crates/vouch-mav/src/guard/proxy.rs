@@ -165,8 +165,8 @@ impl Ranges {
 enum Admission {
     Forward,
     Drop,
-    /// Corrupt: not a frame at all. Datagrams resynchronise after its start marker; streams
-    /// (cut by length) forward it in monitor mode like other junk.
+    /// Corrupt: not a frame at all. Datagrams and streams resynchronise after its start marker;
+    /// its bytes are then junk (forwarded only where junk passes).
     NotAFrame,
 }
 
@@ -175,22 +175,16 @@ impl Core {
         self.egress[side.index()].get()
     }
 
-    fn on_received(&self, side: Side, origin: Origin, rx: Received<'_>) {
+    /// Handles one received piece; `false` = a stream candidate was no frame (resynchronise).
+    fn on_received(&self, side: Side, origin: Origin, rx: Received<'_>) -> bool {
         match rx {
             Received::Datagram(d) => self.on_datagram(side, origin, d),
-            Received::StreamFrame(f) => {
-                // Streams are cut by length only (see Known limits): a candidate that is not a
-                // frame is handled like a malformed frame.
-                match self.admit(side, origin, f) {
-                    Admission::Forward => self.forward(side, f, true),
-                    Admission::Drop => {}
-                    Admission::NotAFrame => {
-                        if self.junk_passes(side) {
-                            self.forward(side, f, false);
-                        }
-                    }
-                }
-            }
+            Received::StreamFrame(f) => match self.admit(side, origin, f) {
+                Admission::Forward => self.forward(side, f, true),
+                Admission::Drop => {}
+                // its bytes come back as junk (or inside later frames) from the stream splitter
+                Admission::NotAFrame => return false,
+            },
             Received::Oversized(n) => {
                 self.counters.junk_bytes.fetch_add(n as u64, Ordering::Relaxed);
             }
@@ -201,6 +195,7 @@ impl Core {
                 }
             }
         }
+        true
     }
 
     /// Monitor mode is a transparent relay: bytes that are no frame pass as well, except from the
@@ -273,13 +268,14 @@ impl Core {
         let verify = if side == Side::Gcs { self.verifier.as_ref() } else { None };
         // With signing, integrity is checked before the signature so that a corrupt frame is
         // resynchronised over (not counted as a forgery); otherwise the inspector checks it.
-        if verify.is_some() && !lock(&self.inspector).is_intact(fr) {
-            return self.not_a_frame();
-        }
-        c.rx[side.index()].fetch_add(1, Ordering::Relaxed);
-        if let Some(t) = &self.tlog {
-            let mut t = lock(t);
-            let _ = t.write_all(&unix_micros().to_be_bytes()).and_then(|_| t.write_all(bytes));
+        // Counted and recorded in the tlog once known to be a frame: a rejected candidate's bytes
+        // are scanned again, and its good frames must not appear twice.
+        let recorded = verify.is_some();
+        if recorded {
+            if !lock(&self.inspector).is_intact(fr) {
+                return self.not_a_frame();
+            }
+            self.record(side, bytes);
         }
         {
             if let Some(v) = verify {
@@ -297,23 +293,28 @@ impl Core {
         if fr.is_v2() && fr.msgid() == SETUP_SIGNING_ID {
             // It carries a secret key: never forwarded, whatever the mode (MAVLink signing spec).
             c.setup_signing_dropped.fetch_add(1, Ordering::Relaxed);
+            if !recorded {
+                self.record(side, bytes);
+            }
             return Admission::Drop;
+        }
+        let verdict = lock(&self.inspector).inspect(side, fr);
+        if matches!(verdict, Verdict::Malformed(_)) {
+            return self.not_a_frame();
+        }
+        if !recorded {
+            self.record(side, bytes);
         }
         if side == Side::Vehicle && fr.msgid() == 0 && self.vehicle_ids.load(Ordering::Relaxed) == 0 {
             let packed = (u64::from(fr.sysid()) << 8 | u64::from(fr.compid())) + 1;
             self.vehicle_ids.store(packed, Ordering::Relaxed);
         }
-        let verdict = lock(&self.inspector).inspect(side, fr);
         match verdict {
             Verdict::Accept => {
                 c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
                 Admission::Forward
             }
-            Verdict::Malformed(_) => {
-                // counted in rx above, but it is no frame: undo so rx counts frames only
-                c.rx[side.index()].fetch_sub(1, Ordering::Relaxed);
-                self.not_a_frame()
-            }
+            Verdict::Malformed(_) => self.not_a_frame(), // handled above
             Verdict::Violation(f) => {
                 c.violations.fetch_add(1, Ordering::Relaxed);
                 let action = if self.enforce { "dropped" } else { "forwarded" };
@@ -337,6 +338,15 @@ impl Core {
                     Admission::Forward
                 }
             }
+        }
+    }
+
+    /// Counts a received frame and appends it to the tlog.
+    fn record(&self, side: Side, bytes: &[u8]) {
+        self.counters.rx[side.index()].fetch_add(1, Ordering::Relaxed);
+        if let Some(t) = &self.tlog {
+            let mut t = lock(t);
+            let _ = t.write_all(&unix_micros().to_be_bytes()).and_then(|_| t.write_all(bytes));
         }
     }
 
