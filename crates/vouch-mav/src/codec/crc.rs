@@ -15,6 +15,11 @@ impl X25 {
         X25(0xFFFF)
     }
 
+    /// Continues from a register value computed elsewhere (e.g. a running CRC kept as `u16`).
+    pub const fn resume(register: u16) -> Self {
+        X25(register)
+    }
+
     #[inline]
     pub fn push(&mut self, b: u8) {
         let mut t = b ^ (self.0 & 0xFF) as u8;

@@ -5,6 +5,8 @@
 //! Full decoding (fields, CRC_EXTRA per message) belongs to the monitor's codec; this module only
 //! needs the lengths, so it works for message ids no dialect knows.
 
+use crate::codec::crc::X25;
+
 /// Magic byte of a MAVLink 1 frame.
 pub const MAGIC_V1: u8 = 0xFE;
 /// Magic byte of a MAVLink 2 frame.
@@ -196,18 +198,20 @@ impl StreamSplitter {
     }
 }
 
-/// CRC-16/MCRF4XX ("X.25") accumulation step of MAVLink.
+/// CRC-16/MCRF4XX ("X.25") accumulation step of MAVLink; the codec's `X25` does the work, this
+/// is the register-as-`u16` form the guard's CRC_EXTRA recovery needs.
 #[inline]
 pub fn crc_accumulate(crc: u16, byte: u8) -> u16 {
-    let mut t = byte ^ (crc & 0xFF) as u8;
-    t ^= t << 4;
-    let t = u16::from(t);
-    (crc >> 8) ^ (t << 8) ^ (t << 3) ^ (t >> 4)
+    let mut c = X25::resume(crc);
+    c.push(byte);
+    c.get()
 }
 
 /// X.25 checksum of `data` starting from 0xFFFF.
 pub fn crc_of(data: &[u8]) -> u16 {
-    data.iter().fold(0xFFFF, |c, &b| crc_accumulate(c, b))
+    let mut c = X25::new();
+    c.update(data);
+    c.get()
 }
 
 /// Recovers the CRC_EXTRA byte a valid frame was sealed with. For a fixed running CRC the final
