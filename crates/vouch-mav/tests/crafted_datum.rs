@@ -38,8 +38,7 @@ fn param_set(c: &mut Craft, id: &str, v: f64) {
 
 /// PX4-like pitch gains: MC_PITCH_P = 6.5, MC_PITCHRATE_FF = 0.5 (product 3.25).
 fn pitch_vehicle() -> Option<Craft> {
-    let mut c = Craft::new()?;
-    c.heartbeats(false, 0);
+    let mut c = Craft::with_heartbeats(false, 0)?;
     param_value(&mut c, "MC_PITCH_P", 6.5);
     param_value(&mut c, "MC_PITCHRATE_FF", 0.5);
     param_value(&mut c, "MC_PITCHRATE_MAX", 3.0);
@@ -54,14 +53,7 @@ fn case_two_safe_param_set_passes() {
     param_set(&mut c, "MC_PITCH_P", 7.0); // 3.2 < 7.0 * 0.5
     param_value(&mut c, "MC_PITCH_P", 7.0);
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     assert_eq!(
         r.summary
             .protocol("datum_param_dependency")
@@ -106,8 +98,9 @@ fn case_two_weights_are_configurable_and_unknown_params_fail_closed() {
     let r = c.check_with(&[("PITCH_P_WEIGHT".into(), 100.0)]); // 650 * 0.5 = 325 > 200
     assert!(r.violations.is_empty());
 
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     param_set(&mut c, "MC_PITCHRATE_MAX", 1.0); // nothing known about the gains
     let v = only_violation(&c.check()).clone();
     assert_eq!(value(&v, "param.MC_PITCH_P"), "unknown");
@@ -161,14 +154,7 @@ fn case_three_release_in_a_safe_state_passes() {
     parachute(&mut c, RELEASE);
     c.uav("COMMAND_ACK", &[("command", PARACHUTE), ("result", 0.0)]);
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     assert_eq!(r.summary.protocol("datum_parachute").unwrap().completed, 1);
     assert_eq!(r.summary.protocol("command").unwrap().completed, 1);
     // ENABLE / DISABLE are not a release: allowed while disarmed on the ground.
@@ -179,56 +165,83 @@ fn case_three_release_in_a_safe_state_passes() {
     assert!(c.check().violations.is_empty());
 }
 
-#[test]
-fn case_three_release_when_disarmed() {
-    let Some(v) = chute_violation(false, LOITER, 50.0, -0.5) else {
+/// Releasing the parachute from the given vehicle state is refused by refinement `predicate`,
+/// whose report shows the values `seen`.
+fn assert_release_refused(
+    armed: bool,
+    mode: u32,
+    alt: f64,
+    climb: f64,
+    predicate: &str,
+    seen: &[(&str, &str)],
+) {
+    let Some(v) = chute_violation(armed, mode, alt, climb) else {
         return;
     };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.armed"));
-    assert_eq!(value(&v, "vehicle.armed"), "false");
+    assert_eq!(v.predicate.as_deref(), Some(predicate));
+    for (name, shown) in seen {
+        assert_eq!(value(&v, name), *shown);
+    }
+}
+
+#[test]
+fn case_three_release_when_disarmed() {
+    assert_release_refused(
+        false,
+        LOITER,
+        50.0,
+        -0.5,
+        "vehicle.armed",
+        &[("vehicle.armed", "false")],
+    );
 }
 
 #[test]
 fn case_three_release_when_ascending() {
-    let Some(v) = chute_violation(true, LOITER, 50.0, 2.0) else {
-        return;
-    };
-    assert_eq!(
-        v.predicate.as_deref(),
-        Some("vehicle.climb <= CHUTE_MAX_CLIMB")
+    assert_release_refused(
+        true,
+        LOITER,
+        50.0,
+        2.0,
+        "vehicle.climb <= CHUTE_MAX_CLIMB",
+        &[("vehicle.climb", "2")],
     );
-    assert_eq!(value(&v, "vehicle.climb"), "2");
 }
 
 #[test]
 fn case_three_release_in_acro() {
-    let Some(v) = chute_violation(true, ACRO, 50.0, -0.5) else {
-        return;
-    };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != ACRO_MODE"));
-    assert_eq!(value(&v, "vehicle.mode"), "1");
+    assert_release_refused(
+        true,
+        ACRO,
+        50.0,
+        -0.5,
+        "vehicle.mode != ACRO_MODE",
+        &[("vehicle.mode", "1")],
+    );
 }
 
 #[test]
 fn case_three_release_in_flip() {
-    let Some(v) = chute_violation(true, FLIP, 50.0, -0.5) else {
-        return;
-    };
-    assert_eq!(v.predicate.as_deref(), Some("vehicle.mode != FLIP_MODE"));
-    assert_eq!(value(&v, "vehicle.mode"), "14");
+    assert_release_refused(
+        true,
+        FLIP,
+        50.0,
+        -0.5,
+        "vehicle.mode != FLIP_MODE",
+        &[("vehicle.mode", "14")],
+    );
 }
 
 #[test]
 fn case_three_release_below_minimum_altitude() {
-    let Some(v) = chute_violation(true, LOITER, 5.0, -0.5) else {
-        return;
-    };
-    assert_eq!(
-        v.predicate.as_deref(),
-        Some("vehicle.alt > param.CHUTE_ALT_MIN")
+    assert_release_refused(
+        true,
+        LOITER,
+        5.0,
+        -0.5,
+        "vehicle.alt > param.CHUTE_ALT_MIN",
+        &[("vehicle.alt", "5"), ("param.CHUTE_ALT_MIN", "10")],
     );
-    assert_eq!(value(&v, "vehicle.alt"), "5");
-    assert_eq!(value(&v, "param.CHUTE_ALT_MIN"), "10");
 }
 
 #[test]

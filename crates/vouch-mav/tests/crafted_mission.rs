@@ -10,22 +10,20 @@ const FENCE: u8 = 1;
 
 #[test]
 fn upload_of_100_items_passes_and_completes() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.upload(100, MISSION, false);
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{:?}",
-        r.violations.first().map(|v| v.to_string())
-    );
+    assert_clean(&r);
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 1);
 }
 
 #[test]
 fn ardupilot_style_upload_with_retries_and_invalid_sequence_passes() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(5, MISSION);
     c.request(0, MISSION, true);
     c.item(0, MISSION);
@@ -38,27 +36,18 @@ fn ardupilot_style_upload_with_retries_and_invalid_sequence_passes() {
     c.item(2, MISSION);
     c.request(2, MISSION, true); // delayed duplicate request of the last item
     c.item(2, MISSION);
-    for s in 3..5 {
-        c.request(s, MISSION, true);
-        c.item(s, MISSION);
-    }
+    c.transfer(3..5, MISSION, true);
     c.ack(0, MISSION);
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 1);
 }
 
 #[test]
 fn clear_as_count_zero_and_error_ack_pass() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     for t in [0u8, 1, 2] {
         c.count(0, t);
         c.ack(0, t);
@@ -68,27 +57,18 @@ fn clear_as_count_zero_and_error_ack_pass() {
     c.gcs("MISSION_CLEAR_ALL", &[]);
     c.ack(0, MISSION);
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 4);
     assert_eq!(r.summary.protocol("mission_clear").unwrap().completed, 1);
 }
 
 #[test]
 fn ack_accepted_after_60_of_100_items_is_reported() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(100, MISSION);
-    for s in 0..60 {
-        c.request(s, MISSION, false);
-        c.item(s, MISSION);
-    }
+    c.transfer(0..60, MISSION, false);
     c.ack(0, MISSION);
     let r = c.check();
     let v = only_violation(&r);
@@ -117,13 +97,11 @@ fn ack_accepted_after_60_of_100_items_is_reported() {
 
 #[test]
 fn datum_case_one_187_announced_121_transferred() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(true, 10);
+    let Some(mut c) = Craft::with_heartbeats(true, 10) else {
+        return;
+    };
     c.count(187, MISSION);
-    for s in 0..121 {
-        c.request(s, MISSION, false);
-        c.item(s, MISSION);
-    }
+    c.transfer(0..121, MISSION, false);
     c.ack(0, MISSION);
     let r = c.check();
     let v = only_violation(&r);
@@ -137,8 +115,9 @@ fn datum_case_one_187_announced_121_transferred() {
     assert_eq!(v.protocol, "datum_mission_paper");
     assert_eq!(value(v, "curr"), "121");
     // and the complete upload passes it
-    let Some(mut ok) = Craft::new() else { return };
-    ok.heartbeats(true, 10);
+    let Some(mut ok) = Craft::with_heartbeats(true, 10) else {
+        return;
+    };
     ok.upload(187, MISSION, false);
     assert!(ok
         .check_sources(&[("p".into(), paper.into())])
@@ -148,13 +127,11 @@ fn datum_case_one_187_announced_121_transferred() {
 
 #[test]
 fn skipped_request_is_reported() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(10, MISSION);
-    for s in 0..3 {
-        c.request(s, MISSION, false);
-        c.item(s, MISSION);
-    }
+    c.transfer(0..3, MISSION, false);
     c.request(4, MISSION, false); // skips seq 3
     let r = c.check();
     let v = only_violation(&r);
@@ -170,8 +147,9 @@ fn skipped_request_is_reported() {
 
 #[test]
 fn skipped_item_from_the_gcs_is_reported() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(10, MISSION);
     c.request(0, MISSION, false);
     c.item(0, MISSION);
@@ -191,13 +169,11 @@ fn skipped_item_from_the_gcs_is_reported() {
 
 #[test]
 fn duplicate_of_an_old_item_beyond_the_retry_rule_is_reported() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(10, MISSION);
-    for s in 0..5 {
-        c.request(s, MISSION, false);
-        c.item(s, MISSION);
-    }
+    c.transfer(0..5, MISSION, false);
     c.request(2, MISSION, false); // only the last item (4) may be re-requested
     let r = c.check();
     let v = only_violation(&r);
@@ -208,8 +184,9 @@ fn duplicate_of_an_old_item_beyond_the_retry_rule_is_reported() {
 
 #[test]
 fn too_many_rerequests_break_the_invariant() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(3, MISSION);
     c.request(0, MISSION, false);
     for _ in 0..6 {
@@ -225,8 +202,9 @@ fn too_many_rerequests_break_the_invariant() {
 
 #[test]
 fn item_for_a_mission_type_never_announced_is_reported() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(3, MISSION);
     c.request(0, MISSION, false);
     c.item(0, FENCE); // a fence item slipped into a mission upload
@@ -247,26 +225,21 @@ fn item_for_a_mission_type_never_announced_is_reported() {
     );
 
     // Legitimate: the fence is announced first, and runs next to the mission upload.
-    let Some(mut ok) = Craft::new() else { return };
-    ok.heartbeats(false, 0);
+    let Some(mut ok) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     ok.upload(4, FENCE, false);
     ok.upload(3, MISSION, true);
     let r = ok.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     assert_eq!(r.summary.protocol("mission_upload").unwrap().completed, 2);
 }
 
 #[test]
 fn new_count_restarts_an_upload_and_timeout_abandons() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.count(5, MISSION);
     c.request(0, MISSION, false);
     c.item(0, MISSION);
@@ -277,14 +250,7 @@ fn new_count_restarts_an_upload_and_timeout_abandons() {
     c.wait_ms(20_000); // gave up
     c.heartbeats(false, 0);
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     let s = r.summary.protocol("mission_upload").unwrap();
     assert_eq!(s.completed, 1);
     assert_eq!(s.abandoned, 3);
@@ -292,8 +258,9 @@ fn new_count_restarts_an_upload_and_timeout_abandons() {
 
 #[test]
 fn download_with_pipelined_requests_passes_and_early_gcs_ack_is_reported() {
-    let Some(mut c) = Craft::new() else { return };
-    c.heartbeats(false, 0);
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     c.gcs("MISSION_REQUEST_LIST", &[]);
     c.uav("MISSION_COUNT", &[("count", 4.0)]);
     for s in 0..4 {
@@ -306,18 +273,12 @@ fn download_with_pipelined_requests_passes_and_early_gcs_ack_is_reported() {
         );
     }
     let r = c.check();
-    assert!(
-        r.violations.is_empty(),
-        "{}",
-        r.violations
-            .first()
-            .map(|v| v.to_string())
-            .unwrap_or_default()
-    );
+    assert_clean(&r);
     assert_eq!(r.summary.protocol("mission_download").unwrap().completed, 1);
 
-    let Some(mut bad) = Craft::new() else { return };
-    bad.heartbeats(false, 0);
+    let Some(mut bad) = Craft::with_heartbeats(false, 0) else {
+        return;
+    };
     bad.gcs("MISSION_REQUEST_LIST", &[]);
     bad.uav("MISSION_COUNT", &[("count", 4.0)]);
     bad.gcs("MISSION_REQUEST_INT", &[("seq", 0.0)]);

@@ -16,7 +16,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
-use vouch_mav::guard::{start, standard_inspector, CounterSnapshot, GuardConfig, SigningConfig};
+use vouch_mav::guard::{start, standard_inspector, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig};
 use vouch_mav::signing::SigningKey;
 
 fn python() -> Option<PathBuf> {
@@ -96,6 +96,23 @@ struct Outcome {
 }
 
 /// Runs one MAVProxy `wp load` of 100 items through a guard to the given vehicle.
+/// A guard with the standard protocols between a GCS on an ephemeral loopback port and the
+/// vehicle at `vport`, alerting the GCS.
+fn loopback_guard(vport: u16, enforce: bool, log_path: Option<PathBuf>, signing: Option<SigningConfig>) -> RunningGuard {
+    let cfg = GuardConfig {
+        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
+        vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
+        enforce,
+        alert_gcs: true,
+        print_violations: false,
+        log_path,
+        tlog_path: None,
+        signing,
+    };
+    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+    start(cfg, inspector).expect("guard starts")
+}
+
 fn upload_through_guard(py: &Path, tag: &str, vehicle: Vehicle, enforce: bool) -> Outcome {
     upload(py, tag, vehicle, Some(enforce), None)
 }
@@ -135,22 +152,12 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>, signing: 
 
     let log = dir.join("violations.jsonl");
     let guard = guard.map(|enforce| {
-        let cfg = GuardConfig {
-            gcs: "udpin:127.0.0.1:0".parse().unwrap(),
-            vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
-            enforce,
-            alert_gcs: true,
-            print_violations: false,
-            log_path: Some(log.clone()),
-            tlog_path: None,
-            signing: signing.as_ref().map(|s| SigningConfig {
-                key: SigningKey::from_passphrase(s.guard_pass),
-                sign_to_vehicle: false,
-                link_id: 0,
-            }),
-        };
-        let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
-        start(cfg, inspector).expect("guard starts")
+        let signing = signing.as_ref().map(|s| SigningConfig {
+            key: SigningKey::from_passphrase(s.guard_pass),
+            sign_to_vehicle: false,
+            link_id: 0,
+        });
+        loopback_guard(vport, enforce, Some(log.clone()), signing)
     });
     let gport = guard.as_ref().map_or(vport, |g| g.gcs_addr.unwrap().port());
 
@@ -275,18 +282,7 @@ fn parachute_through_guard(py: &Path, tag: &str, enforce: bool) -> (Value, Value
             .spawn()
             .expect("vehicle"),
     );
-    let cfg = GuardConfig {
-        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
-        vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
-        enforce,
-        alert_gcs: true,
-        print_violations: false,
-        log_path: None,
-        tlog_path: None,
-        signing: None,
-    };
-    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
-    let guard = start(cfg, inspector).expect("guard");
+    let guard = loopback_guard(vport, enforce, None, None);
     let gsum = dir.join("gcs.json");
     let status = Command::new(py)
         .arg(script("pymavlink_gcs.py"))

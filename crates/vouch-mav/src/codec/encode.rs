@@ -1,9 +1,9 @@
 //! Encoder: builds MAVLink 1/2 frames from field values (replies, alerts, crafted test traffic).
 
-use crate::dialect::{Dialect, MessageDef, PrimType};
+use crate::dialect::{Dialect, FieldDef, MessageDef, PrimType};
 
 use super::crc::frame_crc;
-use super::frame::{MAGIC_V1, MAGIC_V2};
+use super::frame::{MAGIC_V1, MAGIC_V2, V2_HEADER_LEN};
 use super::view::Value;
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -44,6 +44,15 @@ impl<'d> MessageBuilder<'d> {
         self.def
     }
 
+    fn field(&self, name: &str) -> Result<&'d FieldDef, EncodeError> {
+        self.def
+            .field(name)
+            .ok_or_else(|| EncodeError::UnknownField {
+                msg: self.def.name.clone(),
+                field: name.to_string(),
+            })
+    }
+
     /// Sets a numeric field (element 0 of an array); the value is converted to the wire type
     /// with Rust `as` semantics (saturating for float → int).
     pub fn set(mut self, field: &str, value: impl Into<f64>) -> Result<Self, EncodeError> {
@@ -57,13 +66,7 @@ impl<'d> MessageBuilder<'d> {
         index: usize,
         value: Value,
     ) -> Result<(), EncodeError> {
-        let f = self
-            .def
-            .field(field)
-            .ok_or_else(|| EncodeError::UnknownField {
-                msg: self.def.name.clone(),
-                field: field.to_string(),
-            })?;
+        let f = self.field(field)?;
         if f.ty == PrimType::Char && f.array_len > 0 {
             return Err(EncodeError::TextField(field.to_string()));
         }
@@ -99,13 +102,7 @@ impl<'d> MessageBuilder<'d> {
 
     /// Sets a char array field from text (truncated to the field size; NUL-padded).
     pub fn set_str(mut self, field: &str, text: &str) -> Result<Self, EncodeError> {
-        let f = self
-            .def
-            .field(field)
-            .ok_or_else(|| EncodeError::UnknownField {
-                msg: self.def.name.clone(),
-                field: field.to_string(),
-            })?;
+        let f = self.field(field)?;
         let off = usize::from(f.offset);
         let size = f.wire_size();
         let src = text.as_bytes();
@@ -122,29 +119,21 @@ impl<'d> MessageBuilder<'d> {
 
     /// MAVLink 2 frame, with trailing zero bytes of the payload truncated (first byte kept).
     pub fn frame_v2(&self, seq: u8, sysid: u8, compid: u8) -> Vec<u8> {
-        let full = self.payload();
-        let mut len = full.len();
-        while len > 1 && full[len - 1] == 0 {
-            len -= 1;
-        }
-        self.frame_v2_len(seq, sysid, compid, len)
+        self.frame_v2_len(seq, sysid, compid, zero_truncated_len(self.payload()))
     }
 
     /// MAVLink 2 frame with an explicit payload length (no truncation when `len` is the full length).
     pub fn frame_v2_len(&self, seq: u8, sysid: u8, compid: u8, len: usize) -> Vec<u8> {
         let len = len.min(self.payload().len());
-        let id = self.def.id;
-        let mut out = Vec::with_capacity(12 + len);
-        out.extend_from_slice(&[MAGIC_V2, len as u8, 0, 0, seq, sysid, compid]);
-        out.extend_from_slice(&[
-            (id & 0xFF) as u8,
-            ((id >> 8) & 0xFF) as u8,
-            ((id >> 16) & 0xFF) as u8,
-        ]);
-        out.extend_from_slice(&self.payload[..len]);
-        let crc = frame_crc(&out[1..], self.def.crc_extra);
-        out.extend_from_slice(&crc.to_le_bytes());
-        out
+        let def = self.def;
+        frame_v2_raw(
+            def.id,
+            def.crc_extra,
+            &self.payload[..len],
+            seq,
+            sysid,
+            compid,
+        )
     }
 
     /// MAVLink 1 frame: base fields only, never truncated.
@@ -160,4 +149,45 @@ impl<'d> MessageBuilder<'d> {
         out.extend_from_slice(&crc.to_le_bytes());
         Ok(out)
     }
+}
+
+/// Length of `payload` without its trailing zero bytes (MAVLink 2 payload truncation; the first
+/// byte is always kept).
+pub fn zero_truncated_len(payload: &[u8]) -> usize {
+    let mut len = payload.len();
+    while len > 1 && payload[len - 1] == 0 {
+        len -= 1;
+    }
+    len
+}
+
+/// Unsigned MAVLink 2 frame of `payload` exactly as given (the caller truncates). Needs no
+/// dialect: the id and CRC_EXTRA come from the caller, which lets the guard frame its own
+/// alerts and acknowledgements without loading one.
+pub fn frame_v2_raw(
+    msgid: u32,
+    crc_extra: u8,
+    payload: &[u8],
+    seq: u8,
+    sysid: u8,
+    compid: u8,
+) -> Vec<u8> {
+    let id = msgid.to_le_bytes();
+    let mut out = Vec::with_capacity(V2_HEADER_LEN + payload.len() + 2);
+    out.extend_from_slice(&[
+        MAGIC_V2,
+        payload.len() as u8,
+        0,
+        0,
+        seq,
+        sysid,
+        compid,
+        id[0],
+        id[1],
+        id[2],
+    ]);
+    out.extend_from_slice(payload);
+    let crc = frame_crc(&out[1..], crc_extra);
+    out.extend_from_slice(&crc.to_le_bytes());
+    out
 }

@@ -11,8 +11,14 @@ use crate::dialect::{Dialect, MessageDef, MsgIndex};
 
 pub const MAGIC_V1: u8 = 0xFE;
 pub const MAGIC_V2: u8 = 0xFD;
+/// Length of the signature block (link id, 6-byte timestamp, 6-byte signature).
 pub const SIGNATURE_LEN: usize = 13;
+/// `incompat_flags` bit meaning "a signature block follows the checksum".
 pub const INCOMPAT_SIGNED: u8 = 0x01;
+/// Header length of a MAVLink 1 frame including the magic byte.
+pub const V1_HEADER_LEN: usize = 6;
+/// Header length of a MAVLink 2 frame including the magic byte.
+pub const V2_HEADER_LEN: usize = 10;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum Version {
@@ -111,38 +117,53 @@ struct Header {
     msgid: u32,
 }
 
+/// Routing fields of a header: `(seq, sysid, compid, msgid)`. `buf` holds at least the whole
+/// header of its version (MAVLink 2 when `v2`). The one place that knows where they sit; the
+/// guard's dialect-free `FrameRef` reads them here too.
+#[inline]
+pub(crate) fn header_ids(buf: &[u8], v2: bool) -> (u8, u8, u8, u32) {
+    if v2 {
+        let msgid = u32::from(buf[7]) | u32::from(buf[8]) << 8 | u32::from(buf[9]) << 16;
+        (buf[4], buf[5], buf[6], msgid)
+    } else {
+        (buf[2], buf[3], buf[4], u32::from(buf[5]))
+    }
+}
+
 fn header(buf: &[u8]) -> Option<Option<Header>> {
     match buf.first() {
         Some(&MAGIC_V1) => {
-            if buf.len() < 6 {
+            if buf.len() < V1_HEADER_LEN {
                 return Some(None);
             }
+            let (seq, sysid, compid, msgid) = header_ids(buf, false);
             Some(Some(Header {
                 version: Version::V1,
                 len: usize::from(buf[1]),
-                header_len: 6,
+                header_len: V1_HEADER_LEN,
                 incompat: 0,
                 compat: 0,
-                seq: buf[2],
-                sysid: buf[3],
-                compid: buf[4],
-                msgid: u32::from(buf[5]),
+                seq,
+                sysid,
+                compid,
+                msgid,
             }))
         }
         Some(&MAGIC_V2) => {
-            if buf.len() < 10 {
+            if buf.len() < V2_HEADER_LEN {
                 return Some(None);
             }
+            let (seq, sysid, compid, msgid) = header_ids(buf, true);
             Some(Some(Header {
                 version: Version::V2,
                 len: usize::from(buf[1]),
-                header_len: 10,
+                header_len: V2_HEADER_LEN,
                 incompat: buf[2],
                 compat: buf[3],
-                seq: buf[4],
-                sysid: buf[5],
-                compid: buf[6],
-                msgid: u32::from(buf[7]) | u32::from(buf[8]) << 8 | u32::from(buf[9]) << 16,
+                seq,
+                sysid,
+                compid,
+                msgid,
             }))
         }
         _ => None,

@@ -6,19 +6,12 @@
 //! needs the lengths, so it works for message ids no dialect knows.
 
 use crate::codec::crc::X25;
+use crate::codec::frame::header_ids;
 
-/// Magic byte of a MAVLink 1 frame.
-pub const MAGIC_V1: u8 = 0xFE;
-/// Magic byte of a MAVLink 2 frame.
-pub const MAGIC_V2: u8 = 0xFD;
-/// `incompat_flags` bit meaning "a 13-byte signature follows the checksum".
-pub const IFLAG_SIGNED: u8 = 0x01;
-/// Length of the signature block (link id, 6-byte timestamp, 6-byte signature).
-pub const SIGNATURE_LEN: usize = 13;
-/// Header length of a MAVLink 2 frame including the magic byte.
-pub const V2_HEADER_LEN: usize = 10;
-/// Header length of a MAVLink 1 frame including the magic byte.
-pub const V1_HEADER_LEN: usize = 6;
+// The wire constants are the codec's: one definition of the format for both readers.
+pub use crate::codec::frame::{
+    INCOMPAT_SIGNED as IFLAG_SIGNED, MAGIC_V1, MAGIC_V2, SIGNATURE_LEN, V1_HEADER_LEN, V2_HEADER_LEN,
+};
 
 /// Total length of the frame starting at `buf[0]`, if the header is complete enough to tell.
 /// `None` means "not a frame start" (wrong magic) or "need more bytes" (see [`frame_len_hint`]).
@@ -60,18 +53,18 @@ impl<'a> FrameRef<'a> {
     pub fn is_signed(&self) -> bool {
         self.incompat_flags() & IFLAG_SIGNED != 0
     }
+    // `new` checked the length, so the whole header is present for the codec's reader.
     pub fn seq(&self) -> u8 {
-        self.bytes[if self.is_v2() { 4 } else { 2 }]
+        header_ids(self.bytes, self.is_v2()).0
     }
     pub fn sysid(&self) -> u8 {
-        self.bytes[if self.is_v2() { 5 } else { 3 }]
+        header_ids(self.bytes, self.is_v2()).1
     }
     pub fn compid(&self) -> u8 {
-        self.bytes[if self.is_v2() { 6 } else { 4 }]
+        header_ids(self.bytes, self.is_v2()).2
     }
     pub fn msgid(&self) -> u32 {
-        let b = self.bytes;
-        if self.is_v2() { u32::from(b[7]) | u32::from(b[8]) << 8 | u32::from(b[9]) << 16 } else { u32::from(b[5]) }
+        header_ids(self.bytes, self.is_v2()).3
     }
     pub fn payload(&self) -> &'a [u8] {
         let h = self.header_len();

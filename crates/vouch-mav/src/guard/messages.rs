@@ -1,7 +1,7 @@
 //! The few messages the guard emits itself, framed as MAVLink 2 (values from common.xml:
 //! STATUSTEXT id 253 CRC_EXTRA 83, MISSION_ACK 47/153, COMMAND_ACK 77/143).
 
-use super::frame::{crc_accumulate, crc_of};
+use crate::codec::encode::{frame_v2_raw, zero_truncated_len};
 use super::{Reply, Side};
 
 pub const STATUSTEXT_ID: u32 = 253;
@@ -13,19 +13,11 @@ pub const COMMAND_ACK_CRC_EXTRA: u8 = 143;
 /// MAV_SEVERITY_WARNING.
 pub const SEVERITY_WARNING: u8 = 4;
 
-/// Frames `payload` (trailing zeros stripped, at least one byte kept) as MAVLink 2, unsigned.
+/// Frames `payload` (trailing zeros stripped, at least one byte kept) as MAVLink 2, unsigned, with
+/// the codec's framer; the argument order is the guard's (source ids, then sequence number).
 pub fn encode_v2(msgid: u32, crc_extra: u8, payload: &[u8], sysid: u8, compid: u8, seq: u8) -> Vec<u8> {
-    let mut len = payload.len();
-    while len > 1 && payload[len - 1] == 0 {
-        len -= 1;
-    }
-    let id = msgid.to_le_bytes();
-    let mut f = Vec::with_capacity(12 + len);
-    f.extend_from_slice(&[0xFD, len as u8, 0, 0, seq, sysid, compid, id[0], id[1], id[2]]);
-    f.extend_from_slice(&payload[..len]);
-    let crc = crc_accumulate(crc_of(&f[1..]), crc_extra);
-    f.extend_from_slice(&crc.to_le_bytes());
-    f
+    let len = zero_truncated_len(payload);
+    frame_v2_raw(msgid, crc_extra, &payload[..len], seq, sysid, compid)
 }
 
 /// STATUSTEXT{severity, text} toward the GCS; text is cut to the field's 50 bytes.

@@ -2,11 +2,11 @@
 
 use super::eval::{eval, read_loc, Env, Val};
 use super::report::{Reply, Violation, ViolationKind};
-use super::session::Session;
+use super::session::{key_values, session_ids, vehicle_sys, Arrival, Session};
 use super::step::StepResult;
 use super::Monitor;
 use crate::codec::MessageView;
-use crate::protocol::ir::{Conjunct, FieldLoc, Protocol, RoleKind};
+use crate::protocol::ir::{Conjunct, FieldLoc, Protocol};
 
 impl Monitor {
     pub(super) fn violation_for(
@@ -67,9 +67,7 @@ impl Monitor {
             vars: &vars,
             consts: &self.consts,
             keys: &s.keys,
-            vehicle: self
-                .tracker
-                .state(s.ids[role_index(p, RoleKind::Vehicle)].0),
+            vehicle: self.tracker.state(vehicle_sys(p, &s.ids)),
         };
         let values = conj.map(|c| self.show_values(c, &env)).unwrap_or_default();
         let reason = match kind {
@@ -103,35 +101,18 @@ impl Monitor {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn orphan_violation(
-        &self,
-        p: usize,
-        strict: usize,
-        msg: &MessageView,
-        sysid: u8,
-        compid: u8,
-        target: Option<(u8, u8)>,
-        time_us: u64,
-    ) -> Violation {
+    pub(super) fn orphan_violation(&self, p: usize, strict: usize, arrival: &Arrival) -> Violation {
+        let Arrival {
+            msg,
+            from: (sysid, compid),
+            target,
+            time_us,
+            ..
+        } = *arrival;
         let proto = &self.set.protocols[p];
         let rule = &proto.strict[strict];
-        let mut ids = [(0, 0); 2];
-        ids[rule.from] = (sysid, compid);
-        if let Some(t) = target {
-            ids[1 - rule.from] = t;
-        }
-        let keys: Vec<Val> = proto
-            .keys
-            .iter()
-            .map(|k| {
-                k.locs
-                    .iter()
-                    .find(|(m, _)| *m == msg.index)
-                    .map(|(_, l)| read_loc(msg.payload, l))
-                    .unwrap_or(Val::Unknown)
-            })
-            .collect();
+        let ids = session_ids(rule.from, (sysid, compid), target);
+        let keys = key_values(proto, msg);
         let s = Session {
             proto: p,
             state: 0,
@@ -264,14 +245,6 @@ impl Monitor {
             to_sys,
             to_comp,
         })
-    }
-}
-
-fn role_index(p: &Protocol, k: RoleKind) -> usize {
-    if p.roles[0].1 == k {
-        0
-    } else {
-        1
     }
 }
 

@@ -206,7 +206,13 @@ impl Monitor {
             let n = |v: Val| if let Val::Num(x) = v { x as u8 } else { 0 };
             (n(s), n(c))
         });
-        let verdict = self.dispatch(msg, sysid, compid, kind, target, time_us);
+        let verdict = self.dispatch(&session::Arrival {
+            msg,
+            from: (sysid, compid),
+            kind,
+            target,
+            time_us,
+        });
         if !verdict.is_violation() {
             self.tracker.apply_param_set(msg);
         } else {

@@ -70,20 +70,56 @@ fn role_of_kind(p: &Protocol, k: RoleKind) -> usize {
     }
 }
 
-fn vehicle_sys(p: &Protocol, ids: &[(u8, u8); 2]) -> u8 {
+pub(super) fn vehicle_sys(p: &Protocol, ids: &[(u8, u8); 2]) -> u8 {
     ids[role_of_kind(p, RoleKind::Vehicle)].0
 }
 
+/// Ids of both roles of a session that `from` opens in role `role`; the other role's ids are the
+/// message's target when it names one (otherwise learnt from the first answer).
+pub(super) fn session_ids(role: usize, from: (u8, u8), target: Option<(u8, u8)>) -> [(u8, u8); 2] {
+    let mut ids = [(0u8, 0u8); 2];
+    ids[role] = from;
+    if let Some(t) = target {
+        ids[1 - role] = t;
+    }
+    ids
+}
+
+/// Values of protocol `proto`'s keys in `msg`; unknown for a key that is no field of the message.
+pub(super) fn key_values(proto: &Protocol, msg: &MessageView) -> Vec<Val> {
+    proto
+        .keys
+        .iter()
+        .map(|k| {
+            k.locs
+                .iter()
+                .find(|(m, _)| *m == msg.index)
+                .map(|(_, l)| read_loc(msg.payload, l))
+                .unwrap_or(Val::Unknown)
+        })
+        .collect()
+}
+
+/// One message as the monitor dispatches it: the sender, its role, the peer the message
+/// addresses (from its target fields) and the time it was seen.
+#[derive(Clone, Copy)]
+pub(super) struct Arrival<'m, 'd> {
+    pub msg: &'m MessageView<'d>,
+    pub from: (u8, u8),
+    pub kind: RoleKind,
+    pub target: Option<(u8, u8)>,
+    pub time_us: u64,
+}
+
 impl Monitor {
-    pub(super) fn dispatch(
-        &mut self,
-        msg: &MessageView,
-        sysid: u8,
-        compid: u8,
-        kind: RoleKind,
-        target: Option<(u8, u8)>,
-        time_us: u64,
-    ) -> Verdict {
+    pub(super) fn dispatch(&mut self, arrival: &Arrival) -> Verdict {
+        let Arrival {
+            msg,
+            from: (sysid, compid),
+            kind,
+            target,
+            time_us,
+        } = *arrival;
         let idx = usize::from(msg.index);
         let mut accepted = false;
         let mut violations: Vec<Violation> = Vec::new();
@@ -155,7 +191,7 @@ impl Monitor {
                 mismatch_here = None;
             }
             if !took_here {
-                match self.try_start(p, msg, sysid, compid, kind, target, time_us) {
+                match self.try_start(p, arrival) {
                     Some(Ok(started)) => {
                         accepted = true;
                         // A new start replaces a session of the same participants and keys that
@@ -211,9 +247,7 @@ impl Monitor {
         }
         if let Some((p, si)) = orphan {
             self.stats[p].violations += 1;
-            return Verdict::Violation(Box::new(
-                self.orphan_violation(p, si, msg, sysid, compid, target, time_us),
-            ));
+            return Verdict::Violation(Box::new(self.orphan_violation(p, si, arrival)));
         }
         Verdict::Ignore
     }
@@ -285,24 +319,17 @@ impl Monitor {
 
     /// Opens a session if the message starts protocol `p`: `Some(Ok(serial))`, `Some(Err(report))`
     /// when its refinement fails, `None` when the message starts nothing.
-    #[allow(clippy::too_many_arguments)]
-    fn try_start(
-        &mut self,
-        p: usize,
-        msg: &MessageView,
-        sysid: u8,
-        compid: u8,
-        kind: RoleKind,
-        target: Option<(u8, u8)>,
-        time_us: u64,
-    ) -> Option<Result<u64, Box<Violation>>> {
+    fn try_start(&mut self, p: usize, arrival: &Arrival) -> Option<Result<u64, Box<Violation>>> {
+        let Arrival {
+            msg,
+            from,
+            kind,
+            target,
+            time_us,
+        } = *arrival;
         let proto = &self.set.protocols[p];
         let role = role_of_kind(proto, kind);
-        let mut ids = [(0u8, 0u8); 2];
-        ids[role] = (sysid, compid);
-        if let Some(t) = target {
-            ids[1 - role] = t;
-        }
+        let ids = session_ids(role, from, target);
         // Cheap pre-check so that most messages allocate nothing here.
         if !proto.states[0]
             .transitions
@@ -311,17 +338,7 @@ impl Monitor {
         {
             return None;
         }
-        let keys: Vec<Val> = proto
-            .keys
-            .iter()
-            .map(|k| {
-                k.locs
-                    .iter()
-                    .find(|(m, _)| *m == msg.index)
-                    .map(|(_, l)| read_loc(msg.payload, l))
-                    .unwrap_or(Val::Unknown)
-            })
-            .collect();
+        let keys = key_values(proto, msg);
         let mut vars = vec![Val::Unknown; proto.var_names.len()];
         let input = StepInput {
             msg,

@@ -9,6 +9,7 @@
 pub mod ast;
 pub(crate) mod check;
 pub mod error;
+mod flow;
 pub mod ir;
 pub mod lexer;
 pub mod parser;

@@ -60,6 +60,14 @@ impl Craft {
         self.bytes.extend_from_slice(&frame);
     }
 
+    /// A crafting run that starts with one heartbeat of each side (vehicle `armed` in
+    /// `custom_mode`), so the monitor knows both roles.
+    pub fn with_heartbeats(armed: bool, custom_mode: u32) -> Option<Craft> {
+        let mut c = Craft::new()?;
+        c.heartbeats(armed, custom_mode);
+        Some(c)
+    }
+
     pub fn send(&mut self, from: (u8, u8), name: &str, fields: &[(&str, f64)]) {
         self.send_full(from, name, fields, &[]);
     }
@@ -173,15 +181,39 @@ impl Craft {
         );
     }
 
-    /// A complete, correct upload of `n` items.
-    pub fn upload(&mut self, n: u16, mission_type: u8, deprecated_requests: bool) {
-        self.count(n, mission_type);
-        for s in 0..n {
+    /// Request/item pairs for every sequence number in `seqs`, in order.
+    pub fn transfer(
+        &mut self,
+        seqs: std::ops::Range<u16>,
+        mission_type: u8,
+        deprecated_requests: bool,
+    ) {
+        for s in seqs {
             self.request(s, mission_type, deprecated_requests);
             self.item(s, mission_type);
         }
+    }
+
+    /// A complete, correct upload of `n` items.
+    pub fn upload(&mut self, n: u16, mission_type: u8, deprecated_requests: bool) {
+        self.count(n, mission_type);
+        self.transfer(0..n, mission_type, deprecated_requests);
         self.ack(0, mission_type);
     }
+}
+
+/// The violation reports of `r` as text, for assertion messages.
+pub fn violation_texts(r: &RecordingReport) -> Vec<String> {
+    r.violations.iter().map(|v| v.to_string()).collect()
+}
+
+/// Asserts that the recording raised no violation.
+pub fn assert_clean(r: &RecordingReport) {
+    assert!(
+        r.violations.is_empty(),
+        "expected no violation, got: {:#?}",
+        violation_texts(r)
+    );
 }
 
 pub fn only_violation(r: &RecordingReport) -> &Violation {
@@ -189,10 +221,7 @@ pub fn only_violation(r: &RecordingReport) -> &Violation {
         r.violations.len(),
         1,
         "expected exactly one violation, got: {:#?}",
-        r.violations
-            .iter()
-            .map(|v| v.to_string())
-            .collect::<Vec<_>>()
+        violation_texts(r)
     );
     &r.violations[0]
 }
