@@ -7,8 +7,6 @@ use clap::Subcommand;
 
 #[derive(Subcommand)]
 pub enum FplCmd {
-    /// Print what this family can do so far
-    Info,
     /// Parse a flight plan (includes, paths, names resolved) and print it, or its located errors.
     /// Exit 0 when it parses, 1 on a plan error, 2 when the file cannot be read.
     Parse {
@@ -171,10 +169,6 @@ pub fn run(cmd: FplCmd) -> ExitCode {
         FplCmd::Graph { plan, output, include_dirs } => {
             ExitCode::from(vouch_fpl::evidence::commands::graph_cmd(&plan, include_dirs, output.as_deref()))
         }
-        FplCmd::Info => {
-            println!("vouch fpl: not implemented yet");
-            ExitCode::SUCCESS
-        }
     }
 }
 
@@ -194,9 +188,7 @@ fn parse_cmd(plan: &std::path::Path, json: bool, include_dirs: Vec<PathBuf>, no_
             } else {
                 out(&vouch_fpl::front::outline::outline(&p));
             }
-            for w in &p.warnings {
-                eprint!("{}", vouch_fpl::front::Diagnostics { items: vec![w.clone()], sources: p.sources.clone() }.render(false));
-            }
+            print_warnings(&p);
             ExitCode::SUCCESS
         }
         Err(d) => {
@@ -207,6 +199,21 @@ fn parse_cmd(plan: &std::path::Path, json: bool, include_dirs: Vec<PathBuf>, no_
             ExitCode::from(if d.is_io() { 2 } else { 1 })
         }
     }
+}
+
+/// The plan's warnings on stderr, one rendered diagnostic each.
+fn print_warnings(plan: &vouch_fpl::ast::FlightPlan) {
+    for w in &plan.warnings {
+        eprint!("{}", vouch_fpl::front::Diagnostics { items: vec![w.clone()], sources: plan.sources.clone() }.render(false));
+    }
+}
+
+/// Writes a result file; a failure is reported and becomes exit code 2.
+fn write_file(path: &std::path::Path, text: &str) -> Result<(), ExitCode> {
+    std::fs::write(path, text).map_err(|e| {
+        eprintln!("error: cannot write {}: {e}", path.display());
+        ExitCode::from(2)
+    })
 }
 
 /// Writes to stdout, ignoring a closed pipe (`vouch fpl parse plan.xml | head`).
@@ -269,22 +276,18 @@ fn compile_cmd(
     };
     match &output {
         Some(path) => {
-            if let Err(e) = std::fs::write(path, &header) {
-                eprintln!("error: cannot write {}: {e}", path.display());
-                return ExitCode::from(2);
+            if let Err(code) = write_file(path, &header) {
+                return code;
             }
         }
         None => out(&header),
     }
     if let Some(path) = dump {
-        if let Err(e) = std::fs::write(&path, vouch_fpl::emit::dump::dump(&plan)) {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            return ExitCode::from(2);
+        if let Err(code) = write_file(&path, &vouch_fpl::emit::dump::dump(&plan)) {
+            return code;
         }
     }
-    for w in &plan.warnings {
-        eprint!("{}", vouch_fpl::front::Diagnostics { items: vec![w.clone()], sources: plan.sources.clone() }.render(false));
-    }
+    print_warnings(&plan);
     ExitCode::SUCCESS
 }
 

@@ -160,7 +160,7 @@ fn plan(a: PlanArgs) -> ExitCode {
                     ),
                 )
             }
-            Some(c) if map.costmap[c.y * w + c.x] == COST_OBS => {
+            Some(c) if map.costmap.get(c.y * w + c.x) == Some(&COST_OBS) => {
                 return fail(1, format!("{what} ({}, {}) lies in an obstacle (cell {}, {})", p[0], p[1], c.x, c.y))
             }
             Some(_) => {}
@@ -191,8 +191,8 @@ fn plan(a: PlanArgs) -> ExitCode {
         if ran_navfn {
             let mut pic = PictureInput::of(nav, true);
             // robot start in green, robot goal in blue (NavFn runs them swapped)
-            pic.start = nav.goal();
-            pic.goal = nav.start();
+            pic.plan.start = nav.goal();
+            pic.plan.goal = nav.start();
             if let Err(e) = save_png(png, &pic) {
                 return fail(2, format!("{}: {e}", png.display()));
             }
@@ -325,16 +325,9 @@ fn suite_run(a: SuiteRunArgs) -> ExitCode {
     let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
     let mut text = String::new();
     for f in &files {
-        let file = match read_suite_file(f) {
-            Ok(file) => file,
-            Err(e) => {
-                eprintln!("error: {e}");
-                errors += 1;
-                continue;
-            }
-        };
-        let world = match world_for(&a, f) {
-            Ok(w) => w,
+        let loaded = read_suite_file(f).map_err(|e| e.to_string()).and_then(|file| Ok((file, world_for(&a, f)?)));
+        let (file, world) = match loaded {
+            Ok(fw) => fw,
             Err(e) => {
                 eprintln!("error: {e}");
                 errors += 1;

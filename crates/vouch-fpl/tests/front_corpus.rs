@@ -3,20 +3,13 @@
 //! located error naming the bad value/reference, and block/stage counts agree with the
 //! independently produced INDEX.tsv.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use vouch_fpl::ast::{FlightPlan, Stage, StageKind};
 use vouch_fpl::front::{parse_file, ErrorKind};
 
-fn corpus() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    if p.join("INDEX.tsv").is_file() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
-}
+mod common;
+use common::corpus_dir as corpus;
 
 struct Row {
     path: String,

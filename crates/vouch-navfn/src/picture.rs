@@ -4,21 +4,14 @@
 
 use std::io::Write;
 
+use crate::checks::{reached, PlanView};
 use crate::core::{Cell, NavFn, COST_OBS, POT_HIGH};
 
-/// What a picture shows.
+/// What a picture shows: one plan (its start marked in green, its goal in blue) and the
+/// orientation.
 #[derive(Clone, Copy, Debug)]
 pub struct PictureInput<'a> {
-    pub nx: usize,
-    pub ny: usize,
-    /// NavFn costs (50..253 traversable, 254 obstacle).
-    pub costs: &'a [u8],
-    pub potential: &'a [f32],
-    pub path: &'a [[f32; 2]],
-    /// Marked in green.
-    pub start: Cell,
-    /// Marked in blue.
-    pub goal: Cell,
+    pub plan: PlanView<'a>,
     /// Draw row 0 at the bottom (ROS maps), as the map image shows it.
     pub flip_y: bool,
 }
@@ -26,16 +19,7 @@ pub struct PictureInput<'a> {
 impl<'a> PictureInput<'a> {
     /// Picture of the last plan of `nav` (NavFn start/goal; set `flip_y` for ROS maps).
     pub fn of(nav: &'a NavFn, flip_y: bool) -> Self {
-        PictureInput {
-            nx: nav.nx(),
-            ny: nav.ny(),
-            costs: nav.costs(),
-            potential: nav.potential(),
-            path: nav.path(),
-            start: nav.start(),
-            goal: nav.goal(),
-            flip_y,
-        }
+        PictureInput { plan: PlanView::of(nav), flip_y }
     }
 }
 
@@ -75,20 +59,21 @@ fn heat(t: f32) -> [u8; 3] {
 }
 
 /// Render the picture.
-pub fn render(p: &PictureInput) -> Rgb {
+pub fn render(pic: &PictureInput) -> Rgb {
+    let (p, flip_y) = (&pic.plan, pic.flip_y);
     let s = cell_scale(p.nx, p.ny);
     let (w, h) = (p.nx * s, p.ny * s);
     let mut img = Rgb { width: w, height: h, data: vec![0; w * h * 3] };
     let max_pot = p.potential.iter().copied().filter(|&v| v < POT_HIGH).fold(0.0f32, f32::max).max(1.0);
-    let row_of = |y: usize| if p.flip_y { p.ny - 1 - y } else { y };
+    let row_of = |y: usize| if flip_y { p.ny - 1 - y } else { y };
     for y in 0..p.ny {
         for x in 0..p.nx {
             let i = y * p.nx + x;
             let cost = p.costs.get(i).copied().unwrap_or(COST_OBS);
             let pot = p.potential.get(i).copied().unwrap_or(POT_HIGH);
-            let colour = if cost >= COST_OBS && !(pot < POT_HIGH) {
+            let colour = if cost >= COST_OBS && !reached(pot) {
                 [0, 0, 0]
-            } else if pot < POT_HIGH {
+            } else if reached(pot) {
                 // sqrt spreads the colours over the near field, where the path ends
                 heat((pot / max_pot).sqrt())
             } else {
@@ -106,7 +91,7 @@ pub fn render(p: &PictureInput) -> Rgb {
     // NavFn path coordinates are cell indices: a point (x, y) is the centre of cell (x, y)
     let to_px = |q: [f32; 2]| -> (i64, i64) {
         let px = (q[0] as f64 + 0.5) * s as f64;
-        let y = if p.flip_y { p.ny as f64 - 1.0 - q[1] as f64 } else { q[1] as f64 };
+        let y = if flip_y { p.ny as f64 - 1.0 - q[1] as f64 } else { q[1] as f64 };
         (px as i64, ((y + 0.5) * s as f64) as i64)
     };
     let thick = (s as i64 / 6).max(1);

@@ -283,6 +283,8 @@ pub fn run_file(file: &SuiteFile, opts: &SuiteOptions, out: &mut String) -> Resu
 mod tests {
     use super::fmt_g17;
 
+    // the literals are written with all 17 digits on purpose: they are what printf prints
+    #[allow(clippy::excessive_precision)]
     #[test]
     fn g17_matches_printf() {
         assert_eq!(fmt_g17(188.0), "188");

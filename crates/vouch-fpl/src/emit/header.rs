@@ -261,29 +261,26 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, groun
         w.raw(&format!(" {{{:.2}, {:.2}, {:.2}}}, /* ENU in meters  */ \\", enu[0], enu[1], enu[2]));
     }
     w.raw("};");
-    w.raw("#define WAYPOINTS_LLA { \\");
-    for r in wps {
-        let g = geo_of(r);
-        w.raw(&format!(
-            " {{.lat={}, .lon={}, .alt={:.0}}}, /* 1e7deg, 1e7deg, mm (above NAV_MSL0, local msl={:.2}m) */ \\",
-            geo::e7_of_rad(g.lat),
-            geo::e7_of_rad(g.lon),
-            1000.0 * r.alt,
-            geoid_height(g.lat, g.lon)
-        ));
+    // the two LLA tables differ only in the altitude datum (and its comment)
+    for (name, above_ellipsoid) in [("WAYPOINTS_LLA", false), ("WAYPOINTS_LLA_WGS84", true)] {
+        w.raw(&format!("#define {name} {{ \\"));
+        for r in wps {
+            let g = geo_of(r);
+            let geoid = geoid_height(g.lat, g.lon);
+            let (alt, datum) = if above_ellipsoid {
+                (r.alt + geoid, "above WGS84 ref ellipsoid".to_string())
+            } else {
+                (r.alt, format!("above NAV_MSL0, local msl={geoid:.2}m"))
+            };
+            w.raw(&format!(
+                " {{.lat={}, .lon={}, .alt={:.0}}}, /* 1e7deg, 1e7deg, mm ({datum}) */ \\",
+                geo::e7_of_rad(g.lat),
+                geo::e7_of_rad(g.lon),
+                1000.0 * alt
+            ));
+        }
+        w.raw("};");
     }
-    w.raw("};");
-    w.raw("#define WAYPOINTS_LLA_WGS84 { \\");
-    for r in wps {
-        let g = geo_of(r);
-        w.raw(&format!(
-            " {{.lat={}, .lon={}, .alt={:.0}}}, /* 1e7deg, 1e7deg, mm (above WGS84 ref ellipsoid) */ \\",
-            geo::e7_of_rad(g.lat),
-            geo::e7_of_rad(g.lon),
-            1000.0 * (r.alt + geoid_height(g.lat, g.lon))
-        ));
-    }
-    w.raw("};");
     w.raw("#define WAYPOINTS_GLOBAL { \\");
     for r in wps {
         w.raw(if r.global { " TRUE, \\" } else { " FALSE, \\" });

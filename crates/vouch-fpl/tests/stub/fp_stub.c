@@ -140,16 +140,25 @@ void fp_code(const char *text)
   put_text(text);
 }
 
-int fp_value(const char *text)
+bool fp_literal_value(const char *text, long *v)
 {
   char *end;
-  long v;
   errno = 0;
-  v = strtol(text, &end, 10);
+  *v = strtol(text, &end, 10);
+  return errno == 0 && end != text && *end == '\0' && (text[0] == '-' || (text[0] >= '0' && text[0] <= '9'));
+}
+
+long fp_value_of_number(long n)
+{
+  return n >= 0 ? n / 2 : -((-n) / 2);
+}
+
+int fp_value(const char *text)
+{
+  long v;
   /* a plain decimal literal is its own value; anything else is asked to the oracle */
-  if (errno != 0 || end == text || *end != '\0' || !(text[0] == '-' || (text[0] >= '0' && text[0] <= '9'))) {
-    long n = next_number();
-    v = n >= 0 ? n / 2 : -((-n) / 2);
+  if (!fp_literal_value(text, &v)) {
+    v = fp_value_of_number(next_number());
   }
   fprintf(trace_out, "V %ld ", v);
   put_text(text);

@@ -13,6 +13,11 @@ pub use report::{CheckReport, Violation};
 
 use crate::core::{Cell, NavFn, COST_OBS, POT_HIGH};
 
+/// A cell NavFn reached has a potential below `POT_HIGH`; a NaN counts as not reached.
+pub(crate) fn reached(potential: f32) -> bool {
+    potential < POT_HIGH
+}
+
 /// Everything a plan check looks at.
 #[derive(Clone, Copy, Debug)]
 pub struct PlanView<'a> {
@@ -62,7 +67,7 @@ pub fn check_potential(v: &PlanView) -> CheckReport {
     }
     let goal = v.goal.y * nx + v.goal.x;
     for (i, &p) in v.potential.iter().enumerate() {
-        if !(p < POT_HIGH) || i == goal {
+        if !reached(p) || i == goal {
             continue;
         }
         let (x, y) = (i % nx, i / nx);

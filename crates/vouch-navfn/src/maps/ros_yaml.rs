@@ -243,7 +243,7 @@ fn to_occupancy(meta: &RosMapMeta, img: &GreyImage, opaque: Option<&[bool]>) -> 
 pub fn static_layer_value(occupancy: i8, trinary_costmap: bool) -> u8 {
     if occupancy == -1 {
         255
-    } else if occupancy >= 100 || occupancy < 0 {
+    } else if !(0..100).contains(&occupancy) {
         254
     } else if trinary_costmap {
         0

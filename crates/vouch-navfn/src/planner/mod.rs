@@ -296,15 +296,9 @@ fn squared_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// `smoothApproachToGoal`: replace the last pose by the goal when the goal is nearer to the
 /// second-to-last pose, or when the last pose already (almost) equals it; else append it.
 fn smooth_approach_to_goal(goal: [f64; 2], poses: &mut Vec<[f64; 2]>) {
-    if poses.len() >= 2 {
-        let second = poses[poses.len() - 2];
-        let last = poses[poses.len() - 1];
-        if squared_distance(last, second) > squared_distance(goal, second) {
-            *poses.last_mut().expect("len >= 2") = goal;
-            return;
-        }
-        if squared_distance(last, goal) < 1e-6 {
-            *poses.last_mut().expect("len >= 2") = goal;
+    if let [.., second, last] = poses.as_mut_slice() {
+        if squared_distance(*last, *second) > squared_distance(goal, *second) || squared_distance(*last, goal) < 1e-6 {
+            *last = goal;
             return;
         }
     }

@@ -163,13 +163,10 @@ void fp_code(const char *text)
 
 int fp_value(const char *text)
 {
-  char *end;
   long v;
-  errno = 0;
-  v = strtol(text, &end, 10);
-  if (errno != 0 || end == text || *end != '\0' || !(text[0] == '-' || (text[0] >= '0' && text[0] <= '9'))) {
-    long n = next_number(1);
-    v = n >= 0 ? n / 2 : -((-n) / 2);
+  /* same literal test and number-to-value map as the stub runtime's own oracle */
+  if (!fp_literal_value(text, &v)) {
+    v = fp_value_of_number(next_number(1));
   }
   if (recording) { put_s("V "); put_l(v); put_s(" "); put_text(text); }
   return (int)v;

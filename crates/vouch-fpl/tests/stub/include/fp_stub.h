@@ -56,6 +56,10 @@ float WaypointY(uint8_t wp);
 bool fp_cond(const char *text);
 void fp_code(const char *text);
 int fp_value(const char *text);
+/* Shared by the stub's oracle and the evidence explore driver: is `text` a plain decimal
+ * literal (its value in *v), and the value an oracle number n stands for (n/2, toward zero). */
+bool fp_literal_value(const char *text, long *v);
+long fp_value_of_number(long n);
 #define FP_C(text) fp_cond(text)
 #define FP_X(text) { fp_code(text); }
 #define FP_V(text) fp_value(text)

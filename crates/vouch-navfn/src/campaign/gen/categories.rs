@@ -12,6 +12,16 @@ fn random_cost(rng: &mut SplitMix64) -> u8 {
     rng.range(u32::from(FREE), u32::from(MAX_TRAVERSABLE)) as u8
 }
 
+/// Half of the maps of a uniform-cost category get random costs (name suffix `_random`).
+fn maybe_randomise_costs(mut m: SuiteMap, rng: &mut SplitMix64) -> (SuiteMap, &'static str) {
+    if rng.chance(1, 2) {
+        randomise_costs(&mut m, rng);
+        (m, "_random")
+    } else {
+        (m, "")
+    }
+}
+
 /// Interior cells get a random traversable cost (obstacles are kept).
 fn randomise_costs(m: &mut SuiteMap, rng: &mut SplitMix64) {
     for y in 1..m.height - 1 {
@@ -87,12 +97,7 @@ fn columns(rng: &mut SplitMix64, w: u32, h: u32) -> (SuiteMap, &'static str) {
         }
         y += s + g;
     }
-    if rng.chance(1, 2) {
-        randomise_costs(&mut m, rng);
-        (m, "_random")
-    } else {
-        (m, "")
-    }
+    maybe_randomise_costs(m, rng)
 }
 
 /// A ratio (10–40 %) of obstacle cells, the rest uniform random 50..253.
@@ -159,12 +164,7 @@ fn spiral(rng: &mut SplitMix64, w: u32, h: u32) -> (SuiteMap, &'static str) {
             turns_without_move += 1;
         }
     }
-    if rng.chance(1, 2) {
-        randomise_costs(&mut m, rng);
-        (m, "_random")
-    } else {
-        (m, "")
-    }
+    maybe_randomise_costs(m, rng)
 }
 
 /// Full-length vertical and/or horizontal walls splitting the map into regions, random costs.
