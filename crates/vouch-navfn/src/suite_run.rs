@@ -112,6 +112,17 @@ impl CaseRunner {
         }
     }
 
+    /// Sizes the reused NavFn for the map and loads its costs (shared by both call sequences).
+    fn load_map(&mut self, map: &[u8], nx: usize, ny: usize, costs: CostInput) -> Result<&mut NavFn, CaseError> {
+        let nav = &mut self.nav;
+        nav.resize(nx, ny)?;
+        match costs {
+            CostInput::Raw => nav.set_costs_raw(map)?,
+            CostInput::Ros => nav.set_costs_ros(map, true)?,
+        }
+        Ok(nav)
+    }
+
     /// The paper harness: NavFn goal = `to`, NavFn start = `from` (no swap), set-up,
     /// `propNavFnAstar(max(nx*ny/20, nx+ny))`, `calcPath(4*nx)`; raw costs.
     pub fn run_paper<O: SearchObserver>(
@@ -123,9 +134,7 @@ impl CaseRunner {
         to: Cell,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
-        let nav = &mut self.nav;
-        nav.resize(nx, ny)?;
-        nav.set_costs_raw(map)?;
+        let nav = self.load_map(map, nx, ny, CostInput::Raw)?;
         nav.set_goal(to)?;
         nav.set_start(from)?;
         nav.setup();
@@ -155,12 +164,7 @@ impl CaseRunner {
         to: Cell,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
-        let nav = &mut self.nav;
-        nav.resize(nx, ny)?;
-        match costs {
-            CostInput::Raw => nav.set_costs_raw(map)?,
-            CostInput::Ros => nav.set_costs_ros(map, true)?,
-        }
+        let nav = self.load_map(map, nx, ny, costs)?;
         nav.set_start(to)?;
         nav.set_goal(from)?;
         let (prop, last_path_cost) = match algo {
