@@ -99,7 +99,11 @@ fn main() {
         println!("cargo:warning=vouch-mav: no MAVLink definitions found; the default dialect will be unavailable (use --dialect)");
     } else {
         let read = |name: &str| -> Result<String, String> {
-            files.iter().find(|(n, _)| n == name).map(|(_, t)| t.clone()).ok_or_else(|| format!("include {name} not found"))
+            files
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, t)| t.clone())
+                .ok_or_else(|| format!("include {name} not found"))
         };
         match raw::read_xml(ROOT, &read).ok().and_then(|d| raw::write_digest(&d)) {
             Some(d) => digest = d,

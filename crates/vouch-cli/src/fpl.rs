@@ -147,7 +147,9 @@ pub enum FplCmd {
 
 pub fn run(cmd: FplCmd) -> ExitCode {
     match cmd {
-        FplCmd::Parse { plan, json, include_dirs, no_extensions } => parse_cmd(&plan, json, include_dirs, no_extensions),
+        FplCmd::Parse { plan, json, include_dirs, no_extensions } => {
+            parse_cmd(&plan, json, include_dirs, no_extensions)
+        }
         FplCmd::BenchParse { dir, iterations } => bench_parse_cmd(dir, iterations),
         FplCmd::Compile { plan, output, dump, instrumented, include_dirs } => {
             compile_cmd(&plan, output, dump, instrumented, include_dirs)
@@ -155,26 +157,73 @@ pub fn run(cmd: FplCmd) -> ExitCode {
         FplCmd::Sim { plan, steps, conditions, seed, percent_true, json, trace } => {
             sim_cmd(&plan, steps, conditions, seed, percent_true, json, trace)
         }
-        FplCmd::Validate { plan, depth, random_runs, random_steps, max_paths, bounds, json, include_dirs } => {
-            let opts = vouch_fpl::evidence::validate::Options { depth, random_runs, random_steps, max_paths, ..Default::default() };
-            ExitCode::from(vouch_fpl::evidence::commands::validate_cmd(&plan, include_dirs, &opts, json, bounds))
+        FplCmd::Validate {
+            plan,
+            depth,
+            random_runs,
+            random_steps,
+            max_paths,
+            bounds,
+            json,
+            include_dirs,
+        } => {
+            let opts = vouch_fpl::evidence::validate::Options {
+                depth,
+                random_runs,
+                random_steps,
+                max_paths,
+                ..Default::default()
+            };
+            ExitCode::from(vouch_fpl::evidence::commands::validate_cmd(
+                &plan,
+                include_dirs,
+                &opts,
+                json,
+                bounds,
+            ))
         }
-        FplCmd::Lint { plan, json, strict, include_dirs } => {
-            ExitCode::from(vouch_fpl::evidence::commands::lint_cmd(&plan, include_dirs, json, strict))
-        }
-        FplCmd::Check { plan, properties, safe_blocks, no_blocked, deadlock_free, max_states, operator, json, include_dirs } => {
-            let a = vouch_fpl::evidence::commands::CheckArgs { properties, safe_blocks, no_blocked, deadlock_free, max_states, operator, json };
+        FplCmd::Lint { plan, json, strict, include_dirs } => ExitCode::from(
+            vouch_fpl::evidence::commands::lint_cmd(&plan, include_dirs, json, strict),
+        ),
+        FplCmd::Check {
+            plan,
+            properties,
+            safe_blocks,
+            no_blocked,
+            deadlock_free,
+            max_states,
+            operator,
+            json,
+            include_dirs,
+        } => {
+            let a = vouch_fpl::evidence::commands::CheckArgs {
+                properties,
+                safe_blocks,
+                no_blocked,
+                deadlock_free,
+                max_states,
+                operator,
+                json,
+            };
             ExitCode::from(vouch_fpl::evidence::commands::check_cmd(&plan, include_dirs, &a))
         }
-        FplCmd::Graph { plan, output, include_dirs } => {
-            ExitCode::from(vouch_fpl::evidence::commands::graph_cmd(&plan, include_dirs, output.as_deref()))
-        }
+        FplCmd::Graph { plan, output, include_dirs } => ExitCode::from(
+            vouch_fpl::evidence::commands::graph_cmd(&plan, include_dirs, output.as_deref()),
+        ),
     }
 }
 
-fn parse_cmd(plan: &std::path::Path, json: bool, include_dirs: Vec<PathBuf>, no_extensions: bool) -> ExitCode {
+fn parse_cmd(
+    plan: &std::path::Path,
+    json: bool,
+    include_dirs: Vec<PathBuf>,
+    no_extensions: bool,
+) -> ExitCode {
     use std::io::IsTerminal;
-    let opts = vouch_fpl::front::Options { search_dirs: include_dirs, allow_forbidden_deroutes: !no_extensions };
+    let opts = vouch_fpl::front::Options {
+        search_dirs: include_dirs,
+        allow_forbidden_deroutes: !no_extensions,
+    };
     match vouch_fpl::front::parse_file_with(plan, &opts) {
         Ok(p) => {
             if json {
@@ -204,7 +253,11 @@ fn parse_cmd(plan: &std::path::Path, json: bool, include_dirs: Vec<PathBuf>, no_
 /// The plan's warnings on stderr, one rendered diagnostic each.
 fn print_warnings(plan: &vouch_fpl::ast::FlightPlan) {
     for w in &plan.warnings {
-        eprint!("{}", vouch_fpl::front::Diagnostics { items: vec![w.clone()], sources: plan.sources.clone() }.render(false));
+        eprint!(
+            "{}",
+            vouch_fpl::front::Diagnostics { items: vec![w.clone()], sources: plan.sources.clone() }
+                .render(false)
+        );
     }
 }
 
@@ -238,7 +291,10 @@ fn bench_parse_cmd(dir: Option<PathBuf>, iterations: u32) -> ExitCode {
 }
 
 /// Parses a plan for the back-end commands, printing located errors (exit 1, or 2 for I/O).
-fn parse_for_backend(plan: &std::path::Path, include_dirs: Vec<PathBuf>) -> Result<vouch_fpl::ast::FlightPlan, ExitCode> {
+fn parse_for_backend(
+    plan: &std::path::Path,
+    include_dirs: Vec<PathBuf>,
+) -> Result<vouch_fpl::ast::FlightPlan, ExitCode> {
     use std::io::IsTerminal;
     let opts = vouch_fpl::front::Options { search_dirs: include_dirs, ..Default::default() };
     vouch_fpl::front::parse_file_with(plan, &opts).map_err(|d| {
@@ -313,7 +369,10 @@ fn sim_cmd(
         }
     };
     let mut oracle: Box<dyn Oracle> = match (conditions, seed) {
-        (Some(path), _) => match std::fs::read_to_string(&path).map_err(|e| e.to_string()).and_then(|t| Scripted::parse(&t)) {
+        (Some(path), _) => match std::fs::read_to_string(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|t| Scripted::parse(&t))
+        {
             Ok(s) => Box::new(s),
             Err(e) => {
                 eprintln!("error: {}: {e}", path.display());

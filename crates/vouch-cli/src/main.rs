@@ -15,7 +15,11 @@ mod mav;
 mod navfn;
 
 #[derive(Parser)]
-#[command(name = "vouch", version, about = "Pair every doer with a checker: flight plans, MAVLink, NavFn")]
+#[command(
+    name = "vouch",
+    version,
+    about = "Pair every doer with a checker: flight plans, MAVLink, NavFn"
+)]
 struct Cli {
     #[command(subcommand)]
     family: Family,

@@ -111,7 +111,11 @@ fn check(a: CheckArgs) -> ExitCode {
         let doc = serde_json::json!({ "files": reports, "violations": total_violations });
         println!("{}", serde_json::to_string_pretty(&doc).unwrap_or_default());
     }
-    if total_violations > 0 { ExitCode::from(3) } else { ExitCode::SUCCESS }
+    if total_violations > 0 {
+        ExitCode::from(3)
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 fn print_report(file: &Path, r: &vouch_mav::monitor::offline::RecordingReport, max: usize) {
@@ -125,7 +129,10 @@ fn print_report(file: &Path, r: &vouch_mav::monitor::offline::RecordingReport, m
         "  input problems: bad crc {}, bad length {}, unknown id {}, bad incompat flags {}, truncated {}, garbage bytes {}, records skipped {}",
         c.bad_crc, c.bad_length, c.unknown_id, c.bad_incompat, c.truncated, c.garbage_bytes, r.skipped_records
     );
-    println!("  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11}", "protocol", "started", "completed", "abandoned", "unfinished", "violations");
+    println!(
+        "  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11}",
+        "protocol", "started", "completed", "abandoned", "unfinished", "violations"
+    );
     for p in &r.summary.protocols {
         println!(
             "  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11}",
@@ -220,7 +227,8 @@ pub fn parse_set(items: &[String]) -> Result<Vec<(String, f64)>, ExitCode> {
 /// A monitor from the options: protocol files (exit 1 on a protocol error) or the standard library.
 pub fn load_monitor(dialect: &Arc<Dialect>, o: &MonitorOpts) -> Result<Monitor, ExitCode> {
     let overrides = parse_set(&o.set)?;
-    let mut sources = if o.protocols.is_empty() || o.with_stdlib { stdlib::sources() } else { Vec::new() };
+    let mut sources =
+        if o.protocols.is_empty() || o.with_stdlib { stdlib::sources() } else { Vec::new() };
     sources.extend(read_sources(&o.protocols)?);
     Monitor::from_sources(Arc::clone(dialect), &sources, &overrides).map_err(|e| {
         eprintln!("{:?}", miette::Report::new(e));

@@ -12,7 +12,9 @@ use std::time::Instant;
 use clap::{Args, Subcommand, ValueEnum};
 use vouch_navfn::checks::{check_plan, PlanView};
 use vouch_navfn::core::{Algo, NoObserver, COST_OBS};
-use vouch_navfn::maps::{find_test_files, load_ros_map, read_suite_file, read_world_params, SuiteFile};
+use vouch_navfn::maps::{
+    find_test_files, load_ros_map, read_suite_file, read_world_params, SuiteFile,
+};
 use vouch_navfn::picture::{save_png, PictureInput};
 use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, WorldParams};
 use vouch_navfn::suite_run::{run_file, CaseRunner, CostInput, SuiteMode, SuiteOptions};
@@ -136,7 +138,10 @@ fn plan(a: PlanArgs) -> ExitCode {
         }
         let ok = |v: f64, n: usize| v.fract() == 0.0 && v >= 0.0 && v < n as f64;
         if !ok(p[0], w) || !ok(p[1], h) {
-            return Err(format!("{what} cell ({}, {}) is not a cell of the {w}x{h} map", p[0], p[1]));
+            return Err(format!(
+                "{what} cell ({}, {}) is not a cell of the {w}x{h} map",
+                p[0], p[1]
+            ));
         }
         Ok([world.origin[0] + p[0] * world.resolution, world.origin[1] + p[1] * world.resolution])
     };
@@ -169,7 +174,13 @@ fn plan(a: PlanArgs) -> ExitCode {
     // the tolerance search scans a (2·tol/res)² grid: refuse what would not finish
     let side = 2.0 * a.tolerance / world.resolution + 1.0;
     if !(a.tolerance >= 0.0 && a.tolerance.is_finite()) || side * side > 1e8 {
-        return fail(1, format!("tolerance {} is negative or too large for resolution {}", a.tolerance, world.resolution));
+        return fail(
+            1,
+            format!(
+                "tolerance {} is negative or too large for resolution {}",
+                a.tolerance, world.resolution
+            ),
+        );
     }
     let params = PlannerParams {
         tolerance: a.tolerance,
@@ -221,7 +232,11 @@ fn plan(a: PlanArgs) -> ExitCode {
             result.world.len(),
             result.navfn_len,
             result.tol_used,
-            if report.is_ok() { "ok".to_string() } else { format!("{} violations", report.count()) },
+            if report.is_ok() {
+                "ok".to_string()
+            } else {
+                format!("{} violations", report.count())
+            },
             elapsed_ms
         );
         for p in &result.world {
@@ -308,7 +323,11 @@ fn suite_run(a: SuiteRunArgs) -> ExitCode {
         ModeArg::Navfn => SuiteMode::Navfn,
         ModeArg::Planner => SuiteMode::Planner,
     };
-    let costs = match a.costs.unwrap_or(if mode == SuiteMode::Planner { CostsArg::Ros } else { CostsArg::Raw }) {
+    let costs = match a.costs.unwrap_or(if mode == SuiteMode::Planner {
+        CostsArg::Ros
+    } else {
+        CostsArg::Raw
+    }) {
         CostsArg::Raw => CostInput::Raw,
         CostsArg::Ros => CostInput::Ros,
     };
@@ -325,7 +344,9 @@ fn suite_run(a: SuiteRunArgs) -> ExitCode {
     let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
     let mut text = String::new();
     for f in &files {
-        let loaded = read_suite_file(f).map_err(|e| e.to_string()).and_then(|file| Ok((file, world_for(&a, f)?)));
+        let loaded = read_suite_file(f)
+            .map_err(|e| e.to_string())
+            .and_then(|file| Ok((file, world_for(&a, f)?)));
         let (file, world) = match loaded {
             Ok(fw) => fw,
             Err(e) => {

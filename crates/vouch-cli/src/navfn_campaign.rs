@@ -80,13 +80,22 @@ impl TraceArgs {
 
 /// `suite run` with `--trace`/`--pot`/`--perturb-pri-inc`: `navfn_mode` is `None` for paper
 /// mode, else `Some(use_astar)`.
-pub fn suite_run_traced(path: &std::path::Path, navfn_mode: Option<bool>, t: &TraceArgs) -> ExitCode {
+pub fn suite_run_traced(
+    path: &std::path::Path,
+    navfn_mode: Option<bool>,
+    t: &TraceArgs,
+) -> ExitCode {
     let mode = match navfn_mode {
         None => RunMode::Paper,
         Some(false) => RunMode::NavfnDijkstra,
         Some(true) => RunMode::NavfnAstar,
     };
-    let opts = EmitOptions { mode, trace: t.trace.map(Into::into), pot: t.pot, perturb_pri_inc: t.perturb_pri_inc };
+    let opts = EmitOptions {
+        mode,
+        trace: t.trace.map(Into::into),
+        pot: t.pot,
+        perturb_pri_inc: t.perturb_pri_inc,
+    };
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     match commands::suite_run_traced(path, &opts, &mut out) {
@@ -138,7 +147,14 @@ pub fn suite_gen(a: SuiteGenArgs) -> ExitCode {
         Ok(v) => v,
         Err(e) => return fail(e),
     };
-    let opts = GenOptions { seed: a.seed, categories: a.categories, maps_per_category: a.maps, min_size, max_size, cases_per_map: a.cases };
+    let opts = GenOptions {
+        seed: a.seed,
+        categories: a.categories,
+        maps_per_category: a.maps,
+        min_size,
+        max_size,
+        cases_per_map: a.cases,
+    };
     match commands::suite_gen(&opts, &a.out, &a.ros_maps, a.ros_cases) {
         Ok(t) => {
             print!("{t}");
@@ -174,7 +190,12 @@ pub fn suite_diff(a: SuiteDiffArgs) -> ExitCode {
         "cells" => Some(TraceDetail::Cells),
         _ => Some(TraceDetail::Hash),
     };
-    let opts = DiffOptions { oracle: a.oracle, mode: a.mode.into(), white_box, perturb_pri_inc: a.perturb_pri_inc };
+    let opts = DiffOptions {
+        oracle: a.oracle,
+        mode: a.mode.into(),
+        white_box,
+        perturb_pri_inc: a.perturb_pri_inc,
+    };
     match commands::suite_diff(&a.suite, &opts, a.json.as_deref()) {
         Ok((text, same)) => {
             print!("{text}");
@@ -233,7 +254,14 @@ pub fn campaign(a: CampaignArgs) -> ExitCode {
         progress: !a.quiet,
         ..CampaignOptions::default()
     };
-    match commands::campaign(&a.suite, &opts, a.oracle.as_deref(), a.report.as_deref(), a.pictures.as_deref(), a.cases_out.as_deref()) {
+    match commands::campaign(
+        &a.suite,
+        &opts,
+        a.oracle.as_deref(),
+        a.report.as_deref(),
+        a.pictures.as_deref(),
+        a.cases_out.as_deref(),
+    ) {
         Ok((text, report)) => {
             print!("{text}");
             if report.failures() == 0 {

@@ -28,7 +28,9 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let mut bytes = 0usize;
             for p in &plans {
-                if let Ok(h) = vouch_fpl::emit::compile_file(p, &vouch_fpl::emit::EmitOptions::default()) {
+                if let Ok(h) =
+                    vouch_fpl::emit::compile_file(p, &vouch_fpl::emit::EmitOptions::default())
+                {
                     bytes += h.len();
                 }
             }

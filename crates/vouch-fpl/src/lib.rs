@@ -8,13 +8,13 @@
 //! Entry point: [`front::parse_file`]. The AST contract is described in `docs/fpl-ast-contract.md`.
 
 pub mod ast;
+pub mod emit;
+pub mod evidence;
 pub mod expr;
 pub mod front;
-pub mod emit;
+pub mod graph;
+pub mod lint;
+pub mod model_check;
 pub mod passes;
 pub mod semantics;
 pub mod sim;
-pub mod evidence;
-pub mod lint;
-pub mod model_check;
-pub mod graph;

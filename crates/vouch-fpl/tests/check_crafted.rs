@@ -30,7 +30,11 @@ fn forbidden_deroute_blocks_and_deadlocks() {
     assert!(!o.holds);
     let cx = o.counterexample.expect("counterexample");
     let last = cx.steps.last().expect("at least one call");
-    assert!(last.blocked.contains(&("Takeoff".to_string(), "Land".to_string())), "{:?}", last.blocked);
+    assert!(
+        last.blocked.contains(&("Takeoff".to_string(), "Land".to_string())),
+        "{:?}",
+        last.blocked
+    );
     // Takeoff = block 0: the plan never leaves it
     assert_eq!(replay(&fp, &cx), 0);
     let d = check::check_deadlock_free(&g);
@@ -43,7 +47,10 @@ fn pingpong_never_lands_but_always_can_refuel() {
     let fp = fp_of("pingpong.xml");
     let g = build(&fp, 10_000, false).expect("builds");
     let never_land = check::check_text(&g, "never block(Land)").expect("parses");
-    assert!(never_land.holds && never_land.complete, "Land is unreachable: Refuel returns to the deroute");
+    assert!(
+        never_land.holds && never_land.complete,
+        "Land is unreachable: Refuel returns to the deroute"
+    );
     let safe = check::check_safe_blocks(&g, &[g.block_index("Refuel").expect("block")]);
     assert!(safe.holds);
     let inf = check::check_text(&g, "always eventually block(Refuel)").expect("parses");

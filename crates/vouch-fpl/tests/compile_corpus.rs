@@ -21,10 +21,15 @@ fn every_upstream_compilable_plan_compiles_and_instrumentation_is_faithful() {
                 continue;
             }
         };
-        let inst = compile_file(p, &EmitOptions { flavor: Flavor::Instrumented, ..opts.clone() }).expect("same plan");
+        let inst = compile_file(p, &EmitOptions { flavor: Flavor::Instrumented, ..opts.clone() })
+            .expect("same plan");
         let plan = vouch_fpl::front::parse_file(p).expect("parsed above");
         let back = unwrap_instrumented(&inst, plan.header.as_ref().map(|h| h.text.as_str()));
-        assert!(back == dropin, "{}: instrumented header does not unwrap to the drop-in header", p.display());
+        assert!(
+            back == dropin,
+            "{}: instrumented header does not unwrap to the drop-in header",
+            p.display()
+        );
     }
     assert!(failures.is_empty(), "{} plans failed:\n{}", failures.len(), failures.join("\n"));
 }
@@ -32,6 +37,8 @@ fn every_upstream_compilable_plan_compiles_and_instrumentation_is_faithful() {
 #[test]
 fn demo_compiles() {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml");
-    let h = compile_file(&p, &EmitOptions::default()).map_err(|e| e.diagnostics().to_string()).expect("demo compiles");
+    let h = compile_file(&p, &EmitOptions::default())
+        .map_err(|e| e.diagnostics().to_string())
+        .expect("demo compiles");
     assert!(h.contains("static inline void auto_nav(void) {"), "the demo header defines auto_nav");
 }

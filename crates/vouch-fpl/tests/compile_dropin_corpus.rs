@@ -16,7 +16,8 @@ use vouch_fpl::emit::{compile_file, EmitOptions};
 
 /// Builds and runs the drop-in header of `plan` in `work`; the driver's output on success.
 fn build_and_run(cc: &str, plan: &Path, work: &Path) -> Result<String, String> {
-    let header = compile_file(plan, &EmitOptions::default()).map_err(|e| format!("compile: {}", e.diagnostics()))?;
+    let header = compile_file(plan, &EmitOptions::default())
+        .map_err(|e| format!("compile: {}", e.diagnostics()))?;
     std::fs::create_dir_all(work).map_err(|e| e.to_string())?;
     std::fs::write(work.join("flight_plan.h"), &header).map_err(|e| e.to_string())?;
     let stub = common::stub_dir();
@@ -81,11 +82,22 @@ fn dropin_header_of_every_corpus_plan_compiles_and_runs() {
             let work = tmp.join(format!("plan{i:03}"));
             let result = build_and_run(&cc, p, &work).and_then(|out| {
                 // "block stage", both numbers, as printed by the driver.
-                let nums: Vec<u32> = out.split_whitespace().filter_map(|w| w.parse().ok()).collect();
-                if nums.len() == 2 { Ok(()) } else { Err(format!("unexpected driver output {out:?}")) }
+                let nums: Vec<u32> =
+                    out.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+                if nums.len() == 2 {
+                    Ok(())
+                } else {
+                    Err(format!("unexpected driver output {out:?}"))
+                }
             });
             result.err().map(|e| format!("{}: {e}", p.display()))
         })
         .collect();
-    assert!(failures.is_empty(), "{} of {} drop-in headers failed:\n{}", failures.len(), plans.len(), failures.join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} drop-in headers failed:\n{}",
+        failures.len(),
+        plans.len(),
+        failures.join("\n\n")
+    );
 }

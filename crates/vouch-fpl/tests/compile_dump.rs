@@ -25,7 +25,8 @@ fn count_stages(list: &[Stage]) -> usize {
 /// `<flight_plan …>…</flight_plan>` of the dump, without the last (appended HOME) block.
 fn reparsable_plan(dump_text: &str, home_no: usize) -> Result<String, String> {
     let start = dump_text.find("<flight_plan").ok_or("no <flight_plan> in the dump")?;
-    let end = dump_text.find("</flight_plan>").ok_or("no </flight_plan> in the dump")? + "</flight_plan>".len();
+    let end = dump_text.find("</flight_plan>").ok_or("no </flight_plan> in the dump")?
+        + "</flight_plan>".len();
     let fp = &dump_text[start..end];
     let home = format!("<block name=\"HOME\" no=\"{home_no}\">");
     let h = fp.find(&home).ok_or_else(|| format!("no {home} in the dump"))?;
@@ -56,7 +57,8 @@ fn check(path: &Path) -> Result<(), String> {
     if !text.contains("<stages>") {
         return Err("no <stages> index".into());
     }
-    let again = parse_str("dump.xml", &reparsable_plan(&text, n - 1)?).map_err(|e| format!("re-parse: {e}"))?;
+    let again = parse_str("dump.xml", &reparsable_plan(&text, n - 1)?)
+        .map_err(|e| format!("re-parse: {e}"))?;
     if again.blocks.len() != n {
         return Err(format!("{} blocks after re-parse, {n} before", again.blocks.len()));
     }
@@ -68,7 +70,9 @@ fn check(path: &Path) -> Result<(), String> {
             return Err(format!("block {} differs after re-parse", a.name.value));
         }
     }
-    if plan.waypoints.len() != again.waypoints.len() || plan.exceptions.len() != again.exceptions.len() {
+    if plan.waypoints.len() != again.waypoints.len()
+        || plan.exceptions.len() != again.exceptions.len()
+    {
         return Err("waypoints or global exceptions differ after re-parse".into());
     }
     if compiled_body(&plan)? != compiled_body(&again)? {
@@ -83,7 +87,10 @@ fn demo_dump_reparses_into_the_same_plan() {
     check(&demo).unwrap_or_else(|e| panic!("demo: {e}"));
     let text = dump(&parse_file(&demo).expect("demo parses"));
     // Demo: "Wait GPS" is set (0) + while (test 1, loop-back 2), so the index names stage 1.
-    assert!(text.contains("<stage block=\"0\" block_name=\"Wait GPS\" stage=\"1\"><while/></stage>"), "{text}");
+    assert!(
+        text.contains("<stage block=\"0\" block_name=\"Wait GPS\" stage=\"1\"><while/></stage>"),
+        "{text}"
+    );
     assert!(text.contains("<while cond=\"!GpsFixValid()\" no=\"1\"/>"), "{text}");
 }
 
@@ -91,7 +98,15 @@ fn demo_dump_reparses_into_the_same_plan() {
 fn every_corpus_dump_reparses_into_the_same_plan() {
     let Some(dir) = common::corpus_dir() else { return };
     let plans: Vec<PathBuf> = common::corpus_plans(&dir);
-    let failures: Vec<String> =
-        plans.iter().filter_map(|p| check(p).err().map(|e| format!("{}: {e}", p.display()))).collect();
-    assert!(failures.is_empty(), "{} of {} dumps failed:\n{}", failures.len(), plans.len(), failures.join("\n"));
+    let failures: Vec<String> = plans
+        .iter()
+        .filter_map(|p| check(p).err().map(|e| format!("{}: {e}", p.display())))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} dumps failed:\n{}",
+        failures.len(),
+        plans.len(),
+        failures.join("\n")
+    );
 }

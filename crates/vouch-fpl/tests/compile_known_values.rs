@@ -7,12 +7,18 @@ use vouch_fpl::emit::{compile_file, compile_plan, EmitOptions};
 
 fn header(rel: &str) -> Option<String> {
     let dir = common::corpus_dir()?;
-    Some(compile_file(&dir.join(rel), &EmitOptions::default()).map_err(|e| e.diagnostics().to_string()).expect("compiles"))
+    Some(
+        compile_file(&dir.join(rel), &EmitOptions::default())
+            .map_err(|e| e.diagnostics().to_string())
+            .expect("compiles"),
+    )
 }
 
 fn define<'a>(h: &'a str, name: &str) -> &'a str {
     let prefix = format!("#define {name} ");
-    h.lines().find_map(|l| l.strip_prefix(prefix.as_str())).unwrap_or_else(|| panic!("no #define {name}"))
+    h.lines()
+        .find_map(|l| l.strip_prefix(prefix.as_str()))
+        .unwrap_or_else(|| panic!("no #define {name}"))
 }
 
 #[test]
@@ -22,7 +28,11 @@ fn basic_reference_and_home_row_differ_by_the_utm_round_trip() {
     // trunc(1e7 * (43.46223*pi/180)*180/pi) = trunc(434622300.00000006); the HOME row went
     // through UTM and back and lands one unit lower.
     assert_eq!(define(&h, "NAV_LAT0"), "434622300 /* 1e7deg */");
-    let home_row = h.lines().skip_while(|l| !l.starts_with("#define WAYPOINTS_LLA {")).nth(2).expect("HOME row");
+    let home_row = h
+        .lines()
+        .skip_while(|l| !l.starts_with("#define WAYPOINTS_LLA {"))
+        .nth(2)
+        .expect("HOME row");
     assert!(home_row.starts_with(" {.lat=434622299, "), "{home_row}");
 }
 
@@ -87,7 +97,12 @@ fn ltp_frame_enu_rows_are_the_written_coordinates() {
     // GENERATOR_FACTS §10: in LTP frame the ENU row is (x, y, ALT - ground_alt).
     // ENAC/demo_aruco_drop_indoor.xml: alt 148, ground_alt 146, STDBY at x=-0.7 y=-0.8.
     let Some(h) = header("ENAC/demo_aruco_drop_indoor.xml") else { return };
-    let rows: Vec<&str> = h.lines().skip_while(|l| !l.starts_with("#define WAYPOINTS_ENU {")).skip(1).take(3).collect();
+    let rows: Vec<&str> = h
+        .lines()
+        .skip_while(|l| !l.starts_with("#define WAYPOINTS_ENU {"))
+        .skip(1)
+        .take(3)
+        .collect();
     assert_eq!(rows[0], " {0.00, 0.00, 2.00}, /* ENU in meters  */ \\");
     assert_eq!(rows[2], " {-0.70, -0.80, 2.00}, /* ENU in meters  */ \\");
 }

@@ -59,11 +59,16 @@ fn more_than_256_stages_are_rejected() {
 fn loop_stages_count_toward_the_limit() {
     // A for loop uses init + test + body + loop-back: 2 + 252 + 1 = 255, + end stage = 256: ok.
     let body: String = (0..252).map(|i| format!("<call_once fun=\"h({i})\"/>")).collect();
-    let ok = vec![format!("<block name=\"loop\"><for var=\"i\" from=\"1\" to=\"3\">{body}</for></block>")];
+    let ok = vec![format!(
+        "<block name=\"loop\"><for var=\"i\" from=\"1\" to=\"3\">{body}</for></block>"
+    )];
     assert!(check(&plan(&ok)).is_ok());
     let body: String = (0..253).map(|i| format!("<call_once fun=\"h({i})\"/>")).collect();
-    let too_big = vec![format!("<block name=\"loop\"><for var=\"i\" from=\"1\" to=\"3\">{body}</for></block>")];
-    let (kind, msg) = check(&plan(&too_big)).expect_err("257 stages with the loop must be rejected");
+    let too_big = vec![format!(
+        "<block name=\"loop\"><for var=\"i\" from=\"1\" to=\"3\">{body}</for></block>"
+    )];
+    let (kind, msg) =
+        check(&plan(&too_big)).expect_err("257 stages with the loop must be rejected");
     assert_eq!(kind, CompileErrorKind::Size);
     assert!(msg.contains("257 stages"), "{msg}");
 }

@@ -8,8 +8,13 @@ use vouch_fpl::emit::{compile_file, EmitOptions};
 
 fn snap(rel: &str) -> Option<String> {
     let dir = common::corpus_dir()?;
-    let opts = EmitOptions { source_path: format!("conf/flight_plans/{rel}"), ..EmitOptions::default() };
-    Some(compile_file(&dir.join(rel), &opts).map_err(|e| e.diagnostics().to_string()).expect("compiles"))
+    let opts =
+        EmitOptions { source_path: format!("conf/flight_plans/{rel}"), ..EmitOptions::default() };
+    Some(
+        compile_file(&dir.join(rel), &opts)
+            .map_err(|e| e.diagnostics().to_string())
+            .expect("compiles"),
+    )
 }
 
 macro_rules! snapshot_test {
@@ -31,7 +36,9 @@ snapshot_test!(aggieair_includes, "AGGIEAIR/CachJct_Gallo_temp_rect_survey.xml")
 #[test]
 fn demo() {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml");
-    let opts = EmitOptions { source_path: "examples/fpl/demo.xml".into(), ..EmitOptions::default() };
-    let h = compile_file(&p, &opts).map_err(|e| e.diagnostics().to_string()).expect("demo compiles");
+    let opts =
+        EmitOptions { source_path: "examples/fpl/demo.xml".into(), ..EmitOptions::default() };
+    let h =
+        compile_file(&p, &opts).map_err(|e| e.diagnostics().to_string()).expect("demo compiles");
     insta::assert_snapshot!("demo", h);
 }

@@ -50,15 +50,27 @@ fn first_difference(a: &str, b: &str) -> String {
     for (i, (la, lb)) in a.lines().zip(b.lines()).enumerate() {
         if la != lb {
             let ctx: Vec<&str> = a.lines().take(i + 1).skip(i.saturating_sub(6)).collect();
-            return format!("line {}: C `{la}` vs interpreter `{lb}`\ncontext (C):\n{}", i + 1, ctx.join("\n"));
+            return format!(
+                "line {}: C `{la}` vs interpreter `{lb}`\ncontext (C):\n{}",
+                i + 1,
+                ctx.join("\n")
+            );
         }
     }
-    format!("lengths differ: C {} lines, interpreter {} lines", a.lines().count(), b.lines().count())
+    format!(
+        "lengths differ: C {} lines, interpreter {} lines",
+        a.lines().count(),
+        b.lines().count()
+    )
 }
 
 fn check_plan(idx: usize, path: &Path, tmp: &Path) -> Result<(), String> {
     let plan = vouch_fpl::front::parse_file(path).map_err(|d| d.to_string())?;
-    let opts = EmitOptions { source_path: path.display().to_string(), flavor: Flavor::Instrumented, ..Default::default() };
+    let opts = EmitOptions {
+        source_path: path.display().to_string(),
+        flavor: Flavor::Instrumented,
+        ..Default::default()
+    };
     let header = compile_plan(&plan, &opts).map_err(|e| e.to_string())?;
     let work = tmp.join(format!("plan{idx}"));
     let exe = build_driver(&header, &work)?;
@@ -87,7 +99,9 @@ fn check_plan(idx: usize, path: &Path, tmp: &Path) -> Result<(), String> {
         }
         let c_trace = String::from_utf8_lossy(&out.stdout).into_owned();
         let mut interp = Interp::new(&fp);
-        let run = interp.run_with_jumps(&mut Scripted::new(seq), STEPS, &jumps).map_err(|e| format!("interpreter: {e:?}"))?;
+        let run = interp
+            .run_with_jumps(&mut Scripted::new(seq), STEPS, &jumps)
+            .map_err(|e| format!("interpreter: {e:?}"))?;
         let i_trace = run.to_text();
         if c_trace != i_trace {
             return Err(format!("seed {seed}: {}", first_difference(&c_trace, &i_trace)));
@@ -109,7 +123,13 @@ fn compiled_auto_nav_matches_the_interpreter_on_every_corpus_plan() {
         .enumerate()
         .filter_map(|(i, p)| check_plan(i, p, &tmp).err().map(|e| format!("{}: {e}", p.display())))
         .collect();
-    assert!(failures.is_empty(), "{} of {} plans differ or fail:\n{}", failures.len(), plans.len(), failures.join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} plans differ or fail:\n{}",
+        failures.len(),
+        plans.len(),
+        failures.join("\n\n")
+    );
 }
 
 #[test]

@@ -79,11 +79,16 @@ fn corpus_flight_plans_parse_like_upstream() {
                 parsed += 1;
                 let (b, s) = own_counts(p);
                 if (b, s) != (r.blocks, r.stages) {
-                    failures.push(format!("{}: blocks/stages {b}/{s}, INDEX says {}/{}", r.path, r.blocks, r.stages));
+                    failures.push(format!(
+                        "{}: blocks/stages {b}/{s}, INDEX says {}/{}",
+                        r.path, r.blocks, r.stages
+                    ));
                 }
                 assert_eq!(p.blocks.last().map(|b| b.name.value.as_str()), Some("HOME"));
             }
-            (Err(d), true) => failures.push(format!("{}: unexpected failure:\n{}", r.path, d.render(false))),
+            (Err(d), true) => {
+                failures.push(format!("{}: unexpected failure:\n{}", r.path, d.render(false)))
+            }
             (Ok(_), false) => failures.push(format!("{}: parsed but upstream rejects it", r.path)),
             (Err(_), false) => {}
         }

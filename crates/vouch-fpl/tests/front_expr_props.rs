@@ -36,10 +36,15 @@ fn expr() -> impl Strategy<Value = Expr> {
     ];
     leaf.prop_recursive(5, 40, 4, |inner| {
         prop_oneof![
-            (binop(), inner.clone(), inner.clone()).prop_map(|(o, l, r)| Expr::Binary(o, Box::new(l), Box::new(r))),
+            (binop(), inner.clone(), inner.clone()).prop_map(|(o, l, r)| Expr::Binary(
+                o,
+                Box::new(l),
+                Box::new(r)
+            )),
             inner.clone().prop_map(|e| Expr::Unary(UnOp::Neg, Box::new(e))),
             inner.clone().prop_map(|e| Expr::Unary(UnOp::Not, Box::new(e))),
-            (ident(), prop::collection::vec(inner.clone(), 0..3)).prop_map(|(f, a)| Expr::Call(f, a)),
+            (ident(), prop::collection::vec(inner.clone(), 0..3))
+                .prop_map(|(f, a)| Expr::Call(f, a)),
             (ident(), inner.clone()).prop_map(|(i, e)| Expr::Index(i, Box::new(e))),
             (inner, ident()).prop_map(|(e, f)| Expr::Deref(Box::new(e), f)),
         ]

@@ -41,7 +41,8 @@ fn every_malformed_plan_fails_with_the_expected_kind_and_line() {
     let mut n = 0;
     for line in expect.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()) {
         let f: Vec<&str> = line.split('\t').collect();
-        let (file, kind, want_line) = (f[0], kind_named(f[1]), f[2].parse::<u32>().expect("line number"));
+        let (file, kind, want_line) =
+            (f[0], kind_named(f[1]), f[2].parse::<u32>().expect("line number"));
         n += 1;
         let res = std::panic::catch_unwind(|| parse_file(dir.join(file)));
         let Ok(res) = res else {
@@ -57,7 +58,11 @@ fn every_malformed_plan_fails_with_the_expected_kind_and_line() {
             continue;
         };
         if e.line != Some(want_line) {
-            problems.push(format!("{file}: {kind:?} at line {:?}, expected {want_line}\n{}", e.line, d.render(false)));
+            problems.push(format!(
+                "{file}: {kind:?} at line {:?}, expected {want_line}\n{}",
+                e.line,
+                d.render(false)
+            ));
         }
         if let Some(holder) = f.get(3) {
             let path = e.file.clone().unwrap_or_default();

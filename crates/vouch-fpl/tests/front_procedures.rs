@@ -20,7 +20,8 @@ fn load(rel: &str) -> Option<FlightPlan> {
 #[test]
 fn landing_procedure_is_renamed_and_reprinted() {
     let Some(p) = load("competitions/EMAV2009.xml") else { return };
-    let right = p.blocks.iter().find(|b| b.name.value == "L.Land Right AF-TD").expect("prefixed block");
+    let right =
+        p.blocks.iter().find(|b| b.name.value == "L.Land Right AF-TD").expect("prefixed block");
     assert_eq!(right.procedure.as_deref(), Some("L"));
     let StageKind::Set(set) = &right.stages[0].kind else { panic!("set") };
     assert_eq!(set.value.text.value, "DEFAULT_CIRCLE_RADIUS");
@@ -30,7 +31,10 @@ fn landing_procedure_is_renamed_and_reprinted() {
 
     let left = p.blocks.iter().find(|b| b.name.value == "L.Land Left AF-TD").unwrap();
     let StageKind::Set(set) = &left.stages[0].kind else { panic!("set") };
-    assert_eq!(set.value.text.value, "-(DEFAULT_CIRCLE_RADIUS)", "re-printed by the procedure expansion");
+    assert_eq!(
+        set.value.text.value, "-(DEFAULT_CIRCLE_RADIUS)",
+        "re-printed by the procedure expansion"
+    );
 
     let land = p.blocks.iter().find(|b| b.name.value == "L.land").unwrap();
     let StageKind::CallOnce(c) = &land.stages[0].kind else { panic!("call_once") };
@@ -71,7 +75,9 @@ fn paths_become_go_stages() {
         .flat_map(|b| &b.stages)
         .filter(|s| s.from_path)
         .map(|s| match &s.kind {
-            StageKind::Go(g) => (g.from.as_ref().map(|f| f.name.clone()), g.wp.as_ref().unwrap().name.clone()),
+            StageKind::Go(g) => {
+                (g.from.as_ref().map(|f| f.name.clone()), g.wp.as_ref().unwrap().name.clone())
+            }
             _ => panic!("a path expands into go stages only"),
         })
         .collect();

@@ -36,7 +36,8 @@ fn prepass_preserves_length_and_offsets() {
 
 #[test]
 fn raw_characters_in_values_are_kept_raw() {
-    let text = plan("", r#"<block name="b" key="<Control>a" pre_call="f(&amp;x, &y)"><home/></block>"#);
+    let text =
+        plan("", r#"<block name="b" key="<Control>a" pre_call="f(&amp;x, &y)"><home/></block>"#);
     let p = parse_str("t.xml", &text).expect("parses");
     let b = &p.blocks[0];
     assert_eq!(b.key.as_ref().unwrap().value, "<Control>a");
@@ -47,7 +48,10 @@ fn raw_characters_in_values_are_kept_raw() {
 
 #[test]
 fn duplicate_and_uppercase_attributes_first_wins() {
-    let text = plan("", r#"<block name="b" NAME="c" group="g1" group="g2"><go WP="HOME" wp="X"/></block>"#);
+    let text = plan(
+        "",
+        r#"<block name="b" NAME="c" group="g1" group="g2"><go WP="HOME" wp="X"/></block>"#,
+    );
     let p = parse_str("t.xml", &text).expect("parses");
     assert_eq!(p.blocks[0].name.value, "b");
     assert_eq!(p.blocks[0].group.as_ref().unwrap().value, "g1");
@@ -58,7 +62,10 @@ fn duplicate_and_uppercase_attributes_first_wins() {
 
 #[test]
 fn comments_with_dashes_and_nested_openers() {
-    let text = plan("<!-- old: <waypoint name=\"Z\" -- x=\"1\"/> <!-- nested -->", "<block name=\"b\"><home/></block>");
+    let text = plan(
+        "<!-- old: <waypoint name=\"Z\" -- x=\"1\"/> <!-- nested -->",
+        "<block name=\"b\"><home/></block>",
+    );
     let p = parse_str("t.xml", &text).expect("parses");
     assert_eq!(p.waypoints.len(), 1);
 }

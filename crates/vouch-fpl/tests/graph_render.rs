@@ -24,7 +24,11 @@ fn crafted_forbidden_plan_marks_forbidden_edges() {
     let boxes = count(&doc, "rect", "fill", "#f4f6fb") + count(&doc, "rect", "fill", "#eeeeee");
     assert_eq!(boxes, plan.blocks.len());
     // two forbidden deroute stages -> two crosses (one always, one only_when)
-    let marks: Vec<&str> = doc.descendants().filter(|n| n.has_tag_name("text") && n.attribute("fill") == Some("#d62728")).filter_map(|n| n.text()).collect();
+    let marks: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text") && n.attribute("fill") == Some("#d62728"))
+        .filter_map(|n| n.text())
+        .collect();
     assert!(marks.contains(&"✕") && marks.contains(&"?"), "{marks:?}");
     // the global exception box exists
     assert!(s.contains("global exceptions"));

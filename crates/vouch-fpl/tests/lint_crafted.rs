@@ -47,7 +47,13 @@ fn other_rules_are_found() {
     let (_, w) = lint_plan("lint_misc.xml");
     let mut got = codes_at(&w);
     got.sort();
-    let mut want = vec![("FPL-W001", 22), ("FPL-W005", 16), ("FPL-W006", 15), ("FPL-W007", 10), ("FPL-W008", 29)];
+    let mut want = vec![
+        ("FPL-W001", 22),
+        ("FPL-W005", 16),
+        ("FPL-W006", 15),
+        ("FPL-W007", 10),
+        ("FPL-W008", 29),
+    ];
     want.sort();
     assert_eq!(got, want);
 }

@@ -11,7 +11,11 @@ fn plan_and_header() -> (vouch_fpl::passes::fp::Fp, String) {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans/mutation.xml");
     let plan = vouch_fpl::front::parse_file(&p).expect("crafted plan parses");
     let fp = vouch_fpl::passes::lower::lower(&plan).expect("lowers");
-    let h = compile_plan(&plan, &EmitOptions { flavor: Flavor::Instrumented, ..EmitOptions::default() }).expect("compiles");
+    let h = compile_plan(
+        &plan,
+        &EmitOptions { flavor: Flavor::Instrumented, ..EmitOptions::default() },
+    )
+    .expect("compiles");
     (fp, h)
 }
 
@@ -23,7 +27,8 @@ fn opts() -> Options {
 /// so a change of the emitter's text shape fails here instead of weakening the test).
 fn mutate(h: &str, from: &str, to: &str) -> String {
     let start = h.find("static inline void auto_nav(void)").expect("auto_nav present");
-    let i = h[start..].find(from).unwrap_or_else(|| panic!("'{from}' not found in auto_nav")) + start;
+    let i =
+        h[start..].find(from).unwrap_or_else(|| panic!("'{from}' not found in auto_nav")) + start;
     format!("{}{}{}", &h[..i], to, &h[i + from.len()..])
 }
 
@@ -52,7 +57,11 @@ fn every_mutation_is_caught() {
         // Work's deroute falls into the default stage (NextBlock(): Back instead of Start).
         // Shortest way there: call 1 leaves the while and passes A, call 2 passes B, call 3
         // goes to Work, call 4 finishes the circle, call 5 runs the deroute.
-        ("drop the break after a deroute", mutate(&h, "GotoBlock(0);\n        break;", "GotoBlock(0);\n"), 5),
+        (
+            "drop the break after a deroute",
+            mutate(&h, "GotoBlock(0);\n        break;", "GotoBlock(0);\n"),
+            5,
+        ),
         // the global exception fires when its condition is false
         ("invert a condition", mutate(&h, "FP_C(\"too_far()\")", "!FP_C(\"too_far()\")"), 1),
         // the global exception goes to Work instead of Back
@@ -60,13 +69,23 @@ fn every_mutation_is_caught() {
         // a set stage loses its code
         ("drop a statement", mutate(&h, "FP_X(\"mode = 1\");", ";"), 1),
         // the while test no longer breaks when entering the body: the body runs in the same call
-        ("NextStageAndBreak becomes NextStage", mutate(&h, "else NextStageAndBreak();", "else { nav_goto_next_stage(); }"), 1),
+        (
+            "NextStageAndBreak becomes NextStage",
+            mutate(&h, "else NextStageAndBreak();", "else { nav_goto_next_stage(); }"),
+            1,
+        ),
     ];
     for (name, mutated, calls) in cases {
         assert_ne!(mutated, h, "{name}: mutation changed nothing");
-        let r = validate_header(&fp, &mutated, &opts()).unwrap_or_else(|e| panic!("{name}: driver does not build: {e}"));
-        let cx = r.counterexample.unwrap_or_else(|| panic!("{name}: the validator did not catch the mutation"));
-        eprintln!("{name}: caught after {} call(s), answers {:?}: {}", cx.calls, cx.answers, cx.what);
+        let r = validate_header(&fp, &mutated, &opts())
+            .unwrap_or_else(|e| panic!("{name}: driver does not build: {e}"));
+        let cx = r
+            .counterexample
+            .unwrap_or_else(|| panic!("{name}: the validator did not catch the mutation"));
+        eprintln!(
+            "{name}: caught after {} call(s), answers {:?}: {}",
+            cx.calls, cx.answers, cx.what
+        );
         assert_eq!(cx.calls, calls, "{name}: shortest counterexample length");
         // the driver's question limit (the static bound) stops looping calls quickly
         assert!(!cx.what.contains("died"), "{name}: {}", cx.what);
@@ -76,7 +95,10 @@ fn every_mutation_is_caught() {
 mod common;
 
 /// Condition texts the semantics asks within `depth` calls (every answer explored).
-fn conditions_asked(fp: &vouch_fpl::passes::fp::Fp, depth: usize) -> std::collections::HashSet<String> {
+fn conditions_asked(
+    fp: &vouch_fpl::passes::fp::Fp,
+    depth: usize,
+) -> std::collections::HashSet<String> {
     use vouch_fpl::evidence::explore::{enumerate_call, state_key};
     use vouch_fpl::semantics::trace::Event;
     let mut interp = vouch_fpl::semantics::Interp::new(fp);
@@ -116,10 +138,18 @@ fn inverted_first_condition_is_caught_on_corpus_plans() {
         .map(|p| {
             let plan = vouch_fpl::front::parse_file(p).expect("corpus plan parses");
             let fp = vouch_fpl::passes::lower::lower(&plan).expect("lowers");
-            let h = compile_plan(&plan, &EmitOptions { flavor: Flavor::Instrumented, ..EmitOptions::default() }).expect("compiles");
+            let h = compile_plan(
+                &plan,
+                &EmitOptions { flavor: Flavor::Instrumented, ..EmitOptions::default() },
+            )
+            .expect("compiles");
             let name = p.display().to_string();
-            let Some(start) = h.find("static inline void auto_nav(void)") else { return (name, None) };
-            let Some(i) = h[start..].find("FP_C(\"").map(|i| i + start) else { return (name, None) };
+            let Some(start) = h.find("static inline void auto_nav(void)") else {
+                return (name, None);
+            };
+            let Some(i) = h[start..].find("FP_C(\"").map(|i| i + start) else {
+                return (name, None);
+            };
             let lit_start = i + "FP_C(\"".len();
             let Some(len) = h[lit_start..].find("\")") else { return (name, None) };
             let text = h[lit_start..lit_start + len].replace("\\\"", "\"").replace("\\\\", "\\");
@@ -127,14 +157,22 @@ fn inverted_first_condition_is_caught_on_corpus_plans() {
                 return (name, None);
             }
             let mutated = format!("{}!{}", &h[..i], &h[i..]);
-            let r = validate_header(&fp, &mutated, &Options { depth: 8, random_runs: 1, random_steps: 200, ..Options::default() })
-                .expect("driver builds");
+            let r = validate_header(
+                &fp,
+                &mutated,
+                &Options { depth: 8, random_runs: 1, random_steps: 200, ..Options::default() },
+            )
+            .expect("driver builds");
             (name, Some(r.counterexample.is_some()))
         })
         .collect();
-    let missed: Vec<&String> = results.iter().filter(|r| r.1 == Some(false)).map(|r| &r.0).collect();
+    let missed: Vec<&String> =
+        results.iter().filter(|r| r.1 == Some(false)).map(|r| &r.0).collect();
     let checked = results.iter().filter(|r| r.1.is_some()).count();
-    eprintln!("inverted first condition: caught on {checked} of {} plans (others: condition not reached)", results.len());
+    eprintln!(
+        "inverted first condition: caught on {checked} of {} plans (others: condition not reached)",
+        results.len()
+    );
     assert!(checked >= 20, "only {checked} plans reach their first condition");
     assert!(missed.is_empty(), "mutation not caught on: {missed:?}");
 }

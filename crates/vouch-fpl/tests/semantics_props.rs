@@ -21,26 +21,39 @@ fn stage(n_blocks: usize) -> impl Strategy<Value = FpStage> {
             span: Span::default()
         }),
         (0..n_blocks).prop_map(|t| FpStage::Deroute { target: t, span: Span::default() }),
-        prop_oneof![Just("0"), Just("1")].prop_map(|r| FpStage::Return { reset: r.into(), span: Span::default() }),
-        (any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(init, appr, until)| FpStage::Nav(Box::new(NavStage {
-            kind: "nav",
-            init: init.then(|| vec![Code::stmt("init()")]),
-            pre_call: None,
-            before: vec![],
-            approach: appr.then(|| ("near()".to_string(), 1)),
-            lines: vec![Code::stmt("go()")],
-            until: until.then(|| "done()".to_string()),
-            post_call: None,
-            span: Span::default(),
-        }))),
+        prop_oneof![Just("0"), Just("1")]
+            .prop_map(|r| FpStage::Return { reset: r.into(), span: Span::default() }),
+        (any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(init, appr, until)| FpStage::Nav(
+            Box::new(NavStage {
+                kind: "nav",
+                init: init.then(|| vec![Code::stmt("init()")]),
+                pre_call: None,
+                before: vec![],
+                approach: appr.then(|| ("near()".to_string(), 1)),
+                lines: vec![Code::stmt("go()")],
+                until: until.then(|| "done()".to_string()),
+                post_call: None,
+                span: Span::default(),
+            })
+        )),
     ];
     leaf.prop_recursive(3, 24, 4, |inner| {
         prop_oneof![
-            prop::collection::vec(inner.clone(), 0..4)
-                .prop_map(|body| FpStage::While { cond: "w()".into(), body, span: Span::default() }),
-            (prop::collection::vec(inner, 0..4), prop_oneof![Just("3"), Just("n"), Just("200")]).prop_map(|(body, to)| {
-                FpStage::For { var: "_var_i".into(), from: "1".into(), to: to.into(), body, span: Span::default() }
+            prop::collection::vec(inner.clone(), 0..4).prop_map(|body| FpStage::While {
+                cond: "w()".into(),
+                body,
+                span: Span::default()
             }),
+            (prop::collection::vec(inner, 0..4), prop_oneof![Just("3"), Just("n"), Just("200")])
+                .prop_map(|(body, to)| {
+                    FpStage::For {
+                        var: "_var_i".into(),
+                        from: "1".into(),
+                        to: to.into(),
+                        body,
+                        span: Span::default(),
+                    }
+                }),
         ]
     })
 }
@@ -48,11 +61,19 @@ fn stage(n_blocks: usize) -> impl Strategy<Value = FpStage> {
 fn plan() -> impl Strategy<Value = Fp> {
     (1usize..5).prop_flat_map(|n| {
         (
-            prop::collection::vec((prop::collection::vec(stage(n), 0..6), prop::option::of(0..n)), n),
+            prop::collection::vec(
+                (prop::collection::vec(stage(n), 0..6), prop::option::of(0..n)),
+                n,
+            ),
             prop::option::of(0..n),
         )
             .prop_map(move |(blocks, global)| {
-                let exc = |t: usize| FpException { cond: "e()".into(), target: t, exec: None, span: Span::default() };
+                let exc = |t: usize| FpException {
+                    cond: "e()".into(),
+                    target: t,
+                    exec: None,
+                    span: Span::default(),
+                };
                 Fp {
                     blocks: blocks
                         .into_iter()

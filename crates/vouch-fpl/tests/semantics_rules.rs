@@ -42,7 +42,10 @@ fn fig2_while_loop_then_set_then_next_block() {
         assert_eq!(s.events, vec![cond("!(GPSFixValid())", true)]);
         assert_eq!((s.after.block, s.after.stage), (0, 2), "inside the loop: the loop-back stage");
     }
-    assert_eq!(run.steps[8].events, vec![cond("!(GPSFixValid())", false), code("home = GPSPosHere()")]);
+    assert_eq!(
+        run.steps[8].events,
+        vec![cond("!(GPSFixValid())", false), code("home = GPSPosHere()")]
+    );
     assert_eq!(run.steps[8].after.block, 1, "the end of block 0 goes to block 1 in the same call");
     assert_eq!(run.steps[9].events, vec![code("StartMotors()")]);
 }
@@ -81,21 +84,32 @@ fn return_after_deroute_reruns_the_deroute() {
 #[test]
 fn for_bounds_are_int8() {
     // Quirk 3: `to="200"` is -56 in int8_t, so the body never runs.
-    let p = plan(r#"<block name="a"><for var="i" from="1" to="200"><call_once fun="body($i)" break="TRUE"/></for><call_once fun="after()" break="TRUE"/></block>"#, "");
+    let p = plan(
+        r#"<block name="a"><for var="i" from="1" to="200"><call_once fun="body($i)" break="TRUE"/></for><call_once fun="after()" break="TRUE"/></block>"#,
+        "",
+    );
     let fp = lower(&p).expect("lowers");
     let mut i = Interp::new(&fp);
     let run = i.run(&mut Scripted::default(), 1).expect("bounded");
     assert_eq!(
         run.steps[0].events,
-        vec![Event::Value { text: "1".into(), value: 1 }, Event::Value { text: "200".into(), value: 200 }, code("after()")]
+        vec![
+            Event::Value { text: "1".into(), value: 1 },
+            Event::Value { text: "200".into(), value: 200 },
+            code("after()")
+        ]
     );
     // `to="3"` runs the body three times (`fun` is raw C: `$i` is not rewritten there).
-    let p = plan(r#"<block name="a"><for var="i" from="1" to="3"><call_once fun="body($i)" break="TRUE"/></for></block>"#, "");
+    let p = plan(
+        r#"<block name="a"><for var="i" from="1" to="3"><call_once fun="body($i)" break="TRUE"/></for></block>"#,
+        "",
+    );
     let fp = lower(&p).expect("lowers");
     let mut i = Interp::new(&fp);
     // calls: test, body, test, body, test, body, test (exit) ... : 3 bodies within 10 calls.
     let run = i.run(&mut Scripted::default(), 10).expect("bounded");
-    let bodies = run.steps.iter().flat_map(|s| &s.events).filter(|e| **e == code("body($i)")).count();
+    let bodies =
+        run.steps.iter().flat_map(|s| &s.events).filter(|e| **e == code("body($i)")).count();
     assert_eq!(bodies, 3);
 }
 
@@ -110,8 +124,16 @@ fn forbidden_deroutes_block_the_change() {
     let from = p.blocks[0].name.clone();
     let _ = from;
     p.forbidden_deroutes.push(vouch_fpl::ast::ForbiddenDeroute {
-        from: vouch_fpl::ast::BlockRef { name: "a".into(), id: vouch_fpl::ast::BlockId(0), span: p.span },
-        to: vouch_fpl::ast::BlockRef { name: "c".into(), id: vouch_fpl::ast::BlockId(2), span: p.span },
+        from: vouch_fpl::ast::BlockRef {
+            name: "a".into(),
+            id: vouch_fpl::ast::BlockId(0),
+            span: p.span,
+        },
+        to: vouch_fpl::ast::BlockRef {
+            name: "c".into(),
+            id: vouch_fpl::ast::BlockId(2),
+            span: p.span,
+        },
         only_when: None,
         attrs: Default::default(),
         span: p.span,
@@ -129,7 +151,12 @@ fn nested_loops_with_empty_bodies_stay_within_the_bound() {
         "",
     );
     let fp = lower(&p).expect("lowers");
-    for pattern in [vec![0i64; 64], vec![1; 64], (0..64).map(|k| k % 2).collect(), (0..64).map(|k| (k / 3) % 2).collect()] {
+    for pattern in [
+        vec![0i64; 64],
+        vec![1; 64],
+        (0..64).map(|k| k % 2).collect(),
+        (0..64).map(|k| (k / 3) % 2).collect(),
+    ] {
         let mut i = Interp::new(&fp);
         i.run(&mut Scripted::new(pattern), 30).expect("every call terminates within the bound");
     }

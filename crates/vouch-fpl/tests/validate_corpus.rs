@@ -20,7 +20,9 @@ fn every_corpus_plan_validates_at_depth_8() {
         .par_iter()
         .map(|p| {
             let name = p.strip_prefix(&dir).unwrap_or(p).display().to_string();
-            let r = vouch_fpl::front::parse_file(p).map_err(|d| d.render(false)).and_then(|plan| validate(&plan, &opts));
+            let r = vouch_fpl::front::parse_file(p)
+                .map_err(|d| d.render(false))
+                .and_then(|plan| validate(&plan, &opts));
             (name, r)
         })
         .collect();

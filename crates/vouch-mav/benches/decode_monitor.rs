@@ -13,14 +13,13 @@ use vouch_mav::dialect::Dialect;
 use vouch_mav::monitor::{Monitor, Origin, Verdict};
 
 fn main() {
-    let file = std::env::args()
-        .skip(1)
-        .find(|a| a.ends_with(".tlog"))
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-                .join("../../../shared/mavlink/tlogs/uavlogviewer_flight_logs.tlog")
-        });
+    let file =
+        std::env::args().skip(1).find(|a| a.ends_with(".tlog")).map(PathBuf::from).unwrap_or_else(
+            || {
+                PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                    .join("../../../shared/mavlink/tlogs/uavlogviewer_flight_logs.tlog")
+            },
+        );
     let Ok(data) = std::fs::read(&file) else {
         eprintln!("skipping: {} not found", file.display());
         return;
@@ -49,13 +48,9 @@ fn main() {
         let mut violations = 0;
         for rec in TlogReader::new(&data, &dialect) {
             if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
-                if let Verdict::Violation(_) = m.observe(
-                    &v,
-                    rec.frame.sysid,
-                    rec.frame.compid,
-                    Origin::Unknown,
-                    rec.time_us,
-                ) {
+                if let Verdict::Violation(_) =
+                    m.observe(&v, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us)
+                {
                     violations += 1;
                 }
             }

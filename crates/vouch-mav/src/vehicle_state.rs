@@ -106,18 +106,11 @@ impl VehicleTracker {
                 ))
             })(),
         };
-        VehicleTracker {
-            fields,
-            params,
-            states: Vec::new(),
-        }
+        VehicleTracker { fields, params, states: Vec::new() }
     }
 
     pub fn state(&self, sysid: u8) -> Option<&VehicleState> {
-        self.states
-            .iter()
-            .find(|(s, _)| *s == sysid)
-            .map(|(_, st)| st)
+        self.states.iter().find(|(s, _)| *s == sysid).map(|(_, st)| st)
     }
 
     pub fn states(&self) -> impl Iterator<Item = (u8, &VehicleState)> {
@@ -129,13 +122,7 @@ impl VehicleTracker {
             return &mut self.states[i].1;
         }
         let n = self.params.names.len();
-        self.states.push((
-            sysid,
-            VehicleState {
-                params: vec![None; n],
-                ..Default::default()
-            },
-        ));
+        self.states.push((sysid, VehicleState { params: vec![None; n], ..Default::default() }));
         let last = self.states.len() - 1;
         &mut self.states[last].1
     }

@@ -19,10 +19,7 @@ fn defs() -> Option<PathBuf> {
 fn message_counts_match_the_definitions_readme() {
     let Some(dir) = defs() else { return };
     let count = |f: &str| {
-        load_dialect_file(&dir.join(f))
-            .unwrap_or_else(|e| panic!("{f}: {e}"))
-            .messages()
-            .len()
+        load_dialect_file(&dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}")).messages().len()
     };
     assert_eq!(count("minimal.xml"), 1);
     assert_eq!(count("common.xml"), 234);
@@ -30,17 +27,9 @@ fn message_counts_match_the_definitions_readme() {
     assert_eq!(count("development.xml"), 248);
     assert_eq!(count("all.xml"), 391);
     let common = load_dialect_file(&dir.join("common.xml")).unwrap();
-    assert_eq!(
-        common.enums().len(),
-        160,
-        "151 own enums + 9 from standard/minimal"
-    );
+    assert_eq!(common.enums().len(), 160, "151 own enums + 9 from standard/minimal");
     // This copy is newer than pymavlink's: MISSION_COUNT has opaque_id.
-    assert!(common
-        .by_name("MISSION_COUNT")
-        .unwrap()
-        .field("opaque_id")
-        .is_some());
+    assert!(common.by_name("MISSION_COUNT").unwrap().field("opaque_id").is_some());
 }
 
 #[test]
@@ -56,10 +45,7 @@ fn every_message_of_all_xml_has_a_consistent_layout() {
         assert_eq!(end, m.max_len, "{}", m.name);
         assert!(m.base_len <= m.max_len);
         assert!(m.max_len <= 255);
-        assert_eq!(
-            d.by_id(m.id).map(|x| x.name.as_str()),
-            Some(m.name.as_str())
-        );
+        assert_eq!(d.by_id(m.id).map(|x| x.name.as_str()), Some(m.name.as_str()));
     }
 }
 
@@ -96,24 +82,18 @@ fn broken_dialects_are_reported_with_their_location() {
         ("type.xml", "<mavlink><messages><message id=\"1\" name=\"X\"><field type=\"uint7_t\" name=\"a\">a</field></message></messages></mavlink>"),
     ];
     let read = |name: &str| -> Result<String, DialectError> {
-        files
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, t)| t.to_string())
-            .ok_or_else(|| DialectError::Io {
+        files.iter().find(|(n, _)| *n == name).map(|(_, t)| t.to_string()).ok_or_else(|| {
+            DialectError::Io {
                 path: name.to_string(),
                 source: std::io::Error::from(std::io::ErrorKind::NotFound),
-            })
+            }
+        })
     };
-    let e = load_dialect_from("root.xml", &read)
-        .unwrap_err()
-        .to_string();
+    let e = load_dialect_from("root.xml", &read).unwrap_err().to_string();
     assert!(e.contains("missing.xml"), "{e}");
     let e = load_dialect_from("bad.xml", &read).unwrap_err().to_string();
     assert!(e.starts_with("bad.xml:3:"), "{e}");
-    let e = load_dialect_from("type.xml", &read)
-        .unwrap_err()
-        .to_string();
+    let e = load_dialect_from("type.xml", &read).unwrap_err().to_string();
     assert!(e.contains("unknown type uint7_t"), "{e}");
     assert!(load_dialect_file(Path::new("/nonexistent/x.xml")).is_err());
 }

@@ -54,16 +54,10 @@ fn crc_extra_and_lengths_match_the_facts_table() {
 #[test]
 fn enums_resolve_by_name() {
     let Some(d) = dialect() else { return };
-    assert_eq!(
-        d.enum_entry("MAV_MISSION_INVALID_SEQUENCE"),
-        Some(("MAV_MISSION_RESULT", 13))
-    );
+    assert_eq!(d.enum_entry("MAV_MISSION_INVALID_SEQUENCE"), Some(("MAV_MISSION_RESULT", 13)));
     assert_eq!(d.enum_entry("MAV_CMD_DO_PARACHUTE"), Some(("MAV_CMD", 208)));
     assert_eq!(d.enum_entry("COPTER_MODE_FLIP"), Some(("COPTER_MODE", 14)));
-    assert_eq!(
-        d.enum_value_name("MAV_MISSION_TYPE", 2),
-        Some("MAV_MISSION_TYPE_RALLY")
-    );
+    assert_eq!(d.enum_value_name("MAV_MISSION_TYPE", 2), Some("MAV_MISSION_TYPE_RALLY"));
 }
 
 #[test]
@@ -88,16 +82,9 @@ fn zero_truncation_matches_the_measured_frame() {
     assert_eq!(range, 0..16);
     let v = MessageView::of_frame(&frame, &d).unwrap();
     assert_eq!(v.get_f64("count"), Some(100.0));
-    assert_eq!(
-        v.get_f64("mission_type"),
-        Some(0.0),
-        "truncated extension reads as 0"
-    );
+    assert_eq!(v.get_f64("mission_type"), Some(0.0), "truncated extension reads as 0");
     assert_eq!(v.get_f64("opaque_id"), Some(0.0));
-    assert_eq!(
-        v.get_enum_name("mission_type", &d),
-        Some("MAV_MISSION_TYPE_MISSION")
-    );
+    assert_eq!(v.get_enum_name("mission_type", &d), Some("MAV_MISSION_TYPE_MISSION"));
 }
 
 #[test]
@@ -121,10 +108,9 @@ fn v1_and_v2_round_trip_every_field_type() {
         .unwrap()
         .set("mission_type", 2)
         .unwrap();
-    for (frame, ver) in [
-        (b.frame_v2(7, 255, 190), Version::V2),
-        (b.frame_v1(7, 255, 190).unwrap(), Version::V1),
-    ] {
+    for (frame, ver) in
+        [(b.frame_v2(7, 255, 190), Version::V2), (b.frame_v1(7, 255, 190).unwrap(), Version::V1)]
+    {
         let mut sp = FrameSplitter::new();
         let mut pos = 0;
         let (_, f) = sp.next(&frame, &mut pos, &d, true).expect("frame decodes");
@@ -161,10 +147,7 @@ fn v1_and_v2_round_trip_every_field_type() {
     let mut pos = 0;
     let (_, f) = FrameSplitter::new().next(&fr, &mut pos, &d, true).unwrap();
     assert_eq!(
-        MessageView::of_frame(&f, &d)
-            .unwrap()
-            .get_str("param_id")
-            .as_deref(),
+        MessageView::of_frame(&f, &d).unwrap().get_str("param_id").as_deref(),
         Some("ABCDEFGHIJKLMNOP")
     );
 }
@@ -188,9 +171,7 @@ fn splitter_counts_garbage_bad_crc_truncation_unknown_ids_and_forwards_exact_byt
     let n = bad_crc.len();
     bad_crc[n - 1] ^= 0xFF;
     // Unknown id 0xABCDEF, 3-byte payload, arbitrary checksum.
-    let unknown = vec![
-        0xFD, 3, 0, 0, 9, 1, 1, 0xEF, 0xCD, 0xAB, 1, 2, 3, 0x11, 0x22,
-    ];
+    let unknown = vec![0xFD, 3, 0, 0, 9, 1, 1, 0xEF, 0xCD, 0xAB, 1, 2, 3, 0x11, 0x22];
     let mut stream = Vec::new();
     stream.extend_from_slice(b"garbage\x00\xFD"); // includes a stray magic byte
     stream.extend_from_slice(&good1);

@@ -13,11 +13,7 @@ fn param_value(c: &mut Craft, id: &str, v: f64) {
     c.send_full(
         UAV,
         "PARAM_VALUE",
-        &[
-            ("param_value", v),
-            ("param_type", 9.0),
-            ("param_count", 3.0),
-        ],
+        &[("param_value", v), ("param_type", 9.0), ("param_count", 3.0)],
         &[("param_id", id)],
     );
 }
@@ -54,13 +50,7 @@ fn case_two_safe_param_set_passes() {
     param_value(&mut c, "MC_PITCH_P", 7.0);
     let r = c.check();
     assert_clean(&r);
-    assert_eq!(
-        r.summary
-            .protocol("datum_param_dependency")
-            .unwrap()
-            .completed,
-        2
-    );
+    assert_eq!(r.summary.protocol("datum_param_dependency").unwrap().completed, 2);
     assert_eq!(r.summary.protocol("param_set").unwrap().completed, 2);
 }
 
@@ -114,19 +104,13 @@ fn chute_vehicle(armed: bool, mode: u32, rel_alt_m: f64, climb_ms: f64) -> Optio
     c.send(
         UAV,
         "GLOBAL_POSITION_INT",
-        &[
-            ("relative_alt", rel_alt_m * 1000.0),
-            ("vz", -climb_ms * 100.0),
-        ],
+        &[("relative_alt", rel_alt_m * 1000.0), ("vz", -climb_ms * 100.0)],
     );
     Some(c)
 }
 
 fn parachute(c: &mut Craft, action: f64) {
-    c.gcs(
-        "COMMAND_LONG",
-        &[("command", PARACHUTE), ("param1", action)],
-    );
+    c.gcs("COMMAND_LONG", &[("command", PARACHUTE), ("param1", action)]);
 }
 
 fn chute_violation(armed: bool, mode: u32, alt: f64, climb: f64) -> Option<vouch_mav::Violation> {
@@ -137,11 +121,7 @@ fn chute_violation(armed: bool, mode: u32, alt: f64, climb: f64) -> Option<vouch
     assert_eq!(v.protocol, "datum_parachute");
     let reply = v.reply.clone().expect("reply declared");
     assert_eq!(reply.message, "COMMAND_ACK");
-    assert!(
-        reply.fields.contains(&("result".into(), 2.0)),
-        "DENIED: {:?}",
-        reply.fields
-    );
+    assert!(reply.fields.contains(&("result".into(), 2.0)), "DENIED: {:?}", reply.fields);
     assert!(reply.fields.contains(&("command".into(), PARACHUTE)));
     Some(v)
 }
@@ -251,8 +231,5 @@ fn case_three_climb_tolerance_is_configurable() {
     };
     parachute(&mut c, RELEASE);
     assert_eq!(c.check().violations.len(), 1);
-    assert!(c
-        .check_with(&[("CHUTE_MAX_CLIMB".into(), 0.5)])
-        .violations
-        .is_empty());
+    assert!(c.check_with(&[("CHUTE_MAX_CLIMB".into(), 0.5)]).violations.is_empty());
 }

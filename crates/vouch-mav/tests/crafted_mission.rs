@@ -74,11 +74,7 @@ fn ack_accepted_after_60_of_100_items_is_reported() {
     let v = only_violation(&r);
     assert_eq!(v.protocol, "mission_upload");
     assert_eq!(v.kind, ViolationKind::Refinement);
-    assert!(
-        v.message.starts_with("MISSION_ACK from 1/1"),
-        "{}",
-        v.message
-    );
+    assert!(v.message.starts_with("MISSION_ACK from 1/1"), "{}", v.message);
     assert_eq!(v.predicate.as_deref(), Some("curr == n"));
     assert_eq!(value(v, "curr"), "60");
     assert_eq!(value(v, "n"), "100");
@@ -88,11 +84,7 @@ fn ack_accepted_after_60_of_100_items_is_reported() {
     assert_eq!(reply.message, "MISSION_ACK");
     assert_eq!((reply.to_sys, reply.to_comp), (255, 190));
     assert_eq!((reply.from_sys, reply.from_comp), (1, 1));
-    assert!(
-        reply.fields.contains(&("type".to_string(), 15.0)),
-        "{:?}",
-        reply.fields
-    );
+    assert!(reply.fields.contains(&("type".to_string(), 15.0)), "{:?}", reply.fields);
 }
 
 #[test]
@@ -119,10 +111,7 @@ fn datum_case_one_187_announced_121_transferred() {
         return;
     };
     ok.upload(187, MISSION, false);
-    assert!(ok
-        .check_sources(&[("p".into(), paper.into())])
-        .violations
-        .is_empty());
+    assert!(ok.check_sources(&[("p".into(), paper.into())]).violations.is_empty());
 }
 
 #[test]
@@ -135,11 +124,7 @@ fn skipped_request_is_reported() {
     c.request(4, MISSION, false); // skips seq 3
     let r = c.check();
     let v = only_violation(&r);
-    assert!(
-        v.message.starts_with("MISSION_REQUEST_INT"),
-        "{}",
-        v.message
-    );
+    assert!(v.message.starts_with("MISSION_REQUEST_INT"), "{}", v.message);
     assert_eq!(v.predicate.as_deref(), Some("x == curr"));
     assert_eq!(value(v, "x"), "4");
     assert_eq!(value(v, "curr"), "3");
@@ -157,11 +142,7 @@ fn skipped_item_from_the_gcs_is_reported() {
     c.item(3, MISSION); // answers request 1 with item 3
     let r = c.check();
     let v = only_violation(&r);
-    assert!(
-        v.message.starts_with("MISSION_ITEM_INT from 255/190"),
-        "{}",
-        v.message
-    );
+    assert!(v.message.starts_with("MISSION_ITEM_INT from 255/190"), "{}", v.message);
     assert_eq!(v.predicate.as_deref(), Some("seq == x"));
     assert_eq!(value(v, "seq"), "3");
     assert_eq!(value(v, "x"), "1");
@@ -212,17 +193,8 @@ fn item_for_a_mission_type_never_announced_is_reported() {
     let v = only_violation(&r);
     assert_eq!(v.kind, ViolationKind::NoSession);
     assert_eq!(v.protocol, "mission_upload");
-    assert!(
-        v.reason
-            .contains("mission_type = 1 (MAV_MISSION_TYPE_FENCE)"),
-        "{}",
-        v.reason
-    );
-    assert!(
-        v.reason.contains("outside of any mission_upload session"),
-        "{}",
-        v.reason
-    );
+    assert!(v.reason.contains("mission_type = 1 (MAV_MISSION_TYPE_FENCE)"), "{}", v.reason);
+    assert!(v.reason.contains("outside of any mission_upload session"), "{}", v.reason);
 
     // Legitimate: the fence is announced first, and runs next to the mission upload.
     let Some(mut ok) = Craft::with_heartbeats(false, 0) else {
@@ -267,10 +239,7 @@ fn download_with_pipelined_requests_passes_and_early_gcs_ack_is_reported() {
         c.gcs("MISSION_REQUEST_INT", &[("seq", f64::from(s))]);
     }
     for s in 0..4 {
-        c.uav(
-            "MISSION_ITEM_INT",
-            &[("seq", f64::from(s)), ("command", 16.0)],
-        );
+        c.uav("MISSION_ITEM_INT", &[("seq", f64::from(s)), ("command", 16.0)]);
     }
     let r = c.check();
     assert_clean(&r);

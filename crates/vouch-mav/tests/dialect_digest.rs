@@ -36,7 +36,10 @@ fn digest_rebuilds_the_same_dialect_as_the_xml() {
     assert_eq!(d.name, x.name);
     assert_eq!(d.messages().len(), x.messages().len());
     for (a, b) in d.messages().iter().zip(x.messages()) {
-        assert_eq!((a.id, &a.name, a.crc_extra, a.base_len, a.max_len), (b.id, &b.name, b.crc_extra, b.base_len, b.max_len));
+        assert_eq!(
+            (a.id, &a.name, a.crc_extra, a.base_len, a.max_len),
+            (b.id, &b.name, b.crc_extra, b.base_len, b.max_len)
+        );
         assert_eq!(a.fields.len(), b.fields.len(), "{}", a.name);
         for (f, g) in a.fields.iter().zip(&b.fields) {
             assert_eq!(
@@ -63,7 +66,13 @@ fn digest_rebuilds_the_same_dialect_as_the_xml() {
 fn well_known_crc_extras_come_through_the_digest() {
     let Some(d) = embedded() else { return };
     // CRC_EXTRA values as published in PROTOCOL_FACTS.md / the MAVLink generator tables.
-    for (name, extra) in [("HEARTBEAT", 50u8), ("MISSION_COUNT", 221), ("MISSION_ITEM_INT", 38), ("COMMAND_LONG", 152), ("MISSION_ACK", 153)] {
+    for (name, extra) in [
+        ("HEARTBEAT", 50u8),
+        ("MISSION_COUNT", 221),
+        ("MISSION_ITEM_INT", 38),
+        ("COMMAND_LONG", 152),
+        ("MISSION_ACK", 153),
+    ] {
         assert_eq!(d.by_name(name).map(|m| m.crc_extra), Some(extra), "{name}");
     }
 }
@@ -75,7 +84,9 @@ fn digest_round_trips_and_rejects_broken_lines() {
         "<mavlink><enums><enum name=\"E\" bitmask=\"true\"><entry name=\"A\" value=\"0x4\"/><entry name=\"B\"/></enum></enums>\
          <messages><message id=\"7\" name=\"X\"><field type=\"uint8_t[3]\" name=\"a\" enum=\"E\">a</field><extensions/><field type=\"float\" name=\"b\">b</field></message></messages></mavlink>",
     )];
-    let read = |n: &str| -> Result<String, ()> { files.iter().find(|f| f.0 == n).map(|f| f.1.to_string()).ok_or(()) };
+    let read = |n: &str| -> Result<String, ()> {
+        files.iter().find(|f| f.0 == n).map(|f| f.1.to_string()).ok_or(())
+    };
     let raw = read_xml("t.xml", &read).unwrap_or_else(|_| panic!("read"));
     assert_eq!(raw.enums[0].entries, vec![("A".to_string(), 4), ("B".to_string(), 5)]);
     let text = write_digest(&raw).expect("digestible");

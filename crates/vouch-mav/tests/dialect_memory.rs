@@ -31,6 +31,9 @@ fn loading_the_default_dialect_adds_little_to_peak_rss() {
     let xml = std::path::Path::new(vouch_mav::dialect::embedded_origin()).join("ardupilotmega.xml");
     if let Ok(x) = vouch_mav::dialect::load_dialect_file(&xml) {
         let grown_xml = vm_hwm_kb().unwrap_or(after).saturating_sub(after);
-        eprintln!("same dialect from XML ({} messages): peak RSS +{grown_xml} kB more", x.messages().len());
+        eprintln!(
+            "same dialect from XML ({} messages): peak RSS +{grown_xml} kB more",
+            x.messages().len()
+        );
     }
 }

@@ -2,7 +2,9 @@
 //! stream reassembly is independent of how reads cut the bytes, CRC_EXTRA recovery is exact, and
 //! any single bit flip in a signed frame is rejected.
 
-use vouch_mav::guard::frame::{crc_accumulate, crc_of, recover_crc_extra, split_datagram, Piece, StreamSplitter};
+use vouch_mav::guard::frame::{
+    crc_accumulate, crc_of, recover_crc_extra, split_datagram, Piece, StreamSplitter,
+};
 use vouch_mav::guard::FrameRef;
 use vouch_mav::signing::{Signer, SigningKey, Verifier};
 
@@ -30,7 +32,18 @@ fn random_frame(r: &mut Rng) -> (Vec<u8>, u8) {
     let mut f = if r.below(2) == 0 {
         vec![0xFE, len as u8, r.byte(), r.byte(), r.byte(), r.byte()]
     } else {
-        vec![0xFD, len as u8, 0, r.byte(), r.byte(), r.byte(), r.byte(), r.byte(), r.byte(), r.byte()]
+        vec![
+            0xFD,
+            len as u8,
+            0,
+            r.byte(),
+            r.byte(),
+            r.byte(),
+            r.byte(),
+            r.byte(),
+            r.byte(),
+            r.byte(),
+        ]
     };
     f.extend((0..len).map(|_| r.byte()));
     let crc = crc_accumulate(crc_of(&f[1..]), extra);
@@ -75,7 +88,13 @@ fn stream_reassembly_does_not_depend_on_read_boundaries() {
         let mut i = 0;
         while i < stream.len() {
             let n = (1 + r.below(600) as usize).min(stream.len() - i);
-            sp.push(&stream[i..i + n], |b, is_frame| if is_frame { got.push(b.to_vec()) } else { junk += b.len() });
+            sp.push(&stream[i..i + n], |b, is_frame| {
+                if is_frame {
+                    got.push(b.to_vec())
+                } else {
+                    junk += b.len()
+                }
+            });
             i += n;
         }
         assert_eq!(got, frames);
@@ -107,7 +126,11 @@ fn any_bit_flip_in_a_signed_frame_is_rejected() {
         };
         assert!(signer.sign_into(&FrameRef::new(&f).unwrap(), now + k, &mut signed));
         let mut v = Verifier::new(key.clone());
-        assert_eq!(v.check(&FrameRef::new(&signed).unwrap(), now), Ok(()), "fresh signed frame accepted");
+        assert_eq!(
+            v.check(&FrameRef::new(&signed).unwrap(), now),
+            Ok(()),
+            "fresh signed frame accepted"
+        );
         let bit = r.below(signed.len() as u64 * 8) as usize;
         let mut t = signed.clone();
         t[bit / 8] ^= 1 << (bit % 8);

@@ -16,7 +16,9 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
-use vouch_mav::guard::{start, standard_inspector, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig};
+use vouch_mav::guard::{
+    standard_inspector, start, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig,
+};
 use vouch_mav::signing::SigningKey;
 
 fn python() -> Option<PathBuf> {
@@ -98,7 +100,12 @@ struct Outcome {
 /// Runs one MAVProxy `wp load` of 100 items through a guard to the given vehicle.
 /// A guard with the standard protocols between a GCS on an ephemeral loopback port and the
 /// vehicle at `vport`, alerting the GCS.
-fn loopback_guard(vport: u16, enforce: bool, log_path: Option<PathBuf>, signing: Option<SigningConfig>) -> RunningGuard {
+fn loopback_guard(
+    vport: u16,
+    enforce: bool,
+    log_path: Option<PathBuf>,
+    signing: Option<SigningConfig>,
+) -> RunningGuard {
     let cfg = GuardConfig {
         gcs: "udpin:127.0.0.1:0".parse().unwrap(),
         vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
@@ -127,7 +134,13 @@ struct Signing {
 }
 
 /// `guard`: None = MAVProxy talks to the vehicle directly (baseline of the peers themselves).
-fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>, signing: Option<Signing>) -> Outcome {
+fn upload(
+    py: &Path,
+    tag: &str,
+    vehicle: Vehicle,
+    guard: Option<bool>,
+    signing: Option<Signing>,
+) -> Outcome {
     let dir = tempdir(tag);
     let mission = write_mission(&dir);
     let vport = free_port();
@@ -135,20 +148,25 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>, signing: 
     let mut cmd = Command::new(py);
     match vehicle {
         Vehicle::Pymavlink { ack_after } => {
-            cmd.arg(script("pymavlink_vehicle.py")).arg("--url").arg(format!("udpin:127.0.0.1:{vport}"));
+            cmd.arg(script("pymavlink_vehicle.py"))
+                .arg("--url")
+                .arg(format!("udpin:127.0.0.1:{vport}"));
             if let Some(k) = ack_after {
                 cmd.arg("--ack-after").arg(k.to_string());
             }
         }
         Vehicle::Mavsdk => {
-            cmd.arg(script("mavsdk_vehicle.py")).arg("--url").arg(format!("udpin://127.0.0.1:{vport}"));
+            cmd.arg(script("mavsdk_vehicle.py"))
+                .arg("--url")
+                .arg(format!("udpin://127.0.0.1:{vport}"));
         }
     }
     cmd.args(["--duration", "40", "--exit-after-upload", "--summary"]).arg(&summary);
     if matches!(vehicle, Vehicle::Pymavlink { .. }) {
         cmd.arg("--stop-file").arg(dir.join("stop"));
     }
-    let _vehicle = Peer(cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("start vehicle peer"));
+    let _vehicle =
+        Peer(cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("start vehicle peer"));
 
     let log = dir.join("violations.jsonl");
     let guard = guard.map(|enforce| {
@@ -185,7 +203,8 @@ fn upload(py: &Path, tag: &str, vehicle: Vehicle, guard: Option<bool>, signing: 
         }
     });
     let mut text = String::new();
-    let end = Instant::now() + signing.as_ref().map_or(Duration::from_secs(45), |s| s.give_up_after);
+    let end =
+        Instant::now() + signing.as_ref().map_or(Duration::from_secs(45), |s| s.give_up_after);
     let mut settle: Option<Instant> = None;
     while Instant::now() < end && settle.is_none_or(|s| s.elapsed() < Duration::from_secs(2)) {
         if let Ok(line) = rx.recv_timeout(Duration::from_millis(100)) {
@@ -218,10 +237,18 @@ fn mavproxy_uploads_100_to_pymavlink_vehicle_through_guard() {
     let Some(py) = python() else { return };
     let o = upload_through_guard(&py, "pym", Vehicle::Pymavlink { ack_after: None }, true);
     assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
-    assert!(o.mavproxy.contains("MISSION_ACK: TYPE_MISSION: ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(
+        o.mavproxy.contains("MISSION_ACK: TYPE_MISSION: ACCEPTED"),
+        "MAVProxy output:\n{}",
+        o.mavproxy
+    );
     assert_eq!(o.vehicle["uploads"][0]["received"], 100, "{}", o.vehicle);
     assert_eq!(o.counters.violations, 0, "violations:\n{}", o.log);
-    assert!(o.counters.forwarded_to_vehicle >= 101 && o.counters.forwarded_to_gcs >= 101, "{:?}", o.counters);
+    assert!(
+        o.counters.forwarded_to_vehicle >= 101 && o.counters.forwarded_to_gcs >= 101,
+        "{:?}",
+        o.counters
+    );
 }
 
 #[test]
@@ -240,11 +267,16 @@ fn early_ack_after_60_of_100_is_reported_in_monitor_mode() {
     let o = upload_through_guard(&py, "ack60m", Vehicle::Pymavlink { ack_after: Some(60) }, false);
     assert_eq!(o.vehicle["uploads"][0]["received"], 60, "{}", o.vehicle);
     // forwarded: MAVProxy sees the (wrong) ACCEPTED, as it would without the guard
-    assert!(o.mavproxy.contains("MISSION_ACK: TYPE_MISSION: ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
+    assert!(
+        o.mavproxy.contains("MISSION_ACK: TYPE_MISSION: ACCEPTED"),
+        "MAVProxy output:\n{}",
+        o.mavproxy
+    );
     assert!(!o.mavproxy.contains("Sent all 100"), "MAVProxy output:\n{}", o.mavproxy);
     assert!(o.counters.violations >= 1, "{:?}", o.counters);
     assert_eq!(o.counters.dropped_violations, 0);
-    let first: Value = serde_json::from_str(o.log.lines().next().expect("a violation line")).unwrap();
+    let first: Value =
+        serde_json::from_str(o.log.lines().next().expect("a violation line")).unwrap();
     assert_eq!(first["msgid"], 47, "the early MISSION_ACK is the violating message: {first}");
     assert_eq!(first["action"], "forwarded");
 }
@@ -259,7 +291,8 @@ fn early_ack_after_60_of_100_is_dropped_and_answered_in_enforce_mode() {
     // MAVProxy gets the guard's error ACK instead of ACCEPTED, so it does not report success
     assert!(o.mavproxy.contains("Got MISSION_ACK"), "MAVProxy output:\n{}", o.mavproxy);
     assert!(!o.mavproxy.contains("ACCEPTED"), "MAVProxy output:\n{}", o.mavproxy);
-    let first: Value = serde_json::from_str(o.log.lines().next().expect("a violation line")).unwrap();
+    let first: Value =
+        serde_json::from_str(o.log.lines().next().expect("a violation line")).unwrap();
     assert_eq!(first["action"], "dropped");
 }
 
@@ -312,7 +345,12 @@ fn parachute_while_disarmed_is_blocked_in_enforce_mode() {
     assert!(c.dropped_violations >= 1, "{c:?}");
     // the GCS is not left waiting: it gets an answer that is not ACCEPTED, and an alert
     assert!(gcs["command_ack"].as_u64().is_some_and(|r| r != 0), "{gcs}");
-    assert!(gcs["statustext"].as_array().is_some_and(|a| a.iter().any(|t| t.as_str().unwrap_or("").contains("vouch"))), "{gcs}");
+    assert!(
+        gcs["statustext"]
+            .as_array()
+            .is_some_and(|a| a.iter().any(|t| t.as_str().unwrap_or("").contains("vouch"))),
+        "{gcs}"
+    );
 }
 
 #[test]
@@ -327,8 +365,13 @@ fn parachute_while_disarmed_is_reported_in_monitor_mode() {
 #[test]
 fn mavproxy_signed_upload_passes_a_guard_that_requires_signing() {
     let Some(py) = python() else { return };
-    let signing = Signing { guard_pass: "vouch-interop", mavproxy_pass: Some("vouch-interop"), give_up_after: Duration::from_secs(45) };
-    let o = upload(&py, "signed", Vehicle::Pymavlink { ack_after: None }, Some(true), Some(signing));
+    let signing = Signing {
+        guard_pass: "vouch-interop",
+        mavproxy_pass: Some("vouch-interop"),
+        give_up_after: Duration::from_secs(45),
+    };
+    let o =
+        upload(&py, "signed", Vehicle::Pymavlink { ack_after: None }, Some(true), Some(signing));
     assert!(o.mavproxy.contains("Sent all 100 waypoints"), "MAVProxy output:\n{}", o.mavproxy);
     assert_eq!(o.vehicle["uploads"][0]["received"], 100, "{}", o.vehicle);
     assert_eq!(o.counters.violations, 0, "{}", o.log);
@@ -340,8 +383,13 @@ fn mavproxy_signed_upload_passes_a_guard_that_requires_signing() {
 #[test]
 fn mavproxy_with_the_wrong_key_gets_nothing_through() {
     let Some(py) = python() else { return };
-    let signing = Signing { guard_pass: "vouch-interop", mavproxy_pass: Some("not-the-key"), give_up_after: Duration::from_secs(8) };
-    let o = upload(&py, "wrongkey", Vehicle::Pymavlink { ack_after: None }, Some(true), Some(signing));
+    let signing = Signing {
+        guard_pass: "vouch-interop",
+        mavproxy_pass: Some("not-the-key"),
+        give_up_after: Duration::from_secs(8),
+    };
+    let o =
+        upload(&py, "wrongkey", Vehicle::Pymavlink { ack_after: None }, Some(true), Some(signing));
     assert!(!o.mavproxy.contains("Sent all"), "MAVProxy output:\n{}", o.mavproxy);
     assert_eq!(o.vehicle["uploads"].as_array().map(Vec::len), Some(0), "{}", o.vehicle);
     assert_eq!(o.counters.forwarded_to_vehicle, 0, "{:?}", o.counters);

@@ -9,7 +9,10 @@ use std::time::Duration;
 
 use guard_support::*;
 use vouch_mav::guard::messages::{command_ack, STATUSTEXT_ID};
-use vouch_mav::guard::{standard_inspector, start, Endpoint, Finding, FrameRef, GuardConfig, Inspector, PassThrough, Side, SigningConfig, Verdict};
+use vouch_mav::guard::{
+    standard_inspector, start, Endpoint, Finding, FrameRef, GuardConfig, Inspector, PassThrough,
+    Side, SigningConfig, Verdict,
+};
 use vouch_mav::signing::SigningKey;
 
 const WAIT: Duration = Duration::from_millis(600);
@@ -33,7 +36,11 @@ struct DenyParachute;
 impl Inspector for DenyParachute {
     fn inspect(&mut self, from: Side, f: FrameRef<'_>) -> Verdict {
         let p = f.payload();
-        if from == Side::Gcs && f.msgid() == 76 && p.len() >= 30 && u16::from_le_bytes([p[28], p[29]]) == 208 {
+        if from == Side::Gcs
+            && f.msgid() == 76
+            && p.len() >= 30
+            && u16::from_le_bytes([p[28], p[29]]) == 208
+        {
             return Verdict::Violation(Finding {
                 summary: "DO_PARACHUTE outside its precondition".into(),
                 record: serde_json::json!({"protocol": "test.parachute"}),
@@ -48,7 +55,8 @@ impl Inspector for DenyParachute {
 fn forwards_bytes_unchanged_both_ways_to_several_gcs() {
     let vehicle = udp();
     let v_addr = vehicle.local_addr().unwrap();
-    let g = start(config("udpin:127.0.0.1:0", &format!("udpout:{v_addr}")), Box::new(PassThrough)).expect("guard");
+    let g = start(config("udpin:127.0.0.1:0", &format!("udpout:{v_addr}")), Box::new(PassThrough))
+        .expect("guard");
     let gcs_addr = g.gcs_addr.expect("bound");
     let (gcs1, gcs2) = (udp(), udp());
     let hb = hex(GCS_HEARTBEAT);
@@ -89,7 +97,11 @@ fn monitor_mode_reports_but_forwards() {
     let gcs = udp();
     let chute = hex(PARACHUTE_RELEASE);
     gcs.send_to(&chute, g.gcs_addr.unwrap()).unwrap();
-    assert_eq!(recv_one(&vehicle, WAIT), Some(chute.clone()), "monitor mode forwards the violating frame");
+    assert_eq!(
+        recv_one(&vehicle, WAIT),
+        Some(chute.clone()),
+        "monitor mode forwards the violating frame"
+    );
     let alert = recv_one(&gcs, WAIT).expect("STATUSTEXT alert");
     let fr = FrameRef::new(&alert).expect("one frame");
     assert_eq!(fr.msgid(), STATUSTEXT_ID);
@@ -97,7 +109,8 @@ fn monitor_mode_reports_but_forwards() {
     let c = g.stop();
     assert_eq!((c.violations, c.dropped_violations, c.alerts_sent, c.replies_sent), (1, 0, 1, 0));
     let log = std::fs::read_to_string(dir.join("violations.jsonl")).unwrap();
-    let line: serde_json::Value = serde_json::from_str(log.lines().next().expect("one line")).unwrap();
+    let line: serde_json::Value =
+        serde_json::from_str(log.lines().next().expect("one line")).unwrap();
     assert_eq!(line["action"], "forwarded");
     assert_eq!(line["violation"]["protocol"], "test.parachute");
     let tlog = std::fs::read(dir.join("traffic.tlog")).unwrap();
@@ -127,7 +140,10 @@ fn enforce_mode_drops_and_answers_the_sender() {
     assert_eq!((fr.msgid(), fr.sysid(), fr.compid()), (77, 1, 1));
     assert_eq!(&fr.payload()[..3], &[208, 0, 2]);
     assert_eq!(&fr.payload()[8..10], &[255, 230]);
-    assert!(drain(&bystander, Duration::from_millis(200)).is_empty(), "answer goes only to the sender");
+    assert!(
+        drain(&bystander, Duration::from_millis(200)).is_empty(),
+        "answer goes only to the sender"
+    );
     let c = g.stop();
     assert_eq!((c.violations, c.dropped_violations, c.replies_sent), (1, 1, 1));
 }
@@ -136,7 +152,8 @@ fn enforce_mode_drops_and_answers_the_sender() {
 fn signing_keeps_outsiders_out() {
     let vehicle = udp();
     let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
-    cfg.signing = Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: false, link_id: 0 });
+    cfg.signing =
+        Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: false, link_id: 0 });
     let g = start(cfg, Box::new(PassThrough)).expect("guard");
     let gcs = udp();
     let to = g.gcs_addr.unwrap();
@@ -157,13 +174,18 @@ fn signing_admits_fresh_rejects_replay_and_signs_toward_vehicle() {
     use vouch_mav::signing::{timestamp_now, Signer, Verifier};
     let vehicle = udp();
     let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
-    cfg.signing = Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: true, link_id: 9 });
+    cfg.signing =
+        Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: true, link_id: 9 });
     let g = start(cfg, Box::new(PassThrough)).expect("guard");
     let gcs = udp();
     let to = g.gcs_addr.unwrap();
     let mut signer = Signer::new(SigningKey(key_0_to_31()), 3);
     let mut fresh = vec![];
-    assert!(signer.sign_into(&FrameRef::new(&hex(GCS_HEARTBEAT)).unwrap(), timestamp_now(), &mut fresh));
+    assert!(signer.sign_into(
+        &FrameRef::new(&hex(GCS_HEARTBEAT)).unwrap(),
+        timestamp_now(),
+        &mut fresh
+    ));
     gcs.send_to(&fresh, to).unwrap();
     gcs.send_to(&fresh, to).unwrap(); // replay
     let got = drain(&vehicle, WAIT);
@@ -181,8 +203,11 @@ fn signing_admits_fresh_rejects_replay_and_signs_toward_vehicle() {
 #[test]
 fn setup_signing_is_never_forwarded() {
     let vehicle = udp();
-    let g = start(config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap())), Box::new(PassThrough))
-        .expect("guard");
+    let g = start(
+        config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap())),
+        Box::new(PassThrough),
+    )
+    .expect("guard");
     // SETUP_SIGNING (256) framing only; the guard must drop it whatever its content
     let mut f = vec![0xFD, 42, 0, 0, 0, 255, 230, 0x00, 0x01, 0x00];
     f.extend([0u8; 42]);
@@ -195,8 +220,11 @@ fn setup_signing_is_never_forwarded() {
 #[test]
 fn tcp_streams_are_reassembled_and_forwarded() {
     let vehicle = TcpListener::bind("127.0.0.1:0").unwrap();
-    let g = start(config("tcpin:127.0.0.1:0", &format!("tcpout:{}", vehicle.local_addr().unwrap())), Box::new(PassThrough))
-        .expect("guard");
+    let g = start(
+        config("tcpin:127.0.0.1:0", &format!("tcpout:{}", vehicle.local_addr().unwrap())),
+        Box::new(PassThrough),
+    )
+    .expect("guard");
     let (mut v, _) = vehicle.accept().unwrap();
     v.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
     let mut gcs = TcpStream::connect(g.gcs_addr.unwrap()).unwrap();
@@ -259,7 +287,10 @@ fn command_exit_codes() {
     // usage / I/O errors
     assert_eq!(run_guard(GuardArgs { gcs: "udpin:nowhere".into(), ..base.clone() }), 2);
     assert_eq!(run_guard(GuardArgs { sign_to_vehicle: true, ..base.clone() }), 2);
-    assert_eq!(run_guard(GuardArgs { signing_key: Some("/nonexistent/key".into()), ..base.clone() }), 2);
+    assert_eq!(
+        run_guard(GuardArgs { signing_key: Some("/nonexistent/key".into()), ..base.clone() }),
+        2
+    );
     assert_eq!(run_guard(GuardArgs { set: vec!["NOVALUE".into()], ..base.clone() }), 2);
     assert_eq!(run_guard(GuardArgs { duration: Some(-1.0), ..base.clone() }), 2);
     // a protocol file that does not parse is rejected input
@@ -275,17 +306,28 @@ fn serial_endpoint_over_a_pseudo_terminal() {
     use std::os::unix::io::FromRawFd;
     let (mut master, mut slave) = (0i32, 0i32);
     // SAFETY: openpty fills two descriptors we own from here on.
-    let rc = unsafe { libc::openpty(&mut master, &mut slave, std::ptr::null_mut(), std::ptr::null(), std::ptr::null()) };
+    let rc = unsafe {
+        libc::openpty(
+            &mut master,
+            &mut slave,
+            std::ptr::null_mut(),
+            std::ptr::null(),
+            std::ptr::null(),
+        )
+    };
     if rc != 0 {
         eprintln!("skipping: no pseudo-terminal available");
         return;
     }
     // SAFETY: ttyname on a valid tty descriptor returns a NUL-terminated static buffer.
-    let path = unsafe { std::ffi::CStr::from_ptr(libc::ttyname(slave)) }.to_string_lossy().into_owned();
+    let path =
+        unsafe { std::ffi::CStr::from_ptr(libc::ttyname(slave)) }.to_string_lossy().into_owned();
     // SAFETY: the descriptors came from openpty and are owned by these Files only.
     let mut master = unsafe { File::from_raw_fd(master) };
     let _slave = unsafe { File::from_raw_fd(slave) };
-    let g = start(config("udpin:127.0.0.1:0", &format!("serial:{path}:57600")), Box::new(PassThrough)).expect("guard");
+    let g =
+        start(config("udpin:127.0.0.1:0", &format!("serial:{path}:57600")), Box::new(PassThrough))
+            .expect("guard");
     let gcs = udp();
     let hb = hex(GCS_HEARTBEAT);
     gcs.send_to(&hb, g.gcs_addr.unwrap()).unwrap();
@@ -297,7 +339,10 @@ fn serial_endpoint_over_a_pseudo_terminal() {
         let mut got = vec![0u8; n];
         let _ = tx.send(reader.read_exact(&mut got).map(|_| got));
     });
-    let got = rx.recv_timeout(Duration::from_secs(2)).expect("bytes on the serial line within 2 s").unwrap();
+    let got = rx
+        .recv_timeout(Duration::from_secs(2))
+        .expect("bytes on the serial line within 2 s")
+        .unwrap();
     assert_eq!(got, hb);
     // the vehicle answers on the serial line in two pieces; the GCS gets one whole frame
     let vhb = hex(VEHICLE_HEARTBEAT);

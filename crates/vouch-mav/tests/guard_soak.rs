@@ -17,13 +17,17 @@ use guard_support::{key_0_to_31, loopback};
 use vouch_mav::codec::FrameSplitter;
 use vouch_mav::dialect::Dialect;
 use vouch_mav::guard::messages::encode_v2;
-use vouch_mav::guard::{start, standard_inspector, FrameRef, GuardConfig, SigningConfig};
+use vouch_mav::guard::{standard_inspector, start, FrameRef, GuardConfig, SigningConfig};
 use vouch_mav::signing::{timestamp_now, Signer, SigningKey, Verifier};
 
 fn rss_kb() -> u64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("VmRSS:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmRSS:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
+        })
         .unwrap_or(0)
 }
 
@@ -52,7 +56,13 @@ impl Peer {
 
     /// Reads what is queued (waiting at most `wait` for the first datagram) and checks each frame.
     /// `bad` says whether a decoded frame (msgid, payload) is one the guard must never deliver.
-    fn drain(&mut self, d: &Dialect, wait: Duration, bad: &dyn Fn(u32, &[u8]) -> bool, until: Option<u32>) -> bool {
+    fn drain(
+        &mut self,
+        d: &Dialect,
+        wait: Duration,
+        bad: &dyn Fn(u32, &[u8]) -> bool,
+        until: Option<u32>,
+    ) -> bool {
         let end = Instant::now() + wait;
         let mut saw = false;
         loop {
@@ -77,10 +87,13 @@ impl Peer {
                         }
                     }
                     // anything that was not a good frame is non-compliant too
-                    self.noncompliant += self.checker.stats.errors() + self.checker.stats.garbage_bytes - before;
+                    self.noncompliant +=
+                        self.checker.stats.errors() + self.checker.stats.garbage_bytes - before;
                 }
                 Err(_) => {
-                    if (until.is_none() || saw) && Instant::now() >= end || Instant::now() >= end + Duration::from_millis(500) {
+                    if (until.is_none() || saw) && Instant::now() >= end
+                        || Instant::now() >= end + Duration::from_millis(500)
+                    {
                         return saw;
                     }
                     if until.is_some() && saw {
@@ -160,7 +173,11 @@ struct Gcs {
 
 impl Gcs {
     fn send_signed(&mut self, frame: Vec<u8>) {
-        assert!(self.signer.sign_into(&FrameRef::new(&frame).unwrap(), timestamp_now(), &mut self.out));
+        assert!(self.signer.sign_into(
+            &FrameRef::new(&frame).unwrap(),
+            timestamp_now(),
+            &mut self.out
+        ));
         let _ = self.peer.sock.send_to(&self.out, self.to);
         self.last_signed.clone_from(&self.out);
         self.sent += 1;
@@ -188,7 +205,11 @@ fn soak(target_frames: u64) {
         print_violations: false,
         log_path: None,
         tlog_path: None,
-        signing: Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: false, link_id: 0 }),
+        signing: Some(SigningConfig {
+            key: SigningKey(key_0_to_31()),
+            sign_to_vehicle: false,
+            link_id: 0,
+        }),
     };
     let guard = start(cfg, inspector).expect("guard");
     let mut gcs = Gcs {
@@ -204,9 +225,13 @@ fn soak(target_frames: u64) {
     // the guard's vehicle-side port is learned from its first forwarded frame
     let hb = heartbeat(255, 190, 6, 0);
     gcs.send_signed(hb);
-    let is_bad_v = |id: u32, p: &[u8]| id == 76 && p.len() >= 30 && u16::from_le_bytes([p[28], p[29]]) == 208;
+    let is_bad_v =
+        |id: u32, p: &[u8]| id == 76 && p.len() >= 30 && u16::from_le_bytes([p[28], p[29]]) == 208;
     let is_bad_g = |id: u32, p: &[u8]| id == 47 && p.get(2).copied().unwrap_or(0) == 0;
-    assert!(vehicle.drain(&dialect, Duration::from_millis(200), &is_bad_v, Some(0)), "first heartbeat");
+    assert!(
+        vehicle.drain(&dialect, Duration::from_millis(200), &is_bad_v, Some(0)),
+        "first heartbeat"
+    );
     let mut vsock_peer: Option<SocketAddr> = None;
     // find where the guard sends from: ask the OS via a second heartbeat read with recv_from
     gcs.send_signed(heartbeat(255, 190, 6, 1));
@@ -268,7 +293,7 @@ fn soak(target_frames: u64) {
         gcs.send_raw(&junk); // garbage
         let trunc = parachute_release(gcs.next());
         gcs.send_raw(&trunc[..20]); // truncated
-        // 4. signed MISSION_COUNT flood from ten other ground stations (sessions must expire)
+                                    // 4. signed MISSION_COUNT flood from ten other ground stations (sessions must expire)
         for k in 0..10u8 {
             let s = gcs.next();
             gcs.send_signed(mission_count(100 + k, 3, s));
@@ -310,11 +335,20 @@ fn soak(target_frames: u64) {
     // 4 signing rejections, 1 bad checksum and 2 violations are injected per round; allow 10 %
     // of them to be lost by the kernel under the floods (UDP), not more
     let r = u64::from(round);
-    assert!(c.signing_rejected >= r * 4 * 9 / 10, "replay/forged/wrong-key/unsigned rejected: {c:?}");
-    assert!(c.dropped_malformed >= r * 9 / 10, "validly signed frames with a bad checksum dropped: {c:?}");
+    assert!(
+        c.signing_rejected >= r * 4 * 9 / 10,
+        "replay/forged/wrong-key/unsigned rejected: {c:?}"
+    );
+    assert!(
+        c.dropped_malformed >= r * 9 / 10,
+        "validly signed frames with a bad checksum dropped: {c:?}"
+    );
     assert!(c.dropped_violations >= r * 2 * 9 / 10, "early ACKs and parachutes dropped: {c:?}");
     assert!(vehicle.received > 0 && gcs.peer.received > 0);
-    assert!(rss_end <= rss_after_warmup + 4096, "RSS grew from {rss_after_warmup} kB to {rss_end} kB");
+    assert!(
+        rss_end <= rss_after_warmup + 4096,
+        "RSS grew from {rss_after_warmup} kB to {rss_end} kB"
+    );
 }
 
 #[test]

@@ -30,55 +30,33 @@ fn verdicts_with_link_sides_and_an_encodable_reply() {
         m.on_frame(&f, origin, t)
     };
     let telemetry = frame(&c, uav, "ATTITUDE", &[("roll", 0.1)]);
-    assert!(matches!(
-        feed(&mut m, telemetry, Origin::Vehicle),
-        Verdict::Ignore
-    ));
+    assert!(matches!(feed(&mut m, telemetry, Origin::Vehicle), Verdict::Ignore));
     let count = frame(
         &c,
         gcs,
         "MISSION_COUNT",
-        &[
-            ("count", 2.0),
-            ("target_system", 9.0),
-            ("target_component", 1.0),
-        ],
+        &[("count", 2.0), ("target_system", 9.0), ("target_component", 1.0)],
     );
     assert!(matches!(feed(&mut m, count, Origin::Gcs), Verdict::Accept));
     let req = frame(
         &c,
         uav,
         "MISSION_REQUEST_INT",
-        &[
-            ("seq", 0.0),
-            ("target_system", 42.0),
-            ("target_component", 7.0),
-        ],
+        &[("seq", 0.0), ("target_system", 42.0), ("target_component", 7.0)],
     );
-    assert!(matches!(
-        feed(&mut m, req, Origin::Vehicle),
-        Verdict::Accept
-    ));
+    assert!(matches!(feed(&mut m, req, Origin::Vehicle), Verdict::Accept));
     let item = frame(
         &c,
         gcs,
         "MISSION_ITEM_INT",
-        &[
-            ("seq", 0.0),
-            ("target_system", 9.0),
-            ("target_component", 1.0),
-        ],
+        &[("seq", 0.0), ("target_system", 9.0), ("target_component", 1.0)],
     );
     assert!(matches!(feed(&mut m, item, Origin::Gcs), Verdict::Accept));
     let early_ack = frame(
         &c,
         uav,
         "MISSION_ACK",
-        &[
-            ("type", 0.0),
-            ("target_system", 42.0),
-            ("target_component", 7.0),
-        ],
+        &[("type", 0.0), ("target_system", 42.0), ("target_component", 7.0)],
     );
     let Verdict::Violation(v) = feed(&mut m, early_ack, Origin::Vehicle) else {
         panic!("early ACK must violate")
@@ -87,14 +65,8 @@ fn verdicts_with_link_sides_and_an_encodable_reply() {
     let reply = v.reply.as_ref().unwrap();
     let bytes = reply.encode_v2(&c.d, 5);
     let mut pos = 0;
-    let (_, f) = FrameSplitter::new()
-        .next(&bytes, &mut pos, &c.d, true)
-        .expect("reply decodes");
-    assert_eq!(
-        (f.sysid, f.compid, f.seq),
-        (9, 1, 5),
-        "reply sent as the vehicle"
-    );
+    let (_, f) = FrameSplitter::new().next(&bytes, &mut pos, &c.d, true).expect("reply decodes");
+    assert_eq!((f.sysid, f.compid, f.seq), (9, 1, 5), "reply sent as the vehicle");
     let view = MessageView::of_frame(&f, &c.d).unwrap();
     assert_eq!(view.name(), "MISSION_ACK");
     assert_eq!(view.get_f64("type"), Some(15.0)); // MAV_MISSION_OPERATION_CANCELLED
@@ -114,13 +86,7 @@ fn expire_abandons_idle_sessions() {
     let d = c.d.clone();
     for rec in vouch_mav::TlogReader::new(&c.bytes, &d) {
         let v = MessageView::of_frame(&rec.frame, &d).unwrap();
-        m.observe(
-            &v,
-            rec.frame.sysid,
-            rec.frame.compid,
-            Origin::Unknown,
-            rec.time_us,
-        );
+        m.observe(&v, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us);
     }
     assert_eq!(m.summary().open_sessions, 1);
     m.expire(c.t + 60_000_000);
@@ -137,11 +103,7 @@ fn a_flood_of_opening_messages_keeps_a_bounded_number_of_sessions() {
         c.send_full(
             GCS,
             "PARAM_REQUEST_READ",
-            &[
-                ("target_system", 1.0),
-                ("target_component", 1.0),
-                ("param_index", -1.0),
-            ],
+            &[("target_system", 1.0), ("target_component", 1.0), ("param_index", -1.0)],
             &[("param_id", &format!("P{i}"))],
         );
     }
@@ -150,24 +112,12 @@ fn a_flood_of_opening_messages_keeps_a_bounded_number_of_sessions() {
     for rec in vouch_mav::TlogReader::new(&c.bytes, &d) {
         let v = MessageView::of_frame(&rec.frame, &d).unwrap();
         assert!(!m
-            .observe(
-                &v,
-                rec.frame.sysid,
-                rec.frame.compid,
-                Origin::Unknown,
-                rec.time_us
-            )
+            .observe(&v, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us)
             .is_violation());
     }
     let s = m.summary();
-    assert_eq!(
-        s.open_sessions as usize,
-        vouch_mav::monitor::MAX_SESSIONS_PER_PROTOCOL
-    );
+    assert_eq!(s.open_sessions as usize, vouch_mav::monitor::MAX_SESSIONS_PER_PROTOCOL);
     let pr = s.protocol("param_read").unwrap();
     assert_eq!(pr.started, 200);
-    assert_eq!(
-        pr.abandoned,
-        200 - vouch_mav::monitor::MAX_SESSIONS_PER_PROTOCOL as u64
-    );
+    assert_eq!(pr.abandoned, 200 - vouch_mav::monitor::MAX_SESSIONS_PER_PROTOCOL as u64);
 }

@@ -55,11 +55,7 @@ fn unknown_message_is_located() {
     }
     let src = BASE.replace("MISSION_ACK", "MISSION_ACKK");
     let e = err(&src);
-    assert!(
-        e.message.contains("unknown message `MISSION_ACKK`"),
-        "{}",
-        e.message
-    );
+    assert!(e.message.contains("unknown message `MISSION_ACKK`"), "{}", e.message);
     assert_eq!((e.line, e.col), pos_of(&src, "MISSION_ACKK"));
 }
 
@@ -70,11 +66,7 @@ fn unknown_field_is_located() {
     }
     let src = BASE.replace("n = count", "n = cnt");
     let e = err(&src);
-    assert!(
-        e.message.contains("MISSION_COUNT has no field `cnt`"),
-        "{}",
-        e.message
-    );
+    assert!(e.message.contains("MISSION_COUNT has no field `cnt`"), "{}", e.message);
     assert_eq!((e.line, e.col), pos_of(&src, "cnt"));
 }
 
@@ -85,11 +77,7 @@ fn unknown_enum_entry_or_unbound_variable_is_located() {
     }
     let src = BASE.replace("MAV_MISSION_ACCEPTED", "MAV_MISSION_ACCEPTD");
     let e = err(&src);
-    assert!(
-        e.message.contains("unbound name `MAV_MISSION_ACCEPTD`"),
-        "{}",
-        e.message
-    );
+    assert!(e.message.contains("unbound name `MAV_MISSION_ACCEPTD`"), "{}", e.message);
     assert_eq!((e.line, e.col), pos_of(&src, "MAV_MISSION_ACCEPTD"));
     // `n` is bound in the first step only within the protocol's scope: using an unbound name.
     let src = BASE.replace("where n > 0", "where m > 0");
@@ -104,10 +92,7 @@ fn type_mismatches_are_located() {
         return;
     }
     // An enum value of another enum.
-    let src = BASE.replace(
-        "type == MAV_MISSION_ACCEPTED",
-        "type == MAV_CMD_DO_PARACHUTE",
-    );
+    let src = BASE.replace("type == MAV_MISSION_ACCEPTED", "type == MAV_CMD_DO_PARACHUTE");
     let e = err(&src);
     assert!(e.message.contains("type mismatch"), "{}", e.message);
     assert!(
@@ -124,9 +109,7 @@ fn type_mismatches_are_located() {
     // A field missing from one of the alternative labels.
     let src =
         "protocol p { roles gcs, uav; gcs -> uav : MISSION_COUNT | MISSION_ACK where count > 1; }";
-    assert!(err(src)
-        .message
-        .contains("MISSION_ACK has no field `count`"));
+    assert!(err(src).message.contains("MISSION_ACK has no field `count`"));
 }
 
 #[test]
@@ -144,11 +127,7 @@ fn structure_errors() {
     let e = err("protocol p { roles gcs, uav; key nothing; gcs -> uav : HEARTBEAT; }");
     assert!(e.message.contains("key `nothing`"), "{}", e.message);
     let e = err("protocol p { roles gcs, uav; gcs -> uav : HEARTBEAT where vehicle.speed > 1; }");
-    assert!(
-        e.message.contains("unknown vehicle attribute"),
-        "{}",
-        e.message
-    );
+    assert!(e.message.contains("unknown vehicle attribute"), "{}", e.message);
 }
 
 #[test]
@@ -158,11 +137,7 @@ fn syntax_errors_are_located() {
     }
     let src = "protocol p {\n  roles gcs, uav;\n  gcs -> uav : MISSION_COUNT where count > ;\n}";
     let e = err(src);
-    assert!(
-        e.message.contains("expected an expression"),
-        "{}",
-        e.message
-    );
+    assert!(e.message.contains("expected an expression"), "{}", e.message);
     assert_eq!(e.line, 3);
     let e = err("protocol p { roles gcs uav; }");
     assert!(e.message.contains("expected `;`"), "{}", e.message);

@@ -35,18 +35,9 @@ fn run_py(py: &str, mode: &str, req: &J) -> J {
         .stderr(Stdio::piped())
         .spawn()
         .expect("start python");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(req.to_string().as_bytes())
-        .unwrap();
+    child.stdin.take().unwrap().write_all(req.to_string().as_bytes()).unwrap();
     let out = child.wait_with_output().expect("python runs");
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "python failed: {}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).expect("python answers JSON")
 }
 
@@ -122,8 +113,7 @@ fn vouch_encode(d: &vouch_mav::Dialect, name: &str, fields: &J, seq: u8, v: u8) 
             J::String(s) => b = b.set_str(f, s).expect("text"),
             J::Array(a) => {
                 for (i, x) in a.iter().enumerate() {
-                    b.set_value(f, i, Value::F(x.as_f64().unwrap()))
-                        .expect("array");
+                    b.set_value(f, i, Value::F(x.as_f64().unwrap())).expect("array");
                 }
             }
             J::Number(n) => {
@@ -134,8 +124,7 @@ fn vouch_encode(d: &vouch_mav::Dialect, name: &str, fields: &J, seq: u8, v: u8) 
                 } else {
                     Value::F(n.as_f64().unwrap())
                 };
-                b.set_value(f, 0, val)
-                    .unwrap_or_else(|e| panic!("{name}.{f}: {e}"));
+                b.set_value(f, 0, val).unwrap_or_else(|e| panic!("{name}.{f}: {e}"));
             }
             _ => panic!("unsupported"),
         }
@@ -205,9 +194,7 @@ fn each_side_decodes_the_others_frames() {
         }
         // And our decoder reads the same from the same bytes.
         let mut pos = 0;
-        let (_, fr) = FrameSplitter::new()
-            .next(bytes, &mut pos, &d, true)
-            .expect("frame");
+        let (_, fr) = FrameSplitter::new().next(bytes, &mut pos, &d, true).expect("frame");
         let view = MessageView::of_frame(&fr, &d).unwrap();
         for (f, want) in fields.as_object().unwrap() {
             match want {
@@ -240,12 +227,7 @@ fn pymavlink_crafted_uploads() {
     for (ack_after, violations) in [(100, 0usize), (60, 1)] {
         let path = dir.join(format!("upload_{ack_after}.tlog"));
         let st = Command::new(&py)
-            .args([
-                script,
-                path.to_str().unwrap(),
-                "100",
-                &ack_after.to_string(),
-            ])
+            .args([script, path.to_str().unwrap(), "100", &ack_after.to_string()])
             .status()
             .unwrap();
         assert!(st.success());

@@ -47,11 +47,7 @@ fn rover_2025_sitl_is_clean_and_sessions_recognised() {
     let Some(r) = run("uavlogviewer_flight_logs.tlog") else {
         return;
     };
-    assert_eq!(
-        r.violations.len(),
-        0,
-        "legitimate ArduPilot traffic must not violate"
-    );
+    assert_eq!(r.violations.len(), 0, "legitimate ArduPilot traffic must not violate");
     // README: 96,644 decodable messages, about 140 bytes of broken data.
     assert!(r.codec.frames >= 96_600, "frames {}", r.codec.frames);
     // 11 uploads from the GCS: 9 clears (count 0) + 2 with items, all ACCEPTED.

@@ -40,20 +40,37 @@ fn best_mean(v: &[f64]) -> (f64, f64) {
 }
 
 /// Run the whole benchmark on `data` (the `shared/navfn` folder) and print a table.
-pub fn run(data: &Path, repeat: usize, repeat_pair: usize, out: &mut dyn Write) -> Result<(), String> {
+pub fn run(
+    data: &Path,
+    repeat: usize,
+    repeat_pair: usize,
+    out: &mut dyn Write,
+) -> Result<(), String> {
     let suite = data.join("suite");
     let files = find_test_files(&suite, "test.txt").map_err(|e| e.to_string())?;
-    let loaded: Vec<SuiteFile> =
-        files.iter().map(|f| read_suite_file(f)).collect::<Result<_, _>>().map_err(|e| e.to_string())?;
+    let loaded: Vec<SuiteFile> = files
+        .iter()
+        .map(|f| read_suite_file(f))
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
     let is_ros = |s: &SuiteFile| s.test_path.components().any(|c| c.as_os_str() == "ROS");
     let small: Vec<&SuiteFile> = loaded.iter().filter(|s| !is_ros(s)).collect();
     let all: Vec<&SuiteFile> = loaded.iter().collect();
     let w = |out: &mut dyn Write, s: String| out.write_all(s.as_bytes()).map_err(|e| e.to_string());
-    w(out, format!(
-        "vouch navfn bench: single thread, {repeat} repetitions; CPU time of the thread \
+    w(
+        out,
+        format!(
+            "vouch navfn bench: single thread, {repeat} repetitions; CPU time of the thread \
          (wall time in brackets, inflated when the machine is shared)\n"
-    ))?;
-    w(out, format!("{:<40} {:>8} {:>15} {:>15} {:>6}\n", "workload", "cases", "best µs/path", "mean µs/path", "C++"))?;
+        ),
+    )?;
+    w(
+        out,
+        format!(
+            "{:<40} {:>8} {:>15} {:>15} {:>6}\n",
+            "workload", "cases", "best µs/path", "mean µs/path", "C++"
+        ),
+    )?;
     let workloads: [(&str, &[&SuiteFile], SuiteMode, Algo, &str); 4] = [
         ("paper A*, whole suite (101 maps)", &all, SuiteMode::Paper, Algo::Astar, "-"),
         ("paper A*, 96 small maps", &small, SuiteMode::Paper, Algo::Astar, "1.18"),
@@ -82,8 +99,19 @@ pub fn run(data: &Path, repeat: usize, repeat_pair: usize, out: &mut dyn Write) 
                     let (map, w, h) = (&file.map, file.width, file.height);
                     for &(from, to) in cases {
                         let o = match mode {
-                            SuiteMode::Paper => runner.run_paper(map, w, h, from, to, &mut NoObserver),
-                            _ => runner.run_navfn(map, w, h, CostInput::Raw, algo, from, to, &mut NoObserver),
+                            SuiteMode::Paper => {
+                                runner.run_paper(map, w, h, from, to, &mut NoObserver)
+                            }
+                            _ => runner.run_navfn(
+                                map,
+                                w,
+                                h,
+                                CostInput::Raw,
+                                algo,
+                                from,
+                                to,
+                                &mut NoObserver,
+                            ),
                         };
                         sink += o.map(|o| o.len).unwrap_or(0);
                     }
@@ -94,11 +122,14 @@ pub fn run(data: &Path, repeat: usize, repeat_pair: usize, out: &mut dyn Write) 
         }
         std::hint::black_box(sink);
         let ((cb, cm), (wb, wm)) = (best_mean(&cpu), best_mean(&wall));
-        w(out, format!(
-            "{label:<40} {n:>8} {:>15} {:>15} {cpp:>6}\n",
-            format!("{cb:.3} ({wb:.2})"),
-            format!("{cm:.3} ({wm:.2})")
-        ))?;
+        w(
+            out,
+            format!(
+                "{label:<40} {n:>8} {:>15} {:>15} {cpp:>6}\n",
+                format!("{cb:.3} ({wb:.2})"),
+                format!("{cm:.3} ({wm:.2})")
+            ),
+        )?;
     }
     // nav2_system_tests' default pair on the 400x400 map, full planner emulation
     let map_path = data.join("suite_ros/400x400_ros/map.bin");
@@ -106,28 +137,36 @@ pub fn run(data: &Path, repeat: usize, repeat_pair: usize, out: &mut dyn Write) 
     if bytes.len() != 400 * 400 {
         return Err(format!("{} is not 400x400", map_path.display()));
     }
-    w(out, format!(
-        "{:<40} {:>8} {:>15} {:>15} {:>6}\n",
-        "planner 400x400 (390,10)->(10,390)", "points", "best ms", "mean ms", "C++"
-    ))?;
+    w(
+        out,
+        format!(
+            "{:<40} {:>8} {:>15} {:>15} {:>6}\n",
+            "planner 400x400 (390,10)->(10,390)", "points", "best ms", "mean ms", "C++"
+        ),
+    )?;
     for (astar, cpp) in [(false, "4.5"), (true, "3.4")] {
         let params = PlannerParams { use_astar: astar, ..PlannerParams::default() };
-        let mut planner = NavfnPlanner::new(bytes.clone(), 400, 400, WorldParams::default(), params)
-            .map_err(|e| e.to_string())?;
+        let mut planner =
+            NavfnPlanner::new(bytes.clone(), 400, 400, WorldParams::default(), params)
+                .map_err(|e| e.to_string())?;
         let (mut cpu, mut wall) = (Vec::new(), Vec::new());
         let mut points = 0;
         for _ in 0..repeat_pair.max(1) {
-            let (wt, ct) = timed(|| points = planner.create_plan([390.0, 10.0], [10.0, 390.0]).navfn_len);
+            let (wt, ct) =
+                timed(|| points = planner.create_plan([390.0, 10.0], [10.0, 390.0]).navfn_len);
             wall.push(wt * 1e3);
             cpu.push(ct * 1e3);
         }
         let ((cb, cm), (wb, wm)) = (best_mean(&cpu), best_mean(&wall));
         let label = if astar { "  A*" } else { "  Dijkstra (atStart, nav2 default)" };
-        w(out, format!(
-            "{label:<40} {points:>8} {:>15} {:>15} {cpp:>6}\n",
-            format!("{cb:.3} ({wb:.2})"),
-            format!("{cm:.3} ({wm:.2})")
-        ))?;
+        w(
+            out,
+            format!(
+                "{label:<40} {points:>8} {:>15} {:>15} {cpp:>6}\n",
+                format!("{cb:.3} ({wb:.2})"),
+                format!("{cm:.3} ({wm:.2})")
+            ),
+        )?;
     }
     Ok(())
 }

@@ -7,8 +7,8 @@
 //! `planner` wraps the core like nav2's `NavfnPlanner` (world coordinates, swap, tolerance).
 //! The reference semantics is `shared/navfn/SEMANTICS.md`; the oracle is `shared/navfn/golden`.
 
-pub mod campaign;
 pub mod bench;
+pub mod campaign;
 pub mod checks;
 pub mod core;
 pub mod maps;

@@ -46,8 +46,13 @@ pub fn cell_scale(nx: usize, ny: usize) -> usize {
 
 /// Heat-map colour for t in [0, 1] (0 = goal): yellow → orange → magenta → deep purple.
 fn heat(t: f32) -> [u8; 3] {
-    const STOPS: [[f32; 3]; 5] =
-        [[252.0, 231.0, 37.0], [248.0, 149.0, 64.0], [204.0, 71.0, 120.0], [126.0, 3.0, 168.0], [33.0, 12.0, 90.0]];
+    const STOPS: [[f32; 3]; 5] = [
+        [252.0, 231.0, 37.0],
+        [248.0, 149.0, 64.0],
+        [204.0, 71.0, 120.0],
+        [126.0, 3.0, 168.0],
+        [33.0, 12.0, 90.0],
+    ];
     let t = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
     let i = (t.floor() as usize).min(STOPS.len() - 2);
     let f = t - i as f32;
@@ -64,7 +69,8 @@ pub fn render(pic: &PictureInput) -> Rgb {
     let s = cell_scale(p.nx, p.ny);
     let (w, h) = (p.nx * s, p.ny * s);
     let mut img = Rgb { width: w, height: h, data: vec![0; w * h * 3] };
-    let max_pot = p.potential.iter().copied().filter(|&v| v < POT_HIGH).fold(0.0f32, f32::max).max(1.0);
+    let max_pot =
+        p.potential.iter().copied().filter(|&v| v < POT_HIGH).fold(0.0f32, f32::max).max(1.0);
     let row_of = |y: usize| if flip_y { p.ny - 1 - y } else { y };
     for y in 0..p.ny {
         for x in 0..p.nx {

@@ -97,13 +97,14 @@ impl CaseRunner {
         costs: CostInput,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
-        let (from, to) = case.cells(file.width, file.height).ok_or_else(|| CaseError::OutsideMap {
-            path: file.test_path.clone(),
-            line: case.line,
-            number: case.number,
-            width: file.width,
-            height: file.height,
-        })?;
+        let (from, to) =
+            case.cells(file.width, file.height).ok_or_else(|| CaseError::OutsideMap {
+                path: file.test_path.clone(),
+                line: case.line,
+                number: case.number,
+                width: file.width,
+                height: file.height,
+            })?;
         let from = Cell::new(from[0], from[1]);
         let to = Cell::new(to[0], to[1]);
         match mode {
@@ -113,7 +114,13 @@ impl CaseRunner {
     }
 
     /// Sizes the reused NavFn for the map and loads its costs (shared by both call sequences).
-    fn load_map(&mut self, map: &[u8], nx: usize, ny: usize, costs: CostInput) -> Result<&mut NavFn, CaseError> {
+    fn load_map(
+        &mut self,
+        map: &[u8],
+        nx: usize,
+        ny: usize,
+        costs: CostInput,
+    ) -> Result<&mut NavFn, CaseError> {
         let nav = &mut self.nav;
         nav.resize(nx, ny)?;
         match costs {
@@ -185,7 +192,13 @@ pub fn fmt_g17(v: f64) -> String {
         return if v.is_sign_negative() { "-0".into() } else { "0".into() };
     }
     if !v.is_finite() {
-        return if v.is_nan() { "nan".into() } else if v > 0.0 { "inf".into() } else { "-inf".into() };
+        return if v.is_nan() {
+            "nan".into()
+        } else if v > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        };
     }
     // the exponent after rounding to 17 significant digits decides between the two styles
     let sci = format!("{:.16e}", v);
@@ -249,7 +262,11 @@ pub struct RunStats {
 }
 
 /// Run every case of `file` and append the golden-format lines to `out`.
-pub fn run_file(file: &SuiteFile, opts: &SuiteOptions, out: &mut String) -> Result<RunStats, CaseError> {
+pub fn run_file(
+    file: &SuiteFile,
+    opts: &SuiteOptions,
+    out: &mut String,
+) -> Result<RunStats, CaseError> {
     let mut stats = RunStats::default();
     match opts.mode {
         SuiteMode::Planner => {

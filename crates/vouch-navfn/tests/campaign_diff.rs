@@ -29,7 +29,12 @@ const ORACLE: &str = env!("CARGO_BIN_EXE_navfn-oracle");
 #[test]
 fn vouch_agrees_with_itself_black_and_white_box() {
     let Some(suite) = suite() else { return };
-    let opts = DiffOptions { oracle: ORACLE.into(), mode: RunMode::Paper, white_box: Some(TraceDetail::Hash), perturb_pri_inc: None };
+    let opts = DiffOptions {
+        oracle: ORACLE.into(),
+        mode: RunMode::Paper,
+        white_box: Some(TraceDetail::Hash),
+        perturb_pri_inc: None,
+    };
     let r = diff_suite(&suite.join("walls"), &opts).expect("diff runs");
     println!("{}", describe(&r));
     assert_eq!(r.files, 20);
@@ -42,9 +47,19 @@ fn vouch_agrees_with_itself_black_and_white_box() {
 fn perturbed_oracle_is_pinpointed_at_the_first_diverging_cycle() {
     let Some(suite) = suite() else { return };
     let file = suite.join("spiral/10x10_spiral/test.txt");
-    let file = if file.is_file() { file } else { vouch_navfn::maps::find_test_files(&suite.join("spiral"), "test.txt").expect("spiral")[0].clone() };
+    let file = if file.is_file() {
+        file
+    } else {
+        vouch_navfn::maps::find_test_files(&suite.join("spiral"), "test.txt").expect("spiral")[0]
+            .clone()
+    };
     let oracle = format!("{ORACLE} --perturb-pri-inc 99");
-    let opts = DiffOptions { oracle, mode: RunMode::Paper, white_box: Some(TraceDetail::Hash), perturb_pri_inc: None };
+    let opts = DiffOptions {
+        oracle,
+        mode: RunMode::Paper,
+        white_box: Some(TraceDetail::Hash),
+        perturb_pri_inc: None,
+    };
     let (equal, different, first) = diff_file(&file, &opts).expect("diff runs");
     assert!(different > 0, "a changed priInc must show on a spiral map");
     let m = first.expect("first mismatch reported");
@@ -58,16 +73,34 @@ fn perturbed_oracle_is_pinpointed_at_the_first_diverging_cycle() {
     let mut costs = sm.clone();
     costs.stamp_border();
     let mut runner = CaseRunner::new();
-    let run = run_case(&mut runner, &sm, &costs.costs, &sm.cases[m.case], RunMode::Paper, Some(TraceDetail::Hash)).expect("runs");
+    let run = run_case(
+        &mut runner,
+        &sm,
+        &costs.costs,
+        &sm.cases[m.case],
+        RunMode::Paper,
+        Some(TraceDetail::Hash),
+    )
+    .expect("runs");
     let trace = run.trace.expect("traced");
     let t0 = trace.cycles[0].threshold_bits;
-    let first_raise = trace.cycles.iter().find(|c| c.threshold_bits != t0).expect("threshold raised");
+    let first_raise =
+        trace.cycles.iter().find(|c| c.threshold_bits != t0).expect("threshold raised");
     assert_eq!(d.cycle, first_raise.cycle, "diverging cycle");
     assert_eq!(d.what, "thr");
     let ours = f32::from_bits(first_raise.threshold_bits);
     assert!(d.detail.starts_with(&format!("threshold {ours} ")), "{}", d.detail);
     assert!(d.detail.contains(&format!("vs {} ", ours - 1.0)), "{}", d.detail);
-    println!("{}", describe(&vouch_navfn::campaign::diff::DiffReport { files: 1, cases: equal + different, equal, different, mismatches: vec![m] }));
+    println!(
+        "{}",
+        describe(&vouch_navfn::campaign::diff::DiffReport {
+            files: 1,
+            cases: equal + different,
+            equal,
+            different,
+            mismatches: vec![m]
+        })
+    );
 }
 
 #[test]
@@ -75,7 +108,17 @@ fn own_output_round_trips_through_the_contract_parser() {
     let Some(suite) = suite() else { return };
     let f = read_suite_file(&suite.join("circus/circus_5L/test.txt")).expect("reads");
     let mut text = String::new();
-    emit_file(&f, &EmitOptions { mode: RunMode::Paper, trace: Some(TraceDetail::Cells), pot: true, perturb_pri_inc: None }, &mut text).expect("runs");
+    emit_file(
+        &f,
+        &EmitOptions {
+            mode: RunMode::Paper,
+            trace: Some(TraceDetail::Cells),
+            pot: true,
+            perturb_pri_inc: None,
+        },
+        &mut text,
+    )
+    .expect("runs");
     let a = parse_answers(&text).expect("parses");
     assert_eq!(a.len(), 2);
     // Golden first case: circus/circus_5L/paper_astar.txt line 1 (golden/README.md example).

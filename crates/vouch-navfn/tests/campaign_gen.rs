@@ -34,7 +34,14 @@ fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
 }
 
 fn opts(seed: u64) -> GenOptions {
-    GenOptions { seed, maps_per_category: 3, cases_per_map: 60, min_size: 5, max_size: 20, ..GenOptions::default() }
+    GenOptions {
+        seed,
+        maps_per_category: 3,
+        cases_per_map: 60,
+        min_size: 5,
+        max_size: 20,
+        ..GenOptions::default()
+    }
 }
 
 #[test]
@@ -48,7 +55,9 @@ fn same_seed_same_files_different_seed_different_files() {
     assert_eq!(ta, tb, "same seed must give byte-identical files");
     assert_ne!(ta, tc, "different seeds must differ");
     // Not just the names: the map bytes differ too.
-    let bins = |t: &[(String, Vec<u8>)]| t.iter().filter(|(n, _)| n.ends_with(".bin")).map(|(_, b)| b.clone()).collect::<Vec<_>>();
+    let bins = |t: &[(String, Vec<u8>)]| {
+        t.iter().filter(|(n, _)| n.ends_with(".bin")).map(|(_, b)| b.clone()).collect::<Vec<_>>()
+    };
     assert_ne!(bins(&ta), bins(&tc));
     for d in [a, b, c] {
         let _ = std::fs::remove_dir_all(d);
@@ -82,10 +91,18 @@ fn maps_have_border_start_goal_and_unreachable_pairs() {
             assert_eq!(m.get(w - 1, y), OBSTACLE);
         }
         assert!(m.costs.iter().all(|&c| (50..=254).contains(&c)), "{}: NavFn costs only", m.name);
-        assert!(m.cases.iter().any(|c| (c.x0, c.y0) == (c.x1, c.y1)), "{}: a start = goal case", m.name);
+        assert!(
+            m.cases.iter().any(|c| (c.x0, c.y0) == (c.x1, c.y1)),
+            "{}: a start = goal case",
+            m.name
+        );
         let (label, n) = m.components();
         for c in &m.cases {
-            assert!(m.is_free(c.x0, c.y0) && m.is_free(c.x1, c.y1), "{}: cases on traversable cells", m.name);
+            assert!(
+                m.is_free(c.x0, c.y0) && m.is_free(c.x1, c.y1),
+                "{}: cases on traversable cells",
+                m.name
+            );
         }
         if n > 1 {
             let has = m.cases.iter().any(|c| label[m.idx(c.x0, c.y0)] != label[m.idx(c.x1, c.y1)]);
@@ -108,8 +125,12 @@ fn written_suite_reads_back_with_the_core_reader() {
     let back = read_suite(&d).expect("read");
     assert_eq!(back.len(), maps.len());
     for m in &maps {
-        let b = back.iter().find(|b| b.category == m.category && b.name == m.name).expect("present");
-        assert_eq!((b.width, b.height, &b.costs, &b.cases), (m.width, m.height, &m.costs, &m.cases));
+        let b =
+            back.iter().find(|b| b.category == m.category && b.name == m.name).expect("present");
+        assert_eq!(
+            (b.width, b.height, &b.costs, &b.cases),
+            (m.width, m.height, &m.costs, &m.cases)
+        );
     }
     let _ = std::fs::remove_dir_all(d);
 }
@@ -124,7 +145,8 @@ fn ros_import_reproduces_the_paper_ros_maps() {
     for name in ["keepout_mask", "map_circular", "speed_mask"] {
         let yaml = shared.join("nav2_maps").join(format!("{name}.yaml"));
         let m = import_ros_map(&yaml, name, None).expect("imports");
-        let want = std::fs::read(shared.join("suite/ROS").join(name).join("map.bin")).expect("suite map");
+        let want =
+            std::fs::read(shared.join("suite/ROS").join(name).join("map.bin")).expect("suite map");
         let differing = m.costs.iter().zip(&want).filter(|(a, b)| a != b).count();
         assert_eq!(m.costs.len(), want.len(), "{name}: size");
         assert_eq!(differing, 0, "{name}: {differing} cells differ from the paper's conversion");
@@ -135,13 +157,25 @@ fn ros_import_reproduces_the_paper_ros_maps() {
 fn generated_circus_maps_reproduce_the_lane_counterexample() {
     use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
     let d = tmp("circus");
-    let maps = generate(&GenOptions { categories: vec!["circus".into()], maps_per_category: 8, cases_per_map: 20, ..opts(3) }).expect("gen");
+    let maps = generate(&GenOptions {
+        categories: vec!["circus".into()],
+        maps_per_category: 8,
+        cases_per_map: 20,
+        ..opts(3)
+    })
+    .expect("gen");
     write_suite(&d, &maps).expect("write");
-    let (report, _) = run_campaign(&d, &CampaignOptions { metamorphic: false, ..CampaignOptions::default() }).expect("runs");
+    let (report, _) =
+        run_campaign(&d, &CampaignOptions { metamorphic: false, ..CampaignOptions::default() })
+            .expect("runs");
     let c = &report.categories["circus"];
     assert_eq!(report.failures(), 0);
     // NavFn climbs the expensive lane on some generated tracks: paths > 10 % above the optimum.
-    assert!(c.optimality.suboptimal_paths > 0, "no circus counterexample in {} paths", c.optimality.compared);
+    assert!(
+        c.optimality.suboptimal_paths > 0,
+        "no circus counterexample in {} paths",
+        c.optimality.compared
+    );
     assert!(report.findings.iter().any(|f| f.kind == "suboptimal" && f.category == "circus"));
     let _ = std::fs::remove_dir_all(d);
 }

@@ -11,8 +11,15 @@ use vouch_navfn::campaign::suite_io::write_suite;
 fn merged_shards_equal_the_unsharded_run() {
     let dir = std::env::temp_dir().join(format!("vouch-campaign-shard-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let maps = generate(&GenOptions { seed: 11, maps_per_category: 2, cases_per_map: 150, min_size: 5, max_size: 16, ..GenOptions::default() })
-        .expect("gen");
+    let maps = generate(&GenOptions {
+        seed: 11,
+        maps_per_category: 2,
+        cases_per_map: 150,
+        min_size: 5,
+        max_size: 16,
+        ..GenOptions::default()
+    })
+    .expect("gen");
     write_suite(&dir.join("suite"), &maps).expect("write");
     let total_cases: usize = maps.iter().map(|m| m.cases.len()).sum();
 
@@ -44,12 +51,19 @@ fn merged_shards_equal_the_unsharded_run() {
     assert_eq!(a.optimality.obtuse_paths, b.optimality.obtuse_paths);
     assert_eq!(a.optimality.oscillating_paths, b.optimality.oscillating_paths);
     assert_eq!(a.optimality.ratio_max, b.optimality.ratio_max);
-    assert!((a.optimality.navfn_cost_sum - b.optimality.navfn_cost_sum).abs() < 1e-6 * a.optimality.navfn_cost_sum);
+    assert!(
+        (a.optimality.navfn_cost_sum - b.optimality.navfn_cost_sum).abs()
+            < 1e-6 * a.optimality.navfn_cost_sum
+    );
     for (k, v) in &whole.categories {
         assert_eq!(merged.categories[k].maps, v.maps, "{k}: maps counted once");
         assert_eq!(merged.categories[k].cases, v.cases, "{k}");
     }
     // A shard given twice is refused.
-    assert!(Report::merge(&[read_report(&files[0]).expect("r"), read_report(&files[0]).expect("r")]).is_err());
+    assert!(Report::merge(&[
+        read_report(&files[0]).expect("r"),
+        read_report(&files[0]).expect("r")
+    ])
+    .is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -70,6 +70,9 @@ fn campaign_in_planner_dijkstra_mode_matches_golden_outcomes() {
     assert_eq!(report.failures(), 0);
     println!(
         "navfn-dijkstra: obtuse {} oscillating {} of {} cases; wall {:.2} s",
-        t.optimality.obtuse_paths, t.optimality.oscillating_paths, report.cases, report.wall_seconds[0]
+        t.optimality.obtuse_paths,
+        t.optimality.oscillating_paths,
+        report.cases,
+        report.wall_seconds[0]
     );
 }

@@ -18,13 +18,22 @@ fn checks_hold_on_every_suite_plan() {
     for f in &files {
         let file = read_suite_file(f).expect("parses");
         for case in &file.cases {
-            for (mode, algo) in [(SuiteMode::Paper, Algo::Astar), (SuiteMode::Navfn, Algo::Dijkstra)] {
-                let o = runner.run_case(&file, case, mode, algo, CostInput::Raw, &mut NoObserver).unwrap();
+            for (mode, algo) in
+                [(SuiteMode::Paper, Algo::Astar), (SuiteMode::Navfn, Algo::Dijkstra)]
+            {
+                let o = runner
+                    .run_case(&file, case, mode, algo, CostInput::Raw, &mut NoObserver)
+                    .unwrap();
                 let report = check_plan(&PlanView::of(runner.nav()));
                 plans += 1;
                 paths += (o.len > 0) as usize;
                 if !report.is_ok() && bad.len() < 10 {
-                    bad.push(format!("{} case {} {mode:?}: {:?}", f.display(), case.number, report.violations));
+                    bad.push(format!(
+                        "{} case {} {mode:?}: {:?}",
+                        f.display(),
+                        case.number,
+                        report.violations
+                    ));
                 }
             }
         }
@@ -48,7 +57,9 @@ fn checks_hold_on_every_ros_plan() {
         let cells = read_suite_file(&dir.join("test.txt")).unwrap();
         for case in &cells.cases {
             for algo in [Algo::Astar, Algo::Dijkstra] {
-                runner.run_case(&cells, case, SuiteMode::Navfn, algo, CostInput::Ros, &mut NoObserver).unwrap();
+                runner
+                    .run_case(&cells, case, SuiteMode::Navfn, algo, CostInput::Ros, &mut NoObserver)
+                    .unwrap();
                 let nav = runner.nav();
                 let r = check_plan(&PlanView::of(nav));
                 plans += 1;
@@ -71,7 +82,9 @@ fn checks_hold_on_every_ros_plan() {
         let params = read_world_params(&dir.join("params.txt")).unwrap();
         for use_astar in [false, true] {
             let pp = PlannerParams { use_astar, ..PlannerParams::default() };
-            let mut planner = NavfnPlanner::new(world.map.clone(), world.width, world.height, params, pp).unwrap();
+            let mut planner =
+                NavfnPlanner::new(world.map.clone(), world.width, world.height, params, pp)
+                    .unwrap();
             for case in &world.cases {
                 let [x0, y0, x1, y1] = case.coords;
                 let plan = planner.create_plan([x0, y0], [x1, y1]);

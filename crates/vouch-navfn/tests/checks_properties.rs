@@ -37,13 +37,23 @@ enum Mode {
     NavfnAstar,
 }
 
-fn run(runner: &mut CaseRunner, mode: Mode, nx: usize, ny: usize, map: &[u8], from: Cell, to: Cell) -> usize {
+fn run(
+    runner: &mut CaseRunner,
+    mode: Mode,
+    nx: usize,
+    ny: usize,
+    map: &[u8],
+    from: Cell,
+    to: Cell,
+) -> usize {
     let o = match mode {
         Mode::Paper => runner.run_paper(map, nx, ny, from, to, &mut NoObserver),
         Mode::NavfnDijkstra => {
             runner.run_navfn(map, nx, ny, CostInput::Raw, Algo::Dijkstra, from, to, &mut NoObserver)
         }
-        Mode::NavfnAstar => runner.run_navfn(map, nx, ny, CostInput::Raw, Algo::Astar, from, to, &mut NoObserver),
+        Mode::NavfnAstar => {
+            runner.run_navfn(map, nx, ny, CostInput::Raw, Algo::Astar, from, to, &mut NoObserver)
+        }
     };
     o.expect("valid case").len
 }
@@ -126,7 +136,10 @@ fn end_point_and_unreached_corruptions_are_caught() {
         }
     }
     let mut runner = CaseRunner::new();
-    let len = runner.run_paper(&map, nx, ny, Cell::new(1, 1), Cell::new(6, 1), &mut NoObserver).unwrap().len;
+    let len = runner
+        .run_paper(&map, nx, ny, Cell::new(1, 1), Cell::new(6, 1), &mut NoObserver)
+        .unwrap()
+        .len;
     assert!(len > 2, "the plan around the wall exists");
     let nav = runner.nav();
     assert!(check_plan(&PlanView::of(nav)).is_ok());
@@ -148,5 +161,8 @@ fn end_point_and_unreached_corruptions_are_caught() {
         }
     }
     let r = check_plan(&PlanView { potential: &pot, ..PlanView::of(nav) });
-    assert!(r.violations.iter().any(|v| matches!(v, Violation::PoseOnUnreachedCell { index: 1, .. })));
+    assert!(r
+        .violations
+        .iter()
+        .any(|v| matches!(v, Violation::PoseOnUnreachedCell { index: 1, .. })));
 }

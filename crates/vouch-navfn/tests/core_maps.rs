@@ -59,13 +59,20 @@ fn yaml_err(text: &str) -> String {
 #[test]
 fn bad_yaml_values_are_rejected_with_line_numbers() {
     let base = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
-    assert!(yaml_err(&format!("{base}occupied_thresh: 1.5\n")).contains("m.yaml:4: occupied_thresh 1.5 is outside [0, 1]"));
+    assert!(yaml_err(&format!("{base}occupied_thresh: 1.5\n"))
+        .contains("m.yaml:4: occupied_thresh 1.5 is outside [0, 1]"));
     assert!(yaml_err(&format!("{base}free_thresh: -0.1\n")).contains("m.yaml:4: free_thresh"));
-    assert!(yaml_err("image: m.pgm\nresolution: 0\n").contains("m.yaml:2: resolution 0 must be > 0"));
-    assert!(yaml_err(&format!("{base}mode: fancy\n")).contains("mode must be trinary, scale or raw"));
-    assert!(yaml_err("image: m.pgm\nresolution: 1\norigin: [1, 2]\n").contains("m.yaml:3: origin must be"));
+    assert!(
+        yaml_err("image: m.pgm\nresolution: 0\n").contains("m.yaml:2: resolution 0 must be > 0")
+    );
+    assert!(
+        yaml_err(&format!("{base}mode: fancy\n")).contains("mode must be trinary, scale or raw")
+    );
+    assert!(yaml_err("image: m.pgm\nresolution: 1\norigin: [1, 2]\n")
+        .contains("m.yaml:3: origin must be"));
     assert!(yaml_err("resolution: 1\n").contains("missing `image:`"));
-    assert!(yaml_err(&format!("{base}occupied_thresh: 0.2\nfree_thresh: 0.5\n")).contains("exceeds occupied_thresh"));
+    assert!(yaml_err(&format!("{base}occupied_thresh: 0.2\nfree_thresh: 0.5\n"))
+        .contains("exceeds occupied_thresh"));
     assert!(yaml_err(&format!("{base}negate: 2\n")).contains("negate must be 0 or 1"));
 }
 
@@ -103,15 +110,24 @@ fn suite_err(text: &str, map: Vec<u8>) -> String {
 
 #[test]
 fn bad_suite_files_are_rejected() {
-    assert!(suite_err("3 3\nmap.bin\n\n1 1 1 1\n", vec![50; 8]).contains("map has 8 bytes, but t/test.txt declares 3x3 = 9"));
+    assert!(suite_err("3 3\nmap.bin\n\n1 1 1 1\n", vec![50; 8])
+        .contains("map has 8 bytes, but t/test.txt declares 3x3 = 9"));
     assert!(suite_err("3 x\nmap.bin\n", vec![]).contains("t/test.txt:1: map size `x`"));
-    assert!(suite_err("3 3\nmap.bin\n\n1 1 1\n", vec![50; 9]).contains("t/test.txt:4: expected `x0 y0 x1 y1`"));
-    assert!(suite_err("3 3\nmap.bin\n\n1 1 nan 1\n", vec![50; 9]).contains("t/test.txt:4: `nan` is not a finite number"));
+    assert!(suite_err("3 3\nmap.bin\n\n1 1 1\n", vec![50; 9])
+        .contains("t/test.txt:4: expected `x0 y0 x1 y1`"));
+    assert!(suite_err("3 3\nmap.bin\n\n1 1 nan 1\n", vec![50; 9])
+        .contains("t/test.txt:4: `nan` is not a finite number"));
     assert!(suite_err("", vec![]).contains("empty test file"));
-    let ok = parse_suite_text(Path::new("t/test.txt"), "3 3\nmap.bin\n\n-1 comment\n1 1 1 2\n", |_| Ok(vec![50; 9])).unwrap();
+    let ok =
+        parse_suite_text(Path::new("t/test.txt"), "3 3\nmap.bin\n\n-1 comment\n1 1 1 2\n", |_| {
+            Ok(vec![50; 9])
+        })
+        .unwrap();
     assert_eq!(ok.cases.len(), 1);
     assert_eq!(ok.cases[0].line, 5);
     // a case outside the map is detected when its cells are taken
-    let out = parse_suite_text(Path::new("t/test.txt"), "3 3\nmap.bin\n\n1 1 3 1\n", |_| Ok(vec![50; 9])).unwrap();
+    let out =
+        parse_suite_text(Path::new("t/test.txt"), "3 3\nmap.bin\n\n1 1 3 1\n", |_| Ok(vec![50; 9]))
+            .unwrap();
     assert!(out.cases[0].cells(3, 3).is_none());
 }

@@ -4,8 +4,8 @@
 mod common;
 
 use vouch_navfn::core::{
-    Algo, Cell, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd, PropagationEndView, SearchObserver,
-    COST_OBS, POT_HIGH,
+    Algo, Cell, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd, PropagationEndView,
+    SearchObserver, COST_OBS, POT_HIGH,
 };
 use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, WorldParams};
 use vouch_navfn::suite_run::{CaseRunner, CostInput};
@@ -53,7 +53,8 @@ fn observer_sees_every_cycle_and_changes_nothing() {
     let mut map = open_map(nx, ny);
     map[3 * nx + 4] = COST_OBS;
     let mut plain = CaseRunner::new();
-    let a = plain.run_paper(&map, nx, ny, Cell::new(1, 1), Cell::new(7, 5), &mut NoObserver).unwrap();
+    let a =
+        plain.run_paper(&map, nx, ny, Cell::new(1, 1), Cell::new(7, 5), &mut NoObserver).unwrap();
     let mut rec = Recorder { costs: map.clone(), ..Default::default() };
     let mut traced = CaseRunner::new();
     let b = traced.run_paper(&map, nx, ny, Cell::new(1, 1), Cell::new(7, 5), &mut rec).unwrap();
@@ -79,9 +80,13 @@ fn reused_arrays_give_the_same_result_as_fresh_ones() {
     for (map, nx, ny) in [(&big, 20, 15), (&small, 6, 5), (&big, 20, 15)] {
         for algo in [Algo::Dijkstra, Algo::Astar] {
             let (from, to) = (Cell::new(1, 1), Cell::new(nx - 2, ny - 2));
-            let r = reused.run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver).unwrap();
+            let r = reused
+                .run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver)
+                .unwrap();
             let mut fresh = CaseRunner::new();
-            let f = fresh.run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver).unwrap();
+            let f = fresh
+                .run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver)
+                .unwrap();
             assert_eq!(r, f);
             assert!(r.len > 0);
             assert_eq!(reused.nav().potential(), fresh.nav().potential());
@@ -126,7 +131,8 @@ fn core_rejects_cells_and_sizes_it_cannot_use() {
 }
 
 fn planner(nx: usize, ny: usize, map: Vec<u8>, world: WorldParams, tolerance: f64) -> NavfnPlanner {
-    NavfnPlanner::new(map, nx, ny, world, PlannerParams { tolerance, ..PlannerParams::default() }).unwrap()
+    NavfnPlanner::new(map, nx, ny, world, PlannerParams { tolerance, ..PlannerParams::default() })
+        .unwrap()
 }
 
 #[test]
@@ -171,18 +177,22 @@ fn nav2_default_pair_point_counts_match_the_cpp() {
     // SEMANTICS.md §10: Dijkstra (atStart) 1,070 points, A* 929
     for (astar, points) in [(false, 1070), (true, 929)] {
         let params = PlannerParams { use_astar: astar, ..PlannerParams::default() };
-        let mut p = NavfnPlanner::new(bytes.clone(), 400, 400, WorldParams::default(), params).unwrap();
+        let mut p =
+            NavfnPlanner::new(bytes.clone(), 400, 400, WorldParams::default(), params).unwrap();
         let plan = p.create_plan([390.0, 10.0], [10.0, 390.0]);
         assert_eq!(plan.status, PlanStatus::Ok);
         assert_eq!(plan.navfn_len, points, "astar={astar}");
     }
     // full Dijkstra (atStart=false): 1,072 points
     let mut nav = NavFn::new(400, 400).unwrap();
-    nav.set_costs_ros(&{
-        let mut b = bytes.clone();
-        b[10 * 400 + 390] = 0; // clearRobotCell
-        b
-    }, true)
+    nav.set_costs_ros(
+        &{
+            let mut b = bytes.clone();
+            b[10 * 400 + 390] = 0; // clearRobotCell
+            b
+        },
+        true,
+    )
     .unwrap();
     nav.set_start(Cell::new(10, 390)).unwrap();
     nav.set_goal(Cell::new(390, 10)).unwrap();

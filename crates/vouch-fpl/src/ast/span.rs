@@ -63,6 +63,7 @@ pub fn line_col(text: &str, pos: usize) -> (u32, u32) {
     let before = &text.as_bytes()[..pos];
     let line = before.iter().filter(|&&b| b == b'\n').count() as u32 + 1;
     let line_start = before.iter().rposition(|&b| b == b'\n').map(|p| p + 1).unwrap_or(0);
-    let col = text.get(line_start..pos).map(|s| s.chars().count()).unwrap_or(pos - line_start) as u32 + 1;
+    let col =
+        text.get(line_start..pos).map(|s| s.chars().count()).unwrap_or(pos - line_start) as u32 + 1;
     (line, col)
 }

@@ -11,8 +11,16 @@ use super::Writer;
 pub(super) fn functions(w: &mut Writer, _plan: &FlightPlan, fps: &Fps) {
     let p = fps.plan();
     w.raw("");
-    hook(w, "nav_on_enter_block", p.blocks.iter().filter_map(|b| b.on_enter.as_ref().map(|c| (b, c))));
-    hook(w, "nav_on_exit_block", p.blocks.iter().filter_map(|b| b.on_exit.as_ref().map(|c| (b, c))));
+    hook(
+        w,
+        "nav_on_enter_block",
+        p.blocks.iter().filter_map(|b| b.on_enter.as_ref().map(|c| (b, c))),
+    );
+    hook(
+        w,
+        "nav_on_exit_block",
+        p.blocks.iter().filter_map(|b| b.on_exit.as_ref().map(|c| (b, c))),
+    );
     let checked = !p.forbidden.is_empty();
     if checked {
         forbidden(w, fps);
@@ -67,10 +75,15 @@ fn forbidden(w: &mut Writer, fps: &Fps) {
     w.right();
     for f in &fps.plan().forbidden {
         match &f.only_when {
-            None => w.line(&format!("if (from == {} && to == {}) {{ return true; }}", f.from, f.to)),
+            None => {
+                w.line(&format!("if (from == {} && to == {}) {{ return true; }}", f.from, f.to))
+            }
             Some(c) => {
                 let c = w.cond(c);
-                w.line(&format!("if (from == {} && to == {} && ({c})) {{ return true; }}", f.from, f.to));
+                w.line(&format!(
+                    "if (from == {} && to == {} && ({c})) {{ return true; }}",
+                    f.from, f.to
+                ));
             }
         }
     }
@@ -173,7 +186,9 @@ fn stage(w: &mut Writer, s: &ExtStage<StageNo, BlockNo>, checked: bool) {
         ExtKind::ForTest { var, label, end_label } => {
             w.line(&format!("Label({label})"));
             w.line(&format!("Stage({k})"));
-            w.line(&format!("  if (++{var} > {var}_to) Goto({end_label}) else NextStageAndBreak();"));
+            w.line(&format!(
+                "  if (++{var} > {var}_to) Goto({end_label}) else NextStageAndBreak();"
+            ));
         }
         ExtKind::Set { code } => {
             w.line(&format!("Stage({k})"));

@@ -138,7 +138,10 @@ fn plan_element(out: &mut Out, plan: &FlightPlan) {
                 for s in &plan.sectors {
                     o.element("sector", &attrs_text(&s.attrs, &[]), |o| {
                         for c in &s.corners {
-                            o.line(&format!("<corner name=\"{}\"/>", raw_value(&plan.waypoint(c.id).name.value)));
+                            o.line(&format!(
+                                "<corner name=\"{}\"/>",
+                                raw_value(&plan.waypoint(c.id).name.value)
+                            ));
                         }
                     });
                 }
@@ -151,7 +154,9 @@ fn plan_element(out: &mut Out, plan: &FlightPlan) {
             o.element("variables", "", |o| {
                 for v in &plan.variables {
                     match v {
-                        crate::ast::VariableDecl::Var(v) => o.line(&format!("<variable{}/>", attrs_text(&v.attrs, &[]))),
+                        crate::ast::VariableDecl::Var(v) => {
+                            o.line(&format!("<variable{}/>", attrs_text(&v.attrs, &[])))
+                        }
                         crate::ast::VariableDecl::Abi(a) => {
                             o.line(&format!("<abi_binding{}/>", attrs_text(&a.attrs, &[])))
                         }
@@ -165,8 +170,15 @@ fn plan_element(out: &mut Out, plan: &FlightPlan) {
                     o.element("module", &attrs_text(&m.attrs, &[]), |o| {
                         for (tag, list) in [("configure", &m.configures), ("define", &m.defines)] {
                             for nv in list.iter() {
-                                let value = nv.value.as_ref().map(|v| format!(" value=\"{}\"", raw_value(&v.value)));
-                                o.line(&format!("<{tag} name=\"{}\"{}/>", raw_value(&nv.name.value), value.unwrap_or_default()));
+                                let value = nv
+                                    .value
+                                    .as_ref()
+                                    .map(|v| format!(" value=\"{}\"", raw_value(&v.value)));
+                                o.line(&format!(
+                                    "<{tag} name=\"{}\"{}/>",
+                                    raw_value(&nv.name.value),
+                                    value.unwrap_or_default()
+                                ));
                             }
                         }
                     });
@@ -185,7 +197,10 @@ fn plan_element(out: &mut Out, plan: &FlightPlan) {
                 for f in &plan.forbidden_deroutes {
                     let from = plan.block(f.from.id).name.value.clone();
                     let to = plan.block(f.to.id).name.value.clone();
-                    o.line(&format!("<forbidden_deroute{}/>", attrs_text(&f.attrs, &[("from", from), ("to", to)])));
+                    o.line(&format!(
+                        "<forbidden_deroute{}/>",
+                        attrs_text(&f.attrs, &[("from", from), ("to", to)])
+                    ));
                 }
             });
         }

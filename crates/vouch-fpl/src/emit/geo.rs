@@ -85,7 +85,8 @@ impl Cx {
 }
 
 fn latitude_isometrique(phi: f64, e: f64) -> f64 {
-    (PI / 4.0 + phi / 2.0).tan().ln() - e / 2.0 * ((1.0 + e * phi.sin()) / (1.0 - e * phi.sin())).ln()
+    (PI / 4.0 + phi / 2.0).tan().ln()
+        - e / 2.0 * ((1.0 + e * phi.sin()) / (1.0 - e * phi.sin())).ln()
 }
 
 fn inverse_latitude_isometrique(lat: f64, e: f64, epsilon: f64) -> f64 {
@@ -212,7 +213,10 @@ pub fn geo_of_ecef(p: [f64; 3]) -> (Geo, f64) {
     let pp = f / (3.0 * (s + 1.0 / s + 1.0).powf(2.0) * g.powf(2.0));
     let q = (1.0 + 2.0 * e2 * e2 * pp).sqrt();
     let r0 = -(e2 * pp * r) / (1.0 + q)
-        + ((a.powf(2.0) / 2.0) * (1.0 + 1.0 / q) - ((1.0 - e2) * pp * z2) / (q * (1.0 + q)) - pp * r2 / 2.0).sqrt();
+        + ((a.powf(2.0) / 2.0) * (1.0 + 1.0 / q)
+            - ((1.0 - e2) * pp * z2) / (q * (1.0 + q))
+            - pp * r2 / 2.0)
+            .sqrt();
     let tmp = (r - e2 * r0).powf(2.0);
     let u = (tmp + z2).sqrt();
     let v = (tmp + (1.0 - e2) * z2).sqrt();

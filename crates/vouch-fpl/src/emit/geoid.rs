@@ -28,7 +28,9 @@ fn source() -> &'static Source {
             let p = Path::new(&home).join("data/srtm/WW15MGH.DAC");
             if let Ok(bytes) = std::fs::read(&p) {
                 if bytes.len() == COLS * ROWS * 2 {
-                    return Source::Grid(bytes.chunks_exact(2).map(|c| i16::from_be_bytes([c[0], c[1]])).collect());
+                    return Source::Grid(
+                        bytes.chunks_exact(2).map(|c| i16::from_be_bytes([c[0], c[1]])).collect(),
+                    );
                 }
             }
         }
@@ -50,7 +52,8 @@ fn node(lat: i32, lon: i32) -> f64 {
             if let Some(v) = cache.lock().ok().and_then(|c| c.get(&(lat, lon)).copied()) {
                 return v;
             }
-            let cm = (egm96::egm96_compute_altitude_offset(f64::from(lat), f64::from(lon)) * 100.0).round();
+            let cm = (egm96::egm96_compute_altitude_offset(f64::from(lat), f64::from(lon)) * 100.0)
+                .round();
             let v = cm / 100.0;
             if let Ok(mut c) = cache.lock() {
                 c.insert((lat, lon), v);

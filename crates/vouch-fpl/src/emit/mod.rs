@@ -36,7 +36,11 @@ pub struct EmitOptions {
 
 impl Default for EmitOptions {
     fn default() -> Self {
-        EmitOptions { source_path: String::new(), version: "v7.0_unstable".to_string(), flavor: Flavor::DropIn }
+        EmitOptions {
+            source_path: String::new(),
+            version: "v7.0_unstable".to_string(),
+            flavor: Flavor::DropIn,
+        }
     }
 }
 
@@ -44,7 +48,11 @@ impl Default for EmitOptions {
 pub const HEADER_MARKER: &str = "/* FP_HEADER */";
 
 /// Generates the header of a size-verified plan.
-pub fn emit_header(plan: &FlightPlan, fps: &Fps, opts: &EmitOptions) -> Result<String, CompileError> {
+pub fn emit_header(
+    plan: &FlightPlan,
+    fps: &Fps,
+    opts: &EmitOptions,
+) -> Result<String, CompileError> {
     let mut w = Writer::new(opts.flavor);
     header::top(&mut w, plan, fps, opts)?;
     auto_nav::functions(&mut w, plan, fps);
@@ -135,7 +143,10 @@ pub fn unwrap_instrumented(text: &str, header_text: Option<&str>) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     loop {
-        let next = ["FP_C(\"", "FP_X(\"", "FP_V(\"", "FP_I(\""].iter().filter_map(|m| rest.find(m).map(|i| (i, m.len()))).min();
+        let next = ["FP_C(\"", "FP_X(\"", "FP_V(\"", "FP_I(\""]
+            .iter()
+            .filter_map(|m| rest.find(m).map(|i| (i, m.len())))
+            .min();
         let Some((i, mlen)) = next else {
             out.push_str(rest);
             break;

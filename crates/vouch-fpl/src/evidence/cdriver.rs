@@ -68,20 +68,31 @@ impl Driver {
     /// server. `cc` is taken from `$CC`, else `cc`. `leaf_budget` bounds the paths of one
     /// explored call; `question_limit` the questions one call may ask before it is reported
     /// as not ending (the validator passes the static bound).
-    pub fn build(header: &str, leaf_budget: usize, question_limit: usize) -> Result<Driver, String> {
+    pub fn build(
+        header: &str,
+        leaf_budget: usize,
+        question_limit: usize,
+    ) -> Result<Driver, String> {
         let dir = next_unique_dir();
-        std::fs::create_dir_all(dir.join("include/generated")).map_err(|e| io_err("temp dir", e))?;
-        std::fs::create_dir_all(dir.join("include/modules/core")).map_err(|e| io_err("temp dir", e))?;
+        std::fs::create_dir_all(dir.join("include/generated"))
+            .map_err(|e| io_err("temp dir", e))?;
+        std::fs::create_dir_all(dir.join("include/modules/core"))
+            .map_err(|e| io_err("temp dir", e))?;
         for (rel, text) in STUB_FILES {
             std::fs::write(dir.join(rel), text).map_err(|e| io_err(rel, e))?;
         }
-        std::fs::write(dir.join("flight_plan.h"), header).map_err(|e| io_err("flight_plan.h", e))?;
+        std::fs::write(dir.join("flight_plan.h"), header)
+            .map_err(|e| io_err("flight_plan.h", e))?;
         std::fs::write(dir.join("explore_driver.c"), DRIVER_C).map_err(|e| io_err("driver", e))?;
         let cc = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
         let out = Command::new(&cc)
             .current_dir(&dir)
             .args(["-std=c99", "-O0", "-w", "-Iinclude", "-I."])
-            .args(["-Dfp_cond=vouch_stub_fp_cond", "-Dfp_code=vouch_stub_fp_code", "-Dfp_value=vouch_stub_fp_value"])
+            .args([
+                "-Dfp_cond=vouch_stub_fp_cond",
+                "-Dfp_code=vouch_stub_fp_code",
+                "-Dfp_value=vouch_stub_fp_value",
+            ])
             .args(["fp_stub.c", "explore_driver.c", "-o", "driver"])
             .output()
             .map_err(|e| io_err(&format!("cannot run the C compiler '{cc}'"), e))?;
@@ -89,7 +100,10 @@ impl Driver {
             let _ = std::fs::remove_dir_all(&dir);
             let msg = String::from_utf8_lossy(&out.stderr);
             let first: Vec<&str> = msg.lines().take(20).collect();
-            return Err(format!("the generated header does not compile with the stub runtime:\n{}", first.join("\n")));
+            return Err(format!(
+                "the generated header does not compile with the stub runtime:\n{}",
+                first.join("\n")
+            ));
         }
         Self::start(dir, leaf_budget, question_limit)
     }
@@ -214,8 +228,13 @@ impl Drop for Driver {
 
 fn parse_answers(rest: &str) -> Result<Vec<i64>, String> {
     let mut it = rest.split_whitespace();
-    let n: usize = it.next().and_then(|w| w.parse().ok()).ok_or_else(|| format!("bad answer list '{rest}'"))?;
-    let v = it.map(|w| w.parse::<i64>().map_err(|_| format!("bad answer '{w}'"))).collect::<Result<Vec<_>, _>>()?;
+    let n: usize = it
+        .next()
+        .and_then(|w| w.parse().ok())
+        .ok_or_else(|| format!("bad answer list '{rest}'"))?;
+    let v = it
+        .map(|w| w.parse::<i64>().map_err(|_| format!("bad answer '{w}'")))
+        .collect::<Result<Vec<_>, _>>()?;
     if v.len() != n {
         return Err(format!("answer count mismatch in '{rest}'"));
     }

@@ -44,7 +44,13 @@ fn json_out<T: serde::Serialize>(v: &T) -> u8 {
     }
 }
 
-pub fn validate_cmd(plan: &Path, include_dirs: Vec<PathBuf>, opts: &Options, json: bool, bounds: bool) -> u8 {
+pub fn validate_cmd(
+    plan: &Path,
+    include_dirs: Vec<PathBuf>,
+    opts: &Options,
+    json: bool,
+    bounds: bool,
+) -> u8 {
     let p = match load(plan, include_dirs) {
         Ok(p) => p,
         Err(c) => return c,
@@ -109,7 +115,10 @@ pub fn wcet_lines(p: &FlightPlan) -> Result<String, u8> {
     let b = super::wcet::bound(&fp);
     let mut s = String::new();
     for bb in &b.blocks {
-        s.push_str(&format!("  {:>3} {:<30} stages <= {:>3}  events <= {:>4}\n", bb.block, bb.name, bb.stages, bb.events));
+        s.push_str(&format!(
+            "  {:>3} {:<30} stages <= {:>3}  events <= {:>4}\n",
+            bb.block, bb.name, bb.stages, bb.events
+        ));
     }
     Ok(s)
 }
@@ -127,8 +136,17 @@ pub fn lint_cmd(plan: &Path, include_dirs: Vec<PathBuf>, json: bool, strict: boo
         }
     } else {
         print!("{}", crate::lint::render(&p, &w));
-        let counts: Vec<String> = crate::lint::counts(&w).into_iter().filter(|c| c.1 > 0).map(|(c, n)| format!("{c}: {n}")).collect();
-        println!("{} warning(s){}{}", w.len(), if counts.is_empty() { "" } else { " — " }, counts.join(", "));
+        let counts: Vec<String> = crate::lint::counts(&w)
+            .into_iter()
+            .filter(|c| c.1 > 0)
+            .map(|(c, n)| format!("{c}: {n}"))
+            .collect();
+        println!(
+            "{} warning(s){}{}",
+            w.len(),
+            if counts.is_empty() { "" } else { " — " },
+            counts.join(", ")
+        );
     }
     if strict && !w.is_empty() {
         3
@@ -190,7 +208,8 @@ pub fn check_cmd(plan: &Path, include_dirs: Vec<PathBuf>, a: &CheckArgs) -> u8 {
         }
         outcomes.push(check::check_safe_blocks(&g, &ids));
     }
-    let defaults = a.properties.is_empty() && a.safe_blocks.is_empty() && !a.no_blocked && !a.deadlock_free;
+    let defaults =
+        a.properties.is_empty() && a.safe_blocks.is_empty() && !a.no_blocked && !a.deadlock_free;
     if a.no_blocked || defaults {
         outcomes.push(check::check_no_blocked(&g));
     }
@@ -207,7 +226,12 @@ pub fn check_cmd(plan: &Path, include_dirs: Vec<PathBuf>, a: &CheckArgs) -> u8 {
             outcomes: &'a [check::Outcome],
         }
         let t = g.edges.iter().map(|e| e.len()).sum();
-        let c = json_out(&Out { states: g.states.len(), transitions: t, cut: &g.cut, outcomes: &outcomes });
+        let c = json_out(&Out {
+            states: g.states.len(),
+            transitions: t,
+            cut: &g.cut,
+            outcomes: &outcomes,
+        });
         if c != 0 {
             return c;
         }

@@ -145,7 +145,11 @@ pub struct StateKey {
     pub counters: Vec<((usize, usize), (i8, i8))>,
 }
 
-fn numbers<'p>(interp: &mut Interp<'p>, block: usize, stack: &[crate::semantics::Item<'p>]) -> Vec<usize> {
+fn numbers<'p>(
+    interp: &mut Interp<'p>,
+    block: usize,
+    stack: &[crate::semantics::Item<'p>],
+) -> Vec<usize> {
     stack
         .iter()
         .map(|item| {
@@ -173,7 +177,12 @@ pub fn state_key<'p>(interp: &mut Interp<'p>, state: &State<'p>) -> StateKey {
     interp.state = saved;
     let mut counters: Vec<_> = state.counters.iter().map(|(k, v)| (*k, *v)).collect();
     counters.sort();
-    StateKey { obs: (o.block, o.stage, o.last_block, o.last_stage), remaining, last_remaining, counters }
+    StateKey {
+        obs: (o.block, o.stage, o.last_block, o.last_stage),
+        remaining,
+        last_remaining,
+        counters,
+    }
 }
 
 #[cfg(test)]

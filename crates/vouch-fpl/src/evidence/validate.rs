@@ -43,7 +43,13 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { depth: 8, random_runs: 3, random_steps: 500, max_paths: 500_000, max_paths_per_call: 20_000 }
+        Options {
+            depth: 8,
+            random_runs: 3,
+            random_steps: 500,
+            max_paths: 500_000,
+            max_paths_per_call: 20_000,
+        }
     }
 }
 
@@ -129,7 +135,12 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
     Ok(report)
 }
 
-fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, report: &mut Report) -> Result<(), String> {
+fn exhaustive<'p>(
+    driver: &mut Driver,
+    interp: &mut Interp<'p>,
+    opts: &Options,
+    report: &mut Report,
+) -> Result<(), String> {
     let init_state = interp.state.clone();
     let init_key = state_key(interp, &init_state);
     let mut seen = HashSet::new();
@@ -146,7 +157,8 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
             level = node.depth;
         }
         if report.call_paths >= opts.max_paths {
-            report.cut = Some(format!("path budget {} reached at call {}", opts.max_paths, node.depth + 1));
+            report.cut =
+                Some(format!("path budget {} reached at call {}", opts.max_paths, node.depth + 1));
             break;
         }
         report.states += 1;
@@ -178,15 +190,21 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
             keep_shortest(&mut level_found, cx);
             continue;
         }
-        let tree = enumerate_call(interp, &node.state, opts.max_paths_per_call).map_err(|e| format!("interpreter: {e:?}"))?;
+        let tree = enumerate_call(interp, &node.state, opts.max_paths_per_call)
+            .map_err(|e| format!("interpreter: {e:?}"))?;
         if tree.cut || ex.cut {
-            report.cut = Some(format!("more than {} paths in one call at call {}", opts.max_paths_per_call, node.depth + 1));
+            report.cut = Some(format!(
+                "more than {} paths in one call at call {}",
+                opts.max_paths_per_call,
+                node.depth + 1
+            ));
         }
         let limit = report.bound.blocks.get(o.block).map(|b| b.events).unwrap_or(0);
         let mut c_paths: Vec<&CPath> = ex.paths.iter().collect();
         let node_key = state_key(interp, &node.state);
         let kids: Vec<StateKey> = tree.paths.iter().map(|p| state_key(interp, &p.state)).collect();
-        let full = |a: &[i64]| -> Vec<i64> { node.prefix.iter().chain(a.iter()).copied().collect() };
+        let full =
+            |a: &[i64]| -> Vec<i64> { node.prefix.iter().chain(a.iter()).copied().collect() };
         for p in &tree.paths {
             report.call_paths += 1;
             let want: Vec<String> = p.events.iter().map(|e| e.line()).collect();
@@ -195,7 +213,9 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
             let mut expected = want.clone();
             expected.push(state_lines(want_after));
             let pos = c_paths.iter().position(|c| match c {
-                CPath::Done { answers, .. } | CPath::TooLong { answers } | CPath::Crashed { answers, .. } => *answers == p.answers,
+                CPath::Done { answers, .. }
+                | CPath::TooLong { answers }
+                | CPath::Crashed { answers, .. } => *answers == p.answers,
             });
             let cx = |what: String, actual: Vec<String>| Counterexample {
                 calls: node.depth + 1,
@@ -205,26 +225,50 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
                 actual,
             };
             match pos.map(|i| c_paths.remove(i)) {
-                None => keep_shortest(&mut level_found, cx("the semantics allows this path, the C does not take it".into(), vec![])),
+                None => keep_shortest(
+                    &mut level_found,
+                    cx("the semantics allows this path, the C does not take it".into(), vec![]),
+                ),
                 Some(CPath::Done { events, after, .. }) => {
                     if *events != want || *after != want_after {
                         let mut actual = events.clone();
                         actual.push(state_lines(*after));
-                        keep_shortest(&mut level_found, cx("different events or state".into(), actual));
+                        keep_shortest(
+                            &mut level_found,
+                            cx("different events or state".into(), actual),
+                        );
                     }
                     if events.len() > limit || p.events.len() > limit {
-                        keep_shortest(&mut level_found, cx(format!("call exceeds the static bound of {limit} events"), events.clone()));
+                        keep_shortest(
+                            &mut level_found,
+                            cx(
+                                format!("call exceeds the static bound of {limit} events"),
+                                events.clone(),
+                            ),
+                        );
                     }
                 }
-                Some(CPath::TooLong { .. }) => keep_shortest(&mut level_found, cx("the C call asks more questions than the static bound: it does not end".into(), vec![])),
-                Some(CPath::Crashed { status, .. }) => {
-                    keep_shortest(&mut level_found, cx(format!("the C process died (status {status})"), vec![]))
-                }
+                Some(CPath::TooLong { .. }) => keep_shortest(
+                    &mut level_found,
+                    cx(
+                        "the C call asks more questions than the static bound: it does not end"
+                            .into(),
+                        vec![],
+                    ),
+                ),
+                Some(CPath::Crashed { status, .. }) => keep_shortest(
+                    &mut level_found,
+                    cx(format!("the C process died (status {status})"), vec![]),
+                ),
             }
             if node.depth + 1 < opts.depth {
                 let k = state_key(interp, &p.state);
                 if seen.insert(k) {
-                    queue.push_back(Node { depth: node.depth + 1, prefix: full(&p.answers), state: p.state.clone() });
+                    queue.push_back(Node {
+                        depth: node.depth + 1,
+                        prefix: full(&p.answers),
+                        state: p.state.clone(),
+                    });
                 }
             }
         }
@@ -238,12 +282,22 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
                         a.push(state_lines(*after));
                         (answers, a, "the C takes a path the semantics does not allow")
                     }
-                    CPath::TooLong { answers } => (answers, vec![], "the C call asks more questions than the static bound: it does not end"),
+                    CPath::TooLong { answers } => (
+                        answers,
+                        vec![],
+                        "the C call asks more questions than the static bound: it does not end",
+                    ),
                     CPath::Crashed { answers, .. } => (answers, vec![], "the C process died"),
                 };
                 keep_shortest(
                     &mut level_found,
-                    Counterexample { calls: node.depth + 1, answers: full(answers), what: what.into(), expected: vec![], actual },
+                    Counterexample {
+                        calls: node.depth + 1,
+                        answers: full(answers),
+                        what: what.into(),
+                        expected: vec![],
+                        actual,
+                    },
                 );
             }
         }
@@ -257,14 +311,21 @@ fn exhaustive<'p>(driver: &mut Driver, interp: &mut Interp<'p>, opts: &Options, 
 }
 
 /// Number of complete answer sequences of `r` calls from a state (1 when `r` is 0).
-fn runs(k: &StateKey, r: usize, children: &HashMap<StateKey, Vec<StateKey>>, memo: &mut HashMap<(StateKey, usize), f64>) -> f64 {
+fn runs(
+    k: &StateKey,
+    r: usize,
+    children: &HashMap<StateKey, Vec<StateKey>>,
+    memo: &mut HashMap<(StateKey, usize), f64>,
+) -> f64 {
     if r == 0 {
         return 1.0;
     }
     if let Some(v) = memo.get(&(k.clone(), r)) {
         return *v;
     }
-    let v = children.get(k).map_or(1.0, |kids| kids.iter().map(|c| runs(c, r - 1, children, memo)).sum());
+    let v = children
+        .get(k)
+        .map_or(1.0, |kids| kids.iter().map(|c| runs(c, r - 1, children, memo)).sum());
     memo.insert((k.clone(), r), v);
     v
 }
@@ -279,7 +340,12 @@ fn keep_shortest(slot: &mut Option<Counterexample>, cx: Counterexample) {
     }
 }
 
-fn random_runs(driver: &mut Driver, fp: &Fp, opts: &Options, report: &mut Report) -> Result<(), String> {
+fn random_runs(
+    driver: &mut Driver,
+    fp: &Fp,
+    opts: &Options,
+    report: &mut Report,
+) -> Result<(), String> {
     for run in 0..opts.random_runs {
         let percent = [50, 20, 80][run % 3];
         let seed = 0x5EED_0000 + run as u64;
@@ -287,7 +353,9 @@ fn random_runs(driver: &mut Driver, fp: &Fp, opts: &Options, report: &mut Report
         let (c_text, ok) = driver.walk(opts.random_steps, &numbers)?;
         let mut interp = Interp::new(fp);
         let mut oracle = Scripted::new(numbers.clone());
-        let r = interp.run(&mut oracle, opts.random_steps).map_err(|e| format!("interpreter: {e:?}"))?;
+        let r = interp
+            .run(&mut oracle, opts.random_steps)
+            .map_err(|e| format!("interpreter: {e:?}"))?;
         let want = r.to_text();
         report.random_calls += opts.random_steps;
         for s in &r.steps {
@@ -297,7 +365,9 @@ fn random_runs(driver: &mut Driver, fp: &Fp, opts: &Options, report: &mut Report
                 report.counterexample = Some(Counterexample {
                     calls: s.call,
                     answers: numbers[..oracle.consumed().min(numbers.len())].to_vec(),
-                    what: format!("random run {run}: call exceeds the static bound of {limit} events"),
+                    what: format!(
+                        "random run {run}: call exceeds the static bound of {limit} events"
+                    ),
                     expected: vec![],
                     actual: s.events.iter().map(|e| e.line()).collect(),
                 });
@@ -305,13 +375,21 @@ fn random_runs(driver: &mut Driver, fp: &Fp, opts: &Options, report: &mut Report
             }
         }
         if want != c_text || !ok {
-            let (wl, cl): (Vec<&str>, Vec<&str>) = (want.lines().collect(), c_text.lines().collect());
-            let i = wl.iter().zip(cl.iter()).position(|(a, b)| a != b).unwrap_or(wl.len().min(cl.len()));
+            let (wl, cl): (Vec<&str>, Vec<&str>) =
+                (want.lines().collect(), c_text.lines().collect());
+            let i = wl
+                .iter()
+                .zip(cl.iter())
+                .position(|(a, b)| a != b)
+                .unwrap_or(wl.len().min(cl.len()));
             let step = wl[..i.min(wl.len())].iter().filter(|l| l.starts_with("step ")).count();
             report.counterexample = Some(Counterexample {
                 calls: step,
                 answers: Vec::new(),
-                what: format!("random run {run} (seed {seed:#x}, {percent}% true) differs at trace line {}", i + 1),
+                what: format!(
+                    "random run {run} (seed {seed:#x}, {percent}% true) differs at trace line {}",
+                    i + 1
+                ),
                 expected: wl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
                 actual: cl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
             });

@@ -67,7 +67,9 @@ fn flatten(stages: &[FpStage], items: &mut Vec<Item>, c: &Costs) {
             FpStage::Call { loop_: true, until, .. } => {
                 items.push(Item { events: 1 + usize::from(until.is_some()), next: vec![me + 1] })
             }
-            FpStage::Call { loop_: false, .. } => items.push(Item { events: 1, next: vec![me + 1] }),
+            FpStage::Call { loop_: false, .. } => {
+                items.push(Item { events: 1, next: vec![me + 1] })
+            }
             FpStage::Deroute { .. } => items.push(Item { events: c.change, next: vec![] }),
             FpStage::Return { .. } => items.push(Item { events: c.ret, next: vec![] }),
             FpStage::Nav(n) => {
@@ -100,7 +102,12 @@ fn flatten(stages: &[FpStage], items: &mut Vec<Item>, c: &Costs) {
 /// Longest path (items, events) from every item; the graph is acyclic (module comment).
 fn longest(items: &[Item]) -> Vec<(usize, usize)> {
     let mut memo: Vec<Option<(usize, usize)>> = vec![None; items.len()];
-    fn go(i: usize, items: &[Item], memo: &mut Vec<Option<(usize, usize)>>, guard: usize) -> (usize, usize) {
+    fn go(
+        i: usize,
+        items: &[Item],
+        memo: &mut Vec<Option<(usize, usize)>>,
+        guard: usize,
+    ) -> (usize, usize) {
         if let Some(v) = memo[i] {
             return v;
         }
@@ -124,10 +131,13 @@ fn longest(items: &[Item]) -> Vec<(usize, usize)> {
 /// Computes the bound of every block of `fp`.
 pub fn bound(fp: &Fp) -> PlanBound {
     let max_enter = fp.blocks.iter().map(|b| usize::from(b.on_enter.is_some())).max().unwrap_or(0);
-    let exc_exec = |l: &[crate::passes::fp::FpException]| l.iter().map(|e| usize::from(e.exec.is_some())).max().unwrap_or(0);
+    let exc_exec = |l: &[crate::passes::fp::FpException]| {
+        l.iter().map(|e| usize::from(e.exec.is_some())).max().unwrap_or(0)
+    };
     let mut blocks = Vec::new();
     for (bi, b) in fp.blocks.iter().enumerate() {
-        let forbidden_checks = fp.forbidden.iter().filter(|f| f.from == bi && f.only_when.is_some()).count();
+        let forbidden_checks =
+            fp.forbidden.iter().filter(|f| f.from == bi && f.only_when.is_some()).count();
         let exit = usize::from(b.on_exit.is_some());
         let costs = Costs { change: forbidden_checks + exit + max_enter, ret: exit + max_enter };
         let mut items = Vec::new();

@@ -38,7 +38,10 @@ pub enum Expr {
     Binary(BinOp, Box<Expr>, Box<Expr>),
     Unary(UnOp, Box<Expr>),
     /// `IndexOfBlock(name)` after resolution: prints as the block number.
-    BlockIndex { name: String, id: BlockId },
+    BlockIndex {
+        name: String,
+        id: BlockId,
+    },
 }
 
 /// Binary operators. Precedence (lowest first): `And`/`Or`; comparisons; `Add`/`Sub`;
@@ -118,7 +121,11 @@ impl Expr {
                 l.walk_mut(f);
                 r.walk_mut(f);
             }
-            Expr::Int(_) | Expr::Float(_) | Expr::Ident(_) | Expr::Field(..) | Expr::BlockIndex { .. } => {}
+            Expr::Int(_)
+            | Expr::Float(_)
+            | Expr::Ident(_)
+            | Expr::Field(..)
+            | Expr::BlockIndex { .. } => {}
         }
     }
     /// Visits every sub-expression (pre-order).
@@ -131,7 +138,11 @@ impl Expr {
                 l.walk(f);
                 r.walk(f);
             }
-            Expr::Int(_) | Expr::Float(_) | Expr::Ident(_) | Expr::Field(..) | Expr::BlockIndex { .. } => {}
+            Expr::Int(_)
+            | Expr::Float(_)
+            | Expr::Ident(_)
+            | Expr::Field(..)
+            | Expr::BlockIndex { .. } => {}
         }
     }
 }

@@ -98,7 +98,12 @@ impl<'a> Parser<'a> {
 
     fn depth_error(&self) -> ExprError {
         let at = self.toks.get(self.pos).map(|t| t.start).unwrap_or(0);
-        ExprError { kind: ExprErrorKind::Parsing, message: "expression nested too deeply".into(), start: at, end: at }
+        ExprError {
+            kind: ExprErrorKind::Parsing,
+            message: "expression nested too deeply".into(),
+            start: at,
+            end: at,
+        }
     }
 
     fn expect(&mut self, k: TokenKind) -> Result<(), ExprError> {

@@ -20,12 +20,18 @@ pub fn subst_procedure(e: &Expr, env: &ProcEnv<'_>) -> Expr {
             None => e.clone(),
         },
         Expr::Int(_) | Expr::Float(_) | Expr::Field(..) | Expr::BlockIndex { .. } => e.clone(),
-        Expr::Call(f, args) if f == "IndexOfBlock" && matches!(args.as_slice(), [Expr::Ident(_)]) => {
+        Expr::Call(f, args)
+            if f == "IndexOfBlock" && matches!(args.as_slice(), [Expr::Ident(_)]) =>
+        {
             let Some(Expr::Ident(s)) = args.first() else { return e.clone() };
             Expr::Call(f.clone(), vec![Expr::Ident(format!("'{}.{}'", env.name, s))])
         }
-        Expr::Call(f, args) => Expr::Call(f.clone(), args.iter().map(|a| subst_procedure(a, env)).collect()),
-        Expr::Binary(op, l, r) => Expr::Binary(*op, Box::new(subst_procedure(l, env)), Box::new(subst_procedure(r, env))),
+        Expr::Call(f, args) => {
+            Expr::Call(f.clone(), args.iter().map(|a| subst_procedure(a, env)).collect())
+        }
+        Expr::Binary(op, l, r) => {
+            Expr::Binary(*op, Box::new(subst_procedure(l, env)), Box::new(subst_procedure(r, env)))
+        }
         Expr::Unary(op, x) => Expr::Unary(*op, Box::new(subst_procedure(x, env))),
         Expr::Index(i, x) => Expr::Index(i.clone(), Box::new(subst_procedure(x, env))),
         Expr::Deref(x, f) => Expr::Deref(Box::new(subst_procedure(x, env)), f.clone()),

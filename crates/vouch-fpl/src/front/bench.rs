@@ -45,7 +45,9 @@ pub fn parse_all(files: &[PathBuf], passes: u32) -> BenchResult {
         for f in files {
             match super::parse_file(f) {
                 Ok(_) => p += 1,
-                Err(d) if d.first().is_some_and(|e| e.kind == super::ErrorKind::WrongRoot) => pr += 1,
+                Err(d) if d.first().is_some_and(|e| e.kind == super::ErrorKind::WrongRoot) => {
+                    pr += 1
+                }
                 Err(_) => r += 1,
             }
         }
@@ -54,5 +56,13 @@ pub fn parse_all(files: &[PathBuf], passes: u32) -> BenchResult {
         total += ms;
         (parsed, rejected, procedures) = (p, r, pr);
     }
-    BenchResult { parsed, rejected, procedures, bytes, passes, best_ms: best, mean_ms: total / passes as f64 }
+    BenchResult {
+        parsed,
+        rejected,
+        procedures,
+        bytes,
+        passes,
+        best_ms: best,
+        mean_ms: total / passes as f64,
+    }
 }

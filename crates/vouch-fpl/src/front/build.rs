@@ -34,7 +34,12 @@ pub struct Ctx {
 }
 
 impl Ctx {
-    pub fn new(sources: SourceMap, opts: Options, search: Vec<PathBuf>, main_path: PathBuf) -> Self {
+    pub fn new(
+        sources: SourceMap,
+        opts: Options,
+        search: Vec<PathBuf>,
+        main_path: PathBuf,
+    ) -> Self {
         Ctx {
             sources,
             opts,
@@ -61,7 +66,13 @@ impl Ctx {
     pub fn error(&mut self, kind: ErrorKind, msg: impl Into<String>, span: Span) {
         self.push(Diagnostic::error(kind, msg, Some(span)));
     }
-    pub fn error_help(&mut self, kind: ErrorKind, msg: impl Into<String>, span: Span, help: impl Into<String>) {
+    pub fn error_help(
+        &mut self,
+        kind: ErrorKind,
+        msg: impl Into<String>,
+        span: Span,
+        help: impl Into<String>,
+    ) {
         self.push(Diagnostic::error(kind, msg, Some(span)).with_help(help));
     }
     pub fn warn(&mut self, msg: impl Into<String>, span: Span) {
@@ -81,7 +92,11 @@ impl Ctx {
             }
             _ => {
                 if self.errors.is_empty() {
-                    self.errors.push(Diagnostic::error(ErrorKind::Xml, "the plan could not be read", None));
+                    self.errors.push(Diagnostic::error(
+                        ErrorKind::Xml,
+                        "the plan could not be read",
+                        None,
+                    ));
                 }
                 let mut items = self.errors;
                 items.extend(self.warnings);
@@ -105,7 +120,11 @@ impl Ctx {
     }
 
     pub fn missing(&mut self, e: &Elem, name: &str) {
-        self.error(ErrorKind::MissingAttribute, format!("missing attribute '{name}' on <{}>", e.tag), e.span);
+        self.error(
+            ErrorKind::MissingAttribute,
+            format!("missing attribute '{name}' on <{}>", e.tag),
+            e.span,
+        );
     }
 
     fn number(&mut self, e: &Elem, name: &str, read: fn(&str) -> Option<f64>) -> Option<Num> {
@@ -115,7 +134,10 @@ impl Ctx {
             None => {
                 self.error(
                     ErrorKind::BadNumber,
-                    format!("float expected in attribute '{name}' of <{}>, found '{}'", e.tag, t.value),
+                    format!(
+                        "float expected in attribute '{name}' of <{}>, found '{}'",
+                        e.tag, t.value
+                    ),
                     t.span,
                 );
                 None
@@ -166,8 +188,16 @@ impl Ctx {
             Err(err) => {
                 // Point at the offending token when the value is still the source text.
                 let src = self.sources.snippet(t.span);
-                let span = if src == t.value { sub_span(&self.sources, t.span, err.start, err.end) } else { t.span };
-                self.error(ErrorKind::BadExpression, format!("invalid expression in {what}: '{}': {err}", t.value), span);
+                let span = if src == t.value {
+                    sub_span(&self.sources, t.span, err.start, err.end)
+                } else {
+                    t.span
+                };
+                self.error(
+                    ErrorKind::BadExpression,
+                    format!("invalid expression in {what}: '{}': {err}", t.value),
+                    span,
+                );
                 None
             }
         }
@@ -218,7 +248,11 @@ impl Ctx {
         match self.waypoints.get(&t.value) {
             Some(id) => Some(WpRef { name: t.value, id: *id, span: t.span }),
             None => {
-                self.error(ErrorKind::UnknownWaypoint, format!("unknown waypoint '{}'", t.value), t.span);
+                self.error(
+                    ErrorKind::UnknownWaypoint,
+                    format!("unknown waypoint '{}'", t.value),
+                    t.span,
+                );
                 None
             }
         }
@@ -241,7 +275,11 @@ fn sub_span(sources: &SourceMap, s: Span, from: usize, to: usize) -> Span {
 pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
     let text = ctx.sources.files[main.0 as usize].text.clone();
     if text.trim().is_empty() {
-        ctx.push(Diagnostic::error(ErrorKind::EmptyPlan, "the file is empty", Some(Span { file: main, line: 1, col: 1, ..Span::default() })));
+        ctx.push(Diagnostic::error(
+            ErrorKind::EmptyPlan,
+            "the file is empty",
+            Some(Span { file: main, line: 1, col: 1, ..Span::default() }),
+        ));
         return None;
     }
     let doc = match read_document(main, &text) {
@@ -285,9 +323,16 @@ fn check_schema(ctx: &mut Ctx, e: &Elem, validated: bool, tag_lc: &str) {
                 continue;
             }
             if validated {
-                ctx.error(ErrorKind::UnknownAttribute, format!("unexpected attribute '{}' on <{}>", a.name, e.tag), a.span);
+                ctx.error(
+                    ErrorKind::UnknownAttribute,
+                    format!("unexpected attribute '{}' on <{}>", a.name, e.tag),
+                    a.span,
+                );
             } else if !extra.contains(&a.name.as_str()) {
-                ctx.warn(format!("undeclared attribute '{}' on <{}> (kept, not used)", a.name, e.tag), a.span);
+                ctx.warn(
+                    format!("undeclared attribute '{}' on <{}> (kept, not used)", a.name, e.tag),
+                    a.span,
+                );
             }
         }
         if validated {
@@ -311,21 +356,31 @@ fn check_plan_children(ctx: &mut Ctx, root: &Elem, validated: bool) {
         let lc = c.tag.to_ascii_lowercase();
         match schema::PLAN_ORDER.iter().position(|t| *t == lc) {
             Some(_) if lc == "forbidden_deroutes" && !ctx.opts.allow_forbidden_deroutes => {
-                ctx.error(ErrorKind::UnexpectedElement, "<forbidden_deroutes> is a VFPG extension, disabled here", c.span);
+                ctx.error(
+                    ErrorKind::UnexpectedElement,
+                    "<forbidden_deroutes> is a VFPG extension, disabled here",
+                    c.span,
+                );
             }
             Some(pos) => {
                 if validated && pos < last {
                     ctx.error(
                         ErrorKind::UnexpectedElement,
-                        format!("<{}> is out of order (expected: {})", c.tag, schema::PLAN_ORDER.join(", ")),
+                        format!(
+                            "<{}> is out of order (expected: {})",
+                            c.tag,
+                            schema::PLAN_ORDER.join(", ")
+                        ),
                         c.span,
                     );
                 }
                 last = last.max(pos);
             }
-            None if validated => {
-                ctx.error(ErrorKind::UnexpectedElement, format!("unexpected element <{}> in <flight_plan>", c.tag), c.span)
-            }
+            None if validated => ctx.error(
+                ErrorKind::UnexpectedElement,
+                format!("unexpected element <{}> in <flight_plan>", c.tag),
+                c.span,
+            ),
             None => ctx.warn(format!("element <{}> ignored", c.tag), c.span),
         }
     }
@@ -335,9 +390,11 @@ fn check_plan_children(ctx: &mut Ctx, root: &Elem, validated: bool) {
     match root.child("blocks") {
         None => ctx.error(ErrorKind::EmptyPlan, "the plan has no <blocks>", root.span),
         // The DTD requires one block; unvalidated plans (dummy.xml) compile with HOME only.
-        Some(b) if b.children.is_empty() && validated => {
-            ctx.error(ErrorKind::EmptyPlan, "<blocks> is empty (the DTD requires at least one block)", b.span)
-        }
+        Some(b) if b.children.is_empty() && validated => ctx.error(
+            ErrorKind::EmptyPlan,
+            "<blocks> is empty (the DTD requires at least one block)",
+            b.span,
+        ),
         Some(_) => {}
     }
 }
@@ -347,14 +404,19 @@ pub fn index_names(ctx: &mut Ctx, m: &Merged) {
     for (i, b) in m.blocks.iter().enumerate() {
         let Some(a) = b.attr("name") else { continue };
         if ctx.blocks.contains_key(&a.value) {
-            ctx.error(ErrorKind::DuplicateBlock, format!("duplicate block name '{}'", a.value), a.value_span);
+            ctx.error(
+                ErrorKind::DuplicateBlock,
+                format!("duplicate block name '{}'", a.value),
+                a.value_span,
+            );
         } else {
             ctx.blocks.insert(a.value.clone(), BlockId(i));
         }
     }
     let home = m.blocks.len();
     if ctx.blocks.contains_key("HOME") {
-        if let Some(a) = m.blocks.iter().filter_map(|b| b.attr("name")).find(|a| a.value == "HOME") {
+        if let Some(a) = m.blocks.iter().filter_map(|b| b.attr("name")).find(|a| a.value == "HOME")
+        {
             ctx.error_help(
                 ErrorKind::DuplicateBlock,
                 "duplicate block name 'HOME'",
@@ -369,7 +431,13 @@ pub fn index_names(ctx: &mut Ctx, m: &Merged) {
         let Some(a) = w.attr("name") else { continue };
         if ctx.waypoints.contains_key(&a.value) {
             if w.relative.is_some() {
-                ctx.warn(format!("relative waypoint '{}' created twice (references use the first)", a.value), a.value_span);
+                ctx.warn(
+                    format!(
+                        "relative waypoint '{}' created twice (references use the first)",
+                        a.value
+                    ),
+                    a.value_span,
+                );
             } else {
                 ctx.error_help(
                     ErrorKind::DuplicateWaypoint,

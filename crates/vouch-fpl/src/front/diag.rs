@@ -81,7 +81,16 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     pub fn error(kind: ErrorKind, message: impl Into<String>, span: Option<Span>) -> Self {
-        Diagnostic { kind, severity: Severity::Error, message: message.into(), span, file: None, line: None, col: None, help: None }
+        Diagnostic {
+            kind,
+            severity: Severity::Error,
+            message: message.into(),
+            span,
+            file: None,
+            line: None,
+            col: None,
+            help: None,
+        }
     }
     pub fn warning(message: impl Into<String>, span: Option<Span>) -> Self {
         Diagnostic { severity: Severity::Warning, ..Self::error(ErrorKind::Warning, message, span) }

@@ -106,18 +106,30 @@ fn replace(s: &mut Elem, waypoints: &mut Vec<Elem>, key: &str, qdr_key: &str, di
         return;
     };
     let Some(base_attr) = s.attr(key).cloned() else { return };
-    let Some(base) = waypoints.iter().find(|w| w.attr_value("name") == Some(base_attr.value.as_str())) else {
+    let Some(base) =
+        waypoints.iter().find(|w| w.attr_value("name") == Some(base_attr.value.as_str()))
+    else {
         return;
     };
-    let (Some(bx), Some(by)) = (base.attr_value("x").and_then(ocaml_float), base.attr_value("y").and_then(ocaml_float))
+    let (Some(bx), Some(by)) =
+        (base.attr_value("x").and_then(ocaml_float), base.attr_value("y").and_then(ocaml_float))
     else {
         return;
     };
     let angle = (90.0 - qdr) * std::f64::consts::PI / 180.0;
     let (x, y) = (bx + dist * angle.cos(), by + dist * angle.sin());
     let name = format!("{}_{:.0}_{:.0}", base_attr.value, qdr, dist);
-    let synth = |n: &str, v: String| RawAttr { name: n.to_string(), value: v, span: s.span, value_span: base_attr.value_span };
-    let mut attrs = vec![synth("name", name.clone()), synth("x", ocaml_float_text(x)), synth("y", ocaml_float_text(y))];
+    let synth = |n: &str, v: String| RawAttr {
+        name: n.to_string(),
+        value: v,
+        span: s.span,
+        value_span: base_attr.value_span,
+    };
+    let mut attrs = vec![
+        synth("name", name.clone()),
+        synth("x", ocaml_float_text(x)),
+        synth("y", ocaml_float_text(y)),
+    ];
     if let Some(alt) = base.attr("alt") {
         attrs.push(alt.clone());
     }
@@ -132,7 +144,21 @@ fn replace(s: &mut Elem, waypoints: &mut Vec<Elem>, key: &str, qdr_key: &str, di
         relative: Some((base_attr.value.clone(), qdr, dist)),
     };
     waypoints.insert(0, wp);
-    let mut rest: Vec<RawAttr> = s.attrs.0.iter().filter(|a| a.name != key && a.name != qdr_key && a.name != dist_key).cloned().collect();
-    rest.insert(0, RawAttr { name: key.to_string(), value: name, span: base_attr.span, value_span: base_attr.value_span });
+    let mut rest: Vec<RawAttr> = s
+        .attrs
+        .0
+        .iter()
+        .filter(|a| a.name != key && a.name != qdr_key && a.name != dist_key)
+        .cloned()
+        .collect();
+    rest.insert(
+        0,
+        RawAttr {
+            name: key.to_string(),
+            value: name,
+            span: base_attr.span,
+            value_span: base_attr.value_span,
+        },
+    );
     s.attrs = Attrs(rest);
 }

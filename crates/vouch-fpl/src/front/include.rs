@@ -33,7 +33,11 @@ pub struct Merged {
 }
 
 fn children_of(root: &Elem, tag: &str) -> Vec<Elem> {
-    root.children.iter().filter(|c| c.tag_is(tag)).flat_map(|c| c.children.iter().cloned()).collect()
+    root.children
+        .iter()
+        .filter(|c| c.tag_is(tag))
+        .flat_map(|c| c.children.iter().cloned())
+        .collect()
 }
 
 /// Collects the main plan's lists and appends every included procedure.
@@ -71,8 +75,13 @@ fn find_procedure(search: &[PathBuf], name: &str) -> Option<PathBuf> {
 }
 
 fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
-    let (Some(name_a), Some(proc_a)) = (inc.attr("name").cloned(), inc.attr("procedure").cloned()) else {
-        ctx.error(ErrorKind::MissingAttribute, "<include> needs both 'name' and 'procedure'", inc.span);
+    let (Some(name_a), Some(proc_a)) = (inc.attr("name").cloned(), inc.attr("procedure").cloned())
+    else {
+        ctx.error(
+            ErrorKind::MissingAttribute,
+            "<include> needs both 'name' and 'procedure'",
+            inc.span,
+        );
         return;
     };
     let name = name_a.value.clone();
@@ -87,13 +96,21 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
         return;
     };
     if same_file(&path, &ctx.main_path) {
-        ctx.error(ErrorKind::IncludeLoop, format!("'{}' includes the plan itself", proc_a.value), proc_a.value_span);
+        ctx.error(
+            ErrorKind::IncludeLoop,
+            format!("'{}' includes the plan itself", proc_a.value),
+            proc_a.value_span,
+        );
         return;
     }
     let text = match std::fs::read(&path) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) => {
-            ctx.error(ErrorKind::IncludeNotFound, format!("cannot read '{}': {e}", path.display()), proc_a.value_span);
+            ctx.error(
+                ErrorKind::IncludeNotFound,
+                format!("cannot read '{}': {e}", path.display()),
+                proc_a.value_span,
+            );
             return;
         }
     };
@@ -114,7 +131,11 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
             .iter()
             .filter(|c| c.tag_is(tag))
             .filter_map(|c| {
-                Some(NameValue { name: text_of(c.attr(k)?), value: c.attr(v).map(text_of), span: c.span })
+                Some(NameValue {
+                    name: text_of(c.attr(k)?),
+                    value: c.attr(v).map(text_of),
+                    span: c.span,
+                })
             })
             .collect()
     };
@@ -128,7 +149,11 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
             ctx.error(ErrorKind::MissingAttribute, "<param> without 'name'", p.span);
             continue;
         };
-        let arg = args.iter().find(|a| a.name.value == pn).and_then(|a| a.value.as_ref()).map(|t| t.value.clone());
+        let arg = args
+            .iter()
+            .find(|a| a.name.value == pn)
+            .and_then(|a| a.value.as_ref())
+            .map(|t| t.value.clone());
         match arg.or_else(|| p.attr_value("default_value").map(str::to_string)) {
             Some(v) => params.push((pn.to_string(), v)),
             None => ctx.error(
@@ -138,8 +163,12 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
             ),
         }
     }
-    let reroutes: Vec<(String, String)> =
-        withs.iter().map(|w| (w.name.value.clone(), w.value.as_ref().map(|t| t.value.clone()).unwrap_or_default())).collect();
+    let reroutes: Vec<(String, String)> = withs
+        .iter()
+        .map(|w| {
+            (w.name.value.clone(), w.value.as_ref().map(|t| t.value.clone()).unwrap_or_default())
+        })
+        .collect();
     let tr = Transformer { name: &name, params: &params, reroutes: &reroutes };
 
     let header_text = proc.child("header").map(|h| h.text.clone()).unwrap_or_default();
@@ -164,7 +193,14 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
         }
     }
     m.sectors.extend(children_of(&proc, "sectors"));
-    m.includes.push(IncludeInfo { name: text_of(&name_a), procedure: text_of(&proc_a), file, args, withs, span: inc.span });
+    m.includes.push(IncludeInfo {
+        name: text_of(&name_a),
+        procedure: text_of(&proc_a),
+        file,
+        args,
+        withs,
+        span: inc.span,
+    });
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
@@ -183,9 +219,15 @@ fn check_nested_includes(ctx: &mut Ctx, proc: &Elem, proc_path: &Path) {
         let mut dirs = vec![proc_path.parent().map(Path::to_path_buf).unwrap_or_default()];
         dirs.extend(ctx.search.iter().cloned());
         let target = find_procedure(&dirs, &p.value);
-        let looping = target.as_deref().is_some_and(|t| same_file(t, proc_path) || same_file(t, &ctx.main_path));
+        let looping = target
+            .as_deref()
+            .is_some_and(|t| same_file(t, proc_path) || same_file(t, &ctx.main_path));
         if looping {
-            ctx.error(ErrorKind::IncludeLoop, format!("include loop: '{}' is already being included", p.value), p.value_span);
+            ctx.error(
+                ErrorKind::IncludeLoop,
+                format!("include loop: '{}' is already being included", p.value),
+                p.value_span,
+            );
         } else {
             ctx.warn("includes inside a procedure are ignored (as upstream does)", inc.span);
         }

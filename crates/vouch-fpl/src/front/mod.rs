@@ -17,8 +17,8 @@ pub mod build;
 pub mod diag;
 pub mod expand;
 pub mod include;
-pub mod plan;
 pub mod outline;
+pub mod plan;
 mod render;
 pub mod schema;
 pub mod stages;
@@ -65,7 +65,11 @@ pub fn parse_file_with(path: impl AsRef<Path>, opts: &Options) -> Result<FlightP
             parse_str_at(path, text, opts)
         }
         Err(e) => Err(Diagnostics {
-            items: vec![Diagnostic::error(ErrorKind::Io, format!("cannot read {}: {e}", path.display()), None)],
+            items: vec![Diagnostic::error(
+                ErrorKind::Io,
+                format!("cannot read {}: {e}", path.display()),
+                None,
+            )],
             sources: SourceMap::default(),
         }),
     }
@@ -96,4 +100,3 @@ fn flight_plans_dir(path: &Path) -> Option<PathBuf> {
     let abs = std::fs::canonicalize(path).ok()?;
     abs.ancestors().skip(1).find(|d| d.join("flight_plan.dtd").is_file()).map(Path::to_path_buf)
 }
-

@@ -33,10 +33,20 @@ pub fn outline(p: &FlightPlan) -> String {
         let _ = writeln!(s, "sector {}: {}", sec.name.value, c.join(" "));
     }
     for e in &p.exceptions {
-        let _ = writeln!(s, "exception if {} -> block {} ({})", print_upstream(&e.cond.expr), e.deroute.id.0, e.deroute.name);
+        let _ = writeln!(
+            s,
+            "exception if {} -> block {} ({})",
+            print_upstream(&e.cond.expr),
+            e.deroute.id.0,
+            e.deroute.name
+        );
     }
     for f in &p.forbidden_deroutes {
-        let w = f.only_when.as_ref().map(|c| format!(" only when {}", print_upstream(&c.expr))).unwrap_or_default();
+        let w = f
+            .only_when
+            .as_ref()
+            .map(|c| format!(" only when {}", print_upstream(&c.expr)))
+            .unwrap_or_default();
         let _ = writeln!(s, "forbidden deroute {} -> {}{w}", f.from.name, f.to.name);
     }
     let _ = writeln!(s, "blocks ({}):", p.blocks.len());
@@ -44,7 +54,13 @@ pub fn outline(p: &FlightPlan) -> String {
         let tag = if b.implicit { "  (implicit)" } else { "" };
         let _ = writeln!(s, "  {:>3} {}{tag}", b.id.0, b.name.value);
         for e in &b.exceptions {
-            let _ = writeln!(s, "        exception if {} -> block {} ({})", print_upstream(&e.cond.expr), e.deroute.id.0, e.deroute.name);
+            let _ = writeln!(
+                s,
+                "        exception if {} -> block {} ({})",
+                print_upstream(&e.cond.expr),
+                e.deroute.id.0,
+                e.deroute.name
+            );
         }
         stages(&mut s, &b.stages, 8);
     }
@@ -72,7 +88,9 @@ fn wp(w: &WpRef) -> String {
 
 fn describe(k: &StageKind) -> String {
     match k {
-        StageKind::While(w) => format!("while {}", w.cond.as_ref().map(e).unwrap_or_else(|| "TRUE".into())),
+        StageKind::While(w) => {
+            format!("while {}", w.cond.as_ref().map(e).unwrap_or_else(|| "TRUE".into()))
+        }
         StageKind::For(f) => format!("for {} = {} to {}", f.var.value, e(&f.from), e(&f.to)),
         StageKind::Set(x) => format!("set {} = {}", x.var.value, e(&x.value)),
         StageKind::Call(c) => format!("call {}", c.fun.value),

@@ -13,10 +13,18 @@ use super::tree::Elem;
 pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     index_names(ctx, &m);
     if !ctx.waypoints.contains_key("HOME") && !m.waypoints.is_empty() {
-        ctx.error(ErrorKind::MissingElement, "no waypoint named 'HOME'", root.child("waypoints").map_or(root.span, |w| w.span));
+        ctx.error(
+            ErrorKind::MissingElement,
+            "no waypoint named 'HOME'",
+            root.child("waypoints").map_or(root.span, |w| w.span),
+        );
     }
     if m.waypoints.is_empty() && root.child("waypoints").is_some() {
-        ctx.error(ErrorKind::EmptyPlan, "the plan has no waypoint", root.child("waypoints").map_or(root.span, |w| w.span));
+        ctx.error(
+            ErrorKind::EmptyPlan,
+            "the plan has no waypoint",
+            root.child("waypoints").map_or(root.span, |w| w.span),
+        );
     }
 
     // Plan attributes (required ones make the plan unbuildable when absent).
@@ -28,18 +36,27 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     let security_height = ctx.req_num(root, "security_height");
     if let Some(sh) = &security_height {
         if sh.value < 0.0 {
-            ctx.error(ErrorKind::NumberOutOfRange, "security_height must not be negative", sh.text.span);
+            ctx.error(
+                ErrorKind::NumberOutOfRange,
+                "security_height must not be negative",
+                sh.text.span,
+            );
         }
     }
     let alt = ctx.req_num(root, "alt");
-    let wp_frame = ctx.text(root, "wp_frame").and_then(|t| match t.value.to_ascii_lowercase().as_str() {
-        "utm" => Some(Spanned { value: WpFrame::Utm, span: t.span }),
-        "ltp" => Some(Spanned { value: WpFrame::Ltp, span: t.span }),
-        _ => {
-            ctx.error(ErrorKind::BadValue, format!("unknown wp_frame '{}' (UTM or LTP)", t.value), t.span);
-            None
-        }
-    });
+    let wp_frame =
+        ctx.text(root, "wp_frame").and_then(|t| match t.value.to_ascii_lowercase().as_str() {
+            "utm" => Some(Spanned { value: WpFrame::Utm, span: t.span }),
+            "ltp" => Some(Spanned { value: WpFrame::Ltp, span: t.span }),
+            _ => {
+                ctx.error(
+                    ErrorKind::BadValue,
+                    format!("unknown wp_frame '{}' (UTM or LTP)", t.value),
+                    t.span,
+                );
+                None
+            }
+        });
     let qfu = ctx.opt_num(root, "qfu");
     let home_mode_height = ctx.opt_num(root, "home_mode_height");
     let geofence_max_alt = ctx.opt_num(root, "geofence_max_alt");
@@ -57,7 +74,11 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
             if e.tag_is("exception") {
                 build_exception(ctx, e)
             } else {
-                ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <exceptions>", e.tag), e.span);
+                ctx.error(
+                    ErrorKind::UnexpectedElement,
+                    format!("unexpected <{}> in <exceptions>", e.tag),
+                    e.span,
+                );
                 None
             }
         })
@@ -65,7 +86,11 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     let mut blocks: Vec<Block> = Vec::new();
     for (i, b) in m.blocks.iter().enumerate() {
         if !b.tag_is("block") {
-            ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <blocks>", b.tag), b.span);
+            ctx.error(
+                ErrorKind::UnexpectedElement,
+                format!("unexpected <{}> in <blocks>", b.tag),
+                b.span,
+            );
             continue;
         }
         if let Some(blk) = block(ctx, b, BlockId(i)) {
@@ -118,7 +143,11 @@ fn req_deg(ctx: &mut Ctx, e: &Elem, name: &str, limit: f64) -> Option<Num> {
 
 fn waypoint(ctx: &mut Ctx, w: &Elem) -> Option<Waypoint> {
     if !w.tag_is("waypoint") {
-        ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <waypoints>", w.tag), w.span);
+        ctx.error(
+            ErrorKind::UnexpectedElement,
+            format!("unexpected <{}> in <waypoints>", w.tag),
+            w.span,
+        );
         return None;
     }
     let name = ctx.req_text(w, "name");
@@ -134,11 +163,24 @@ fn waypoint(ctx: &mut Ctx, w: &Elem) -> Option<Waypoint> {
         ctx.error(ErrorKind::MissingAttribute, "a waypoint needs x and y, or lat and lon", w.span);
     }
     let origin = match (&w.relative, &w.origin) {
-        (Some((base, qdr, dist)), _) => WaypointOrigin::Relative { base: base.clone(), qdr: *qdr, dist: *dist },
+        (Some((base, qdr, dist)), _) => {
+            WaypointOrigin::Relative { base: base.clone(), qdr: *qdr, dist: *dist }
+        }
         (None, Some(inc)) => WaypointOrigin::Procedure { include: inc.clone() },
         (None, None) => WaypointOrigin::Plan,
     };
-    Some(Waypoint { name: name?, x, y, lat, lon, alt, height, origin, attrs: w.attrs.clone(), span: w.span })
+    Some(Waypoint {
+        name: name?,
+        x,
+        y,
+        lat,
+        lon,
+        alt,
+        height,
+        origin,
+        attrs: w.attrs.clone(),
+        span: w.span,
+    })
 }
 
 fn sectors(ctx: &mut Ctx, elems: &[Elem]) -> (Vec<Sector>, Vec<Text>) {
@@ -151,14 +193,22 @@ fn sectors(ctx: &mut Ctx, elems: &[Elem]) -> (Vec<Sector>, Vec<Text>) {
             continue;
         }
         if !s.tag_is("sector") {
-            ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <sectors>", s.tag), s.span);
+            ctx.error(
+                ErrorKind::UnexpectedElement,
+                format!("unexpected <{}> in <sectors>", s.tag),
+                s.span,
+            );
             continue;
         }
         let name = ctx.req_text(s, "name");
         let mut corners = Vec::new();
         for c in &s.children {
             if !c.tag_is("corner") {
-                ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <sector>", c.tag), c.span);
+                ctx.error(
+                    ErrorKind::UnexpectedElement,
+                    format!("unexpected <{}> in <sector>", c.tag),
+                    c.span,
+                );
                 continue;
             }
             if let Some(r) = ctx.req_wp(c, "name") {
@@ -195,9 +245,14 @@ fn variable(ctx: &mut Ctx, v: &Elem) -> Option<VariableDecl> {
         let vars_text = ctx.text(v, "vars");
         let handler = ctx.text(v, "handler");
         if vars_text.is_some() == handler.is_some() {
-            ctx.error(ErrorKind::Conflict, "an <abi_binding> needs exactly one of 'vars' and 'handler'", v.span);
+            ctx.error(
+                ErrorKind::Conflict,
+                "an <abi_binding> needs exactly one of 'vars' and 'handler'",
+                v.span,
+            );
         }
-        let vars = vars_text.as_ref().map(|t| t.value.split(',').map(|s| s.trim().to_string()).collect());
+        let vars =
+            vars_text.as_ref().map(|t| t.value.split(',').map(|s| s.trim().to_string()).collect());
         return Some(VariableDecl::Abi(AbiBinding {
             name,
             vars,
@@ -208,28 +263,53 @@ fn variable(ctx: &mut Ctx, v: &Elem) -> Option<VariableDecl> {
             span: v.span,
         }));
     }
-    ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <variables>", v.tag), v.span);
+    ctx.error(
+        ErrorKind::UnexpectedElement,
+        format!("unexpected <{}> in <variables>", v.tag),
+        v.span,
+    );
     None
 }
 
 fn module(ctx: &mut Ctx, x: &Elem) -> Option<Module> {
     if !x.tag_is("module") {
-        ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <modules>", x.tag), x.span);
+        ctx.error(
+            ErrorKind::UnexpectedElement,
+            format!("unexpected <{}> in <modules>", x.tag),
+            x.span,
+        );
         return None;
     }
     let name = ctx.req_text(x, "name")?;
     let (mut configures, mut defines) = (Vec::new(), Vec::new());
     for c in &x.children {
-        let nv = |ctx: &mut Ctx| Some(NameValue { name: ctx.req_text(c, "name")?, value: ctx.text(c, "value"), span: c.span });
+        let nv = |ctx: &mut Ctx| {
+            Some(NameValue {
+                name: ctx.req_text(c, "name")?,
+                value: ctx.text(c, "value"),
+                span: c.span,
+            })
+        };
         if c.tag_is("configure") {
             configures.extend(nv(ctx));
         } else if c.tag_is("define") {
             defines.extend(nv(ctx));
         } else {
-            ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <module>", c.tag), c.span);
+            ctx.error(
+                ErrorKind::UnexpectedElement,
+                format!("unexpected <{}> in <module>", c.tag),
+                c.span,
+            );
         }
     }
-    Some(Module { name, module_type: ctx.text(x, "type"), configures, defines, attrs: x.attrs.clone(), span: x.span })
+    Some(Module {
+        name,
+        module_type: ctx.text(x, "type"),
+        configures,
+        defines,
+        attrs: x.attrs.clone(),
+        span: x.span,
+    })
 }
 
 fn block(ctx: &mut Ctx, b: &Elem, id: BlockId) -> Option<Block> {
@@ -272,7 +352,12 @@ fn home_block(span: Span, id: BlockId) -> Block {
         key: None,
         description: None,
         exceptions: Vec::new(),
-        stages: vec![Stage { kind: StageKind::Home, attrs: Attrs::default(), span, from_path: false }],
+        stages: vec![Stage {
+            kind: StageKind::Home,
+            attrs: Attrs::default(),
+            span,
+            from_path: false,
+        }],
         procedure: None,
         implicit: true,
         attrs: Attrs::default(),
@@ -282,7 +367,11 @@ fn home_block(span: Span, id: BlockId) -> Block {
 
 fn forbidden(ctx: &mut Ctx, f: &Elem) -> Option<ForbiddenDeroute> {
     if !f.tag_is("forbidden_deroute") {
-        ctx.error(ErrorKind::UnexpectedElement, format!("unexpected <{}> in <forbidden_deroutes>", f.tag), f.span);
+        ctx.error(
+            ErrorKind::UnexpectedElement,
+            format!("unexpected <{}> in <forbidden_deroutes>", f.tag),
+            f.span,
+        );
         return None;
     }
     let from = ctx.req_text(f, "from").and_then(|t| ctx.block_ref(t));

@@ -1,6 +1,8 @@
 //! Rendering of diagnostics with miette (source snippet with a label under the span).
 
-use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteDiagnostic, NamedSource, Report};
+use miette::{
+    GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteDiagnostic, NamedSource, Report,
+};
 
 use super::diag::{Diagnostic, Severity};
 use crate::ast::SourceMap;
@@ -30,7 +32,8 @@ pub(crate) fn render_one(d: &Diagnostic, sources: &SourceMap, color: bool) -> St
         Severity::Error => miette::Severity::Error,
         Severity::Warning => miette::Severity::Warning,
     });
-    let report = Report::new(md).with_source_code(NamedSource::new(file.path.clone(), file.text.clone()));
+    let report =
+        Report::new(md).with_source_code(NamedSource::new(file.path.clone(), file.text.clone()));
     let theme = if color { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
     let mut s = String::new();
     if GraphicalReportHandler::new_themed(theme).render_report(&mut s, report.as_ref()).is_ok() {

@@ -11,7 +11,12 @@ use super::values::bool_text;
 
 /// Builds the stages of a block (`in_loop = false`) or of a `while`/`for` body. Block-level
 /// exceptions are collected into `exceptions` (they take no stage slot).
-pub fn build_stages(ctx: &mut Ctx, elems: &[Elem], in_loop: bool, exceptions: &mut Vec<Exception>) -> Vec<Stage> {
+pub fn build_stages(
+    ctx: &mut Ctx,
+    elems: &[Elem],
+    in_loop: bool,
+    exceptions: &mut Vec<Exception>,
+) -> Vec<Stage> {
     let mut out = Vec::new();
     for e in elems {
         if e.tag == "exception" {
@@ -37,7 +42,13 @@ pub fn build_stages(ctx: &mut Ctx, elems: &[Elem], in_loop: bool, exceptions: &m
 pub fn build_exception(ctx: &mut Ctx, e: &Elem) -> Option<Exception> {
     let cond = ctx.req_expr(e, "cond");
     let deroute = ctx.req_text(e, "deroute").and_then(|t| ctx.block_ref(t));
-    Some(Exception { cond: cond?, deroute: deroute?, exec: ctx.text(e, "exec"), attrs: e.attrs.clone(), span: e.span })
+    Some(Exception {
+        cond: cond?,
+        deroute: deroute?,
+        exec: ctx.text(e, "exec"),
+        attrs: e.attrs.clone(),
+        span: e.span,
+    })
 }
 
 fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
@@ -114,7 +125,12 @@ fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
             let distance = ctx.req_text(e, "distance");
             let height = ctx.req_text(e, "height");
             let common = common(ctx, e);
-            StageKind::Follow(Follow { ac_id: ac_id?, distance: distance?, height: height?, common })
+            StageKind::Follow(Follow {
+                ac_id: ac_id?,
+                distance: distance?,
+                height: height?,
+                common,
+            })
         }
         "xyz" => {
             let radius = ctx.expr_attr(e, "radius");
@@ -129,7 +145,13 @@ fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
             let radius = ctx.req_expr(e, "radius");
             let vertical = vertical(ctx, e, None);
             let common = common(ctx, e);
-            StageKind::Eight(Eight { center: center?, turn_around: turn_around?, radius: radius?, vertical, common })
+            StageKind::Eight(Eight {
+                center: center?,
+                turn_around: turn_around?,
+                radius: radius?,
+                vertical,
+                common,
+            })
         }
         "oval" => {
             let p1 = ctx.req_wp(e, "p1");
@@ -147,21 +169,44 @@ fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
                 "NS" => Some(Spanned { value: Orientation::NS, span: t.span }),
                 "WE" => Some(Spanned { value: Orientation::WE, span: t.span }),
                 _ => {
-                    ctx.error(ErrorKind::BadValue, format!("survey orientation must be NS or WE, found '{}'", t.value), t.span);
+                    ctx.error(
+                        ErrorKind::BadValue,
+                        format!("survey orientation must be NS or WE, found '{}'", t.value),
+                        t.span,
+                    );
                     None
                 }
             });
             let common = common(ctx, e);
-            StageKind::SurveyRectangle(SurveyRectangle { wp1: wp1?, wp2: wp2?, grid: grid?, orientation, common })
+            StageKind::SurveyRectangle(SurveyRectangle {
+                wp1: wp1?,
+                wp2: wp2?,
+                grid: grid?,
+                orientation,
+                common,
+            })
         }
         other => {
             let lc = other.to_ascii_lowercase();
             let help = if STAGE_TAGS.contains(&lc.as_str()) {
                 "stage tags are case-sensitive in upstream's generator".to_string()
             } else {
-                format!("known stages: {}", STAGE_TAGS.iter().filter(|t| **t != "exception").copied().collect::<Vec<_>>().join(", "))
+                format!(
+                    "known stages: {}",
+                    STAGE_TAGS
+                        .iter()
+                        .filter(|t| **t != "exception")
+                        .copied()
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
             };
-            ctx.error_help(ErrorKind::UnknownStage, format!("unknown stage '<{other}>'"), e.span, help);
+            ctx.error_help(
+                ErrorKind::UnknownStage,
+                format!("unknown stage '<{other}>'"),
+                e.span,
+                help,
+            );
             return None;
         }
     })
@@ -180,7 +225,11 @@ fn go(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
     let approaching_time = ctx.text(e, "approaching_time");
     let exceeding_time = ctx.text(e, "exceeding_time");
     if let (Some(_), Some(t)) = (&approaching_time, &exceeding_time) {
-        ctx.error(ErrorKind::Conflict, "both 'approaching_time' and 'exceeding_time' are given", t.span);
+        ctx.error(
+            ErrorKind::Conflict,
+            "both 'approaching_time' and 'exceeding_time' are given",
+            t.span,
+        );
     }
     let common = common(ctx, e);
     if e.attr("wp").is_some() && wp.is_none() {
@@ -189,7 +238,17 @@ fn go(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
     if e.attr("from").is_some() && from.is_none() {
         return None;
     }
-    Some(StageKind::Go(Go { wp, x, y, from, hmode, vertical, approaching_time, exceeding_time, common }))
+    Some(StageKind::Go(Go {
+        wp,
+        x,
+        y,
+        from,
+        hmode,
+        vertical,
+        approaching_time,
+        exceeding_time,
+        common,
+    }))
 }
 
 fn flag(ctx: &mut Ctx, e: &Elem, name: &str) -> Option<Spanned<bool>> {
@@ -197,7 +256,11 @@ fn flag(ctx: &mut Ctx, e: &Elem, name: &str) -> Option<Spanned<bool>> {
     match bool_text(&t.value) {
         Some(v) => Some(Spanned { value: v, span: t.span }),
         None => {
-            ctx.error(ErrorKind::BadValue, format!("'{name}' must be TRUE or FALSE, found '{}'", t.value), t.span);
+            ctx.error(
+                ErrorKind::BadValue,
+                format!("'{name}' must be TRUE or FALSE, found '{}'", t.value),
+                t.span,
+            );
             None
         }
     }
@@ -209,7 +272,11 @@ fn hmode(ctx: &mut Ctx, e: &Elem) -> Option<Spanned<HMode>> {
         "route" => HMode::Route,
         "direct" => HMode::Direct,
         _ => {
-            ctx.error(ErrorKind::BadValue, format!("unknown hmode '{}' (route or direct)", t.value), t.span);
+            ctx.error(
+                ErrorKind::BadValue,
+                format!("unknown hmode '{}' (route or direct)", t.value),
+                t.span,
+            );
             return None;
         }
     };
@@ -225,7 +292,11 @@ fn vertical(ctx: &mut Ctx, e: &Elem, hmode: Option<&Spanned<HMode>>) -> Vertical
             "glide" => VMode::Glide,
             "xyz" => VMode::Xyz,
             _ => {
-                ctx.error(ErrorKind::BadValue, format!("unknown vmode '{}' (alt, climb, throttle, glide, xyz)", t.value), t.span);
+                ctx.error(
+                    ErrorKind::BadValue,
+                    format!("unknown vmode '{}' (alt, climb, throttle, glide, xyz)", t.value),
+                    t.span,
+                );
                 return None;
             }
         };
@@ -238,11 +309,16 @@ fn vertical(ctx: &mut Ctx, e: &Elem, hmode: Option<&Spanned<HMode>>) -> Vertical
     };
     if let (Some(Pitch::Auto(sp)), Some(v)) = (&pitch, &vmode) {
         if v.value == VMode::Throttle {
-            ctx.error(ErrorKind::Conflict, "pitch=\"auto\" cannot be combined with vmode=\"throttle\"", *sp);
+            ctx.error(
+                ErrorKind::Conflict,
+                "pitch=\"auto\" cannot be combined with vmode=\"throttle\"",
+                *sp,
+            );
         }
     }
     if let Some(v) = &vmode {
-        if v.value == VMode::Glide && e.tag == "go" && hmode.is_none_or(|h| h.value != HMode::Route) {
+        if v.value == VMode::Glide && e.tag == "go" && hmode.is_none_or(|h| h.value != HMode::Route)
+        {
             ctx.error(ErrorKind::Conflict, "vmode=\"glide\" needs hmode=\"route\"", v.span);
         }
     }

@@ -144,7 +144,9 @@ fn comment(b: &[u8], out: &mut [u8], i: usize, fixes: &mut Vec<Fix>) -> usize {
     };
     let mut fixed = false;
     for k in body..end {
-        if b[k] == b'-' && (b.get(k + 1) == Some(&b'-') || k + 1 == end || (k > body && b[k - 1] == b'-')) {
+        if b[k] == b'-'
+            && (b.get(k + 1) == Some(&b'-') || k + 1 == end || (k > body && b[k - 1] == b'-'))
+        {
             out[k] = b' ';
             fixed = true;
         }

@@ -119,8 +119,13 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
                 lines.offset(text, pos.row, pos.col)
             }
         };
-        let end = (off + text.get(off..).and_then(|t| t.chars().next()).map_or(0, char::len_utf8)).min(text.len());
-        Diagnostic::error(ErrorKind::Xml, format!("malformed XML: {e}"), Some(lines.span(text, file, off, end)))
+        let end = (off + text.get(off..).and_then(|t| t.chars().next()).map_or(0, char::len_utf8))
+            .min(text.len());
+        Diagnostic::error(
+            ErrorKind::Xml,
+            format!("malformed XML: {e}"),
+            Some(lines.span(text, file, off, end)),
+        )
     })?;
     let root = convert(doc.root_element(), text, file, &lines, &mut warnings, 0)?;
     Ok(Document { root, doctype: san.doctype, warnings })
@@ -158,10 +163,18 @@ fn convert(
         if attrs.iter().any(|x| x.name == name) {
             // Same name in another case (`name` / `NAME`): upstream's case-insensitive lookup
             // finds the first one.
-            warnings.push(Diagnostic::warning(format!("duplicate attribute '{name}' ignored (first occurrence wins)"), Some(attr_span)));
+            warnings.push(Diagnostic::warning(
+                format!("duplicate attribute '{name}' ignored (first occurrence wins)"),
+                Some(attr_span),
+            ));
             continue;
         }
-        attrs.push(RawAttr { name, value: unescape(raw), span: attr_span, value_span: lines.span(text, file, rv.start, rv.end) });
+        attrs.push(RawAttr {
+            name,
+            value: unescape(raw),
+            span: attr_span,
+            value_span: lines.span(text, file, rv.start, rv.end),
+        });
     }
     let mut children = Vec::new();
     let mut raw_text = String::new();
@@ -172,7 +185,16 @@ fn convert(
             raw_text.push_str(text.get(c.range()).unwrap_or(""));
         }
     }
-    Ok(Elem { tag, attrs: Attrs(attrs), children, text: clean_text(&raw_text), span, origin: None, from_path: false, relative: None })
+    Ok(Elem {
+        tag,
+        attrs: Attrs(attrs),
+        children,
+        text: clean_text(&raw_text),
+        span,
+        origin: None,
+        from_path: false,
+        relative: None,
+    })
 }
 
 /// xml-light's only processing of attribute values: `\"`, `\'` and `\\`.

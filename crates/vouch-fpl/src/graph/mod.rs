@@ -135,15 +135,27 @@ pub fn block_graph(plan: &FlightPlan) -> BlockGraph {
         .collect();
     for d in &plan.forbidden_deroutes {
         let (f, t) = (d.from.id.0, d.to.id.0);
-        let drawn = edges.iter().any(|e| e.from == Some(f) && e.to == t && e.kind != EdgeKind::Return);
+        let drawn =
+            edges.iter().any(|e| e.from == Some(f) && e.to == t && e.kind != EdgeKind::Return);
         if !drawn && f < n && t < n && f != t {
-            edges.push(GEdge { kind: EdgeKind::ForbiddenOnly, from: Some(f), to: t, count: 1, forbid: forbid_of(plan, f, t) });
+            edges.push(GEdge {
+                kind: EdgeKind::ForbiddenOnly,
+                from: Some(f),
+                to: t,
+                count: 1,
+                forbid: forbid_of(plan, f, t),
+            });
         }
     }
     let nodes = plan
         .blocks
         .iter()
-        .map(|b| GNode { name: b.name.value.clone(), stages: count_stages(&b.stages), exceptions: b.exceptions.len(), implicit: b.implicit })
+        .map(|b| GNode {
+            name: b.name.value.clone(),
+            stages: count_stages(&b.stages),
+            exceptions: b.exceptions.len(),
+            implicit: b.implicit,
+        })
         .collect();
     BlockGraph { title: plan.name.value.clone(), nodes, edges }
 }

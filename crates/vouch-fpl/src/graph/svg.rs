@@ -48,7 +48,11 @@ fn lanes(spans: &[(f64, f64)]) -> Vec<usize> {
     for i in order {
         let (lo, hi) = spans[i];
         let l = (0..)
-            .find(|&l| used.get(l).is_none_or(|v: &Vec<(f64, f64)>| v.iter().all(|&(a, b)| hi + 4.0 < a || lo - 4.0 > b)))
+            .find(|&l| {
+                used.get(l).is_none_or(|v: &Vec<(f64, f64)>| {
+                    v.iter().all(|&(a, b)| hi + 4.0 < a || lo - 4.0 > b)
+                })
+            })
             .unwrap_or(0);
         if used.len() <= l {
             used.resize(l + 1, Vec::new());
@@ -70,7 +74,9 @@ pub fn render(g: &BlockGraph) -> String {
     let maxlen = g.nodes.iter().map(|n| n.name.chars().count() + 5).max().unwrap_or(10).max(24);
     let node_w = (maxlen as f64 * 7.4 + 24.0).max(190.0);
     // Sides: left = exceptions, right = deroutes, returns, forbidden-only pairs.
-    let side_right = |e: &GEdge| matches!(e.kind, EdgeKind::Deroute | EdgeKind::Return | EdgeKind::ForbiddenOnly);
+    let side_right = |e: &GEdge| {
+        matches!(e.kind, EdgeKind::Deroute | EdgeKind::Return | EdgeKind::ForbiddenOnly)
+    };
     let arcs: Vec<&GEdge> = g.edges.iter().filter(|e| e.kind != EdgeKind::Next).collect();
     let span = |e: &GEdge| {
         let (a, b) = (y_of(e.from), y_of(Some(e.to)));
@@ -98,7 +104,10 @@ pub fn render(g: &BlockGraph) -> String {
         ));
     }
     s.push_str("</defs>\n");
-    s.push_str(&format!("<text x=\"20\" y=\"28\" font-size=\"18\" font-weight=\"bold\">{}</text>\n", esc(&g.title)));
+    s.push_str(&format!(
+        "<text x=\"20\" y=\"28\" font-size=\"18\" font-weight=\"bold\">{}</text>\n",
+        esc(&g.title)
+    ));
     s.push_str(&format!(
         "<text x=\"20\" y=\"48\" font-size=\"11\" fill=\"#444\">{} blocks, {} transitions (vouch fpl graph)</text>\n",
         g.nodes.len(),
@@ -134,7 +143,8 @@ pub fn render(g: &BlockGraph) -> String {
     }
     for (i, n) in g.nodes.iter().enumerate() {
         let y = TOP + i as f64 * PITCH;
-        let (fill, dash) = if n.implicit { ("#eeeeee", " stroke-dasharray=\"4,2\"") } else { ("#f4f6fb", "") };
+        let (fill, dash) =
+            if n.implicit { ("#eeeeee", " stroke-dasharray=\"4,2\"") } else { ("#f4f6fb", "") };
         s.push_str(&format!(
             "<rect x=\"{x0:.1}\" y=\"{y:.1}\" width=\"{node_w:.1}\" height=\"{NODE_H}\" rx=\"5\" fill=\"{fill}\" stroke=\"#333\"{dash}/>\n"
         ));
@@ -148,10 +158,19 @@ pub fn render(g: &BlockGraph) -> String {
             "{} stage{}{}{}",
             n.stages,
             if n.stages == 1 { "" } else { "s" },
-            if n.exceptions > 0 { format!(", {} exception{}", n.exceptions, if n.exceptions == 1 { "" } else { "s" }) } else { String::new() },
+            if n.exceptions > 0 {
+                format!(", {} exception{}", n.exceptions, if n.exceptions == 1 { "" } else { "s" })
+            } else {
+                String::new()
+            },
             if n.implicit { " (implicit)" } else { "" }
         );
-        s.push_str(&format!("<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"10\" fill=\"#555\">{}</text>\n", x0 + 8.0, y + 28.0, esc(&detail)));
+        s.push_str(&format!(
+            "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"10\" fill=\"#555\">{}</text>\n",
+            x0 + 8.0,
+            y + 28.0,
+            esc(&detail)
+        ));
     }
     legend(&mut s, 20.0, TOP + g.nodes.len() as f64 * PITCH + 20.0);
     s.push_str("</svg>\n");
@@ -209,7 +228,9 @@ fn legend(s: &mut String, x: f64, y: f64) {
         ("#d62728", "", "forbidden always (✕) / under only_when (?)"),
         ("#d62728", "1,4", "forbidden pair no step tries"),
     ];
-    s.push_str(&format!("<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"12\" font-weight=\"bold\">Legend</text>\n"));
+    s.push_str(&format!(
+        "<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"12\" font-weight=\"bold\">Legend</text>\n"
+    ));
     for (i, (c, d, label)) in items.iter().enumerate() {
         let yy = y + 18.0 + i as f64 * 16.0;
         let da = if d.is_empty() { String::new() } else { format!(" stroke-dasharray=\"{d}\"") };

@@ -81,8 +81,5 @@ pub fn render(plan: &FlightPlan, warnings: &[Warning]) -> String {
 
 /// Warnings per code, in code order (for summaries).
 pub fn counts(warnings: &[Warning]) -> Vec<(&'static str, usize)> {
-    CODES
-        .iter()
-        .map(|(c, _)| (*c, warnings.iter().filter(|w| w.code == *c).count()))
-        .collect()
+    CODES.iter().map(|(c, _)| (*c, warnings.iter().filter(|w| w.code == *c).count())).collect()
 }

@@ -24,7 +24,8 @@ enum Forbid<'a> {
 }
 
 fn forbidden(plan: &FlightPlan, from: usize, to: usize) -> Option<Forbid<'_>> {
-    let matching = plan.forbidden_deroutes.iter().filter(|f| f.from.id.0 == from && f.to.id.0 == to);
+    let matching =
+        plan.forbidden_deroutes.iter().filter(|f| f.from.id.0 == from && f.to.id.0 == to);
     let mut when = None;
     for f in matching {
         if f.only_when.is_none() {
@@ -98,7 +99,9 @@ pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
     let by_code = index_of_block_names(plan);
     for (b, block) in plan.blocks.iter().enumerate() {
         let operator = block.strip_button.is_some() || block.key.is_some();
-        let named = by_code.iter().any(|x| *x == block.name.value || block.name.value.ends_with(&format!(".{x}")));
+        let named = by_code
+            .iter()
+            .any(|x| *x == block.name.value || block.name.value.ends_with(&format!(".{x}")));
         if !seen[b] && !block.implicit && !operator && !named {
             out.push(warn(
                 "FPL-W001",
@@ -109,11 +112,23 @@ pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
     }
 }
 
-fn forbid_warning(plan: &FlightPlan, what: &str, from: usize, to: usize, span: Span) -> Option<Warning> {
+fn forbid_warning(
+    plan: &FlightPlan,
+    what: &str,
+    from: usize,
+    to: usize,
+    span: Span,
+) -> Option<Warning> {
     let name = |i: usize| plan.blocks.get(i).map(|b| b.name.value.clone()).unwrap_or_default();
     let (code, how, f) = match forbidden(plan, from, to)? {
-        Forbid::Always(f) => ("FPL-W002", "is always forbidden: this step can never leave the block and the plan stays here", f),
-        Forbid::When(f) => ("FPL-W003", "is forbidden when `only_when` holds: this step can block", f),
+        Forbid::Always(f) => (
+            "FPL-W002",
+            "is always forbidden: this step can never leave the block and the plan stays here",
+            f,
+        ),
+        Forbid::When(f) => {
+            ("FPL-W003", "is forbidden when `only_when` holds: this step can block", f)
+        }
     };
     let mut w = warn(code, format!("{what} from '{}' to '{}' {how}", name(from), name(to)), span);
     w.notes.push(Note { message: "forbidden by this declaration".into(), span: f.span });
@@ -138,7 +153,13 @@ pub fn forbidden_steps(plan: &FlightPlan, out: &mut Vec<Warning>) {
             }
         }
         if b + 1 < n && reaches_end(&block.stages) {
-            out.extend(forbid_warning(plan, "the end of the block (next block)", b, b + 1, block.span));
+            out.extend(forbid_warning(
+                plan,
+                "the end of the block (next block)",
+                b,
+                b + 1,
+                block.span,
+            ));
         }
     }
     for e in &plan.exceptions {
@@ -154,7 +175,8 @@ pub fn forbidden_steps(plan: &FlightPlan, out: &mut Vec<Warning>) {
                 .map(|b| plan.blocks[b].name.value.as_str())
                 .collect();
             if !blocked.is_empty() {
-                let how = if always { "always forbidden" } else { "forbidden when `only_when` holds" };
+                let how =
+                    if always { "always forbidden" } else { "forbidden when `only_when` holds" };
                 out.push(warn(
                     code,
                     format!(
@@ -199,7 +221,10 @@ pub(crate) fn ends_list(s: &Stage) -> bool {
         StageKind::Deroute(_) | StageKind::Return(_) | StageKind::Home => true,
         StageKind::While(w) => match &w.cond {
             None => true,
-            Some(c) => matches!(&c.expr, Expr::Ident(i) if i == "TRUE" || i == "true") || matches!(&c.expr, Expr::Int(v) if *v != 0),
+            Some(c) => {
+                matches!(&c.expr, Expr::Ident(i) if i == "TRUE" || i == "true")
+                    || matches!(&c.expr, Expr::Int(v) if *v != 0)
+            }
         },
         _ => false,
     }
@@ -226,7 +251,10 @@ pub fn return_after_deroute(plan: &FlightPlan, out: &mut Vec<Warning>) {
         live_stages(&block.stages, &mut |s| {
             if let StageKind::Return(r) = &s.kind {
                 if !resets(&r.reset_stage) {
-                    let from: Vec<String> = into[t].iter().map(|(b, _)| format!("'{}'", plan.blocks[*b].name.value)).collect();
+                    let from: Vec<String> = into[t]
+                        .iter()
+                        .map(|(b, _)| format!("'{}'", plan.blocks[*b].name.value))
+                        .collect();
                     let mut w = warn(
                         "FPL-W004",
                         format!(
@@ -237,7 +265,10 @@ pub fn return_after_deroute(plan: &FlightPlan, out: &mut Vec<Warning>) {
                         s.span,
                     );
                     for (_, span) in into[t].iter().take(3) {
-                        w.notes.push(Note { message: "the deroute that comes here".into(), span: *span });
+                        w.notes.push(Note {
+                            message: "the deroute that comes here".into(),
+                            span: *span,
+                        });
                     }
                     out.push(w);
                 }
@@ -280,7 +311,14 @@ pub fn self_exceptions(plan: &FlightPlan, out: &mut Vec<Warning>) {
     for (b, block) in plan.blocks.iter().enumerate() {
         for e in &block.exceptions {
             if e.deroute.id.0 == b {
-                out.push(warn("FPL-W006", format!("exception of block '{}' targets its own block: it can never fire", block.name.value), e.span));
+                out.push(warn(
+                    "FPL-W006",
+                    format!(
+                        "exception of block '{}' targets its own block: it can never fire",
+                        block.name.value
+                    ),
+                    e.span,
+                ));
             }
         }
     }
@@ -347,7 +385,11 @@ pub fn unused_waypoints(plan: &FlightPlan, out: &mut Vec<Warning>) {
         if plan.sources.files.iter().any(|f| mentions_wp(&f.text, name)) {
             continue;
         }
-        out.push(warn("FPL-W007", format!("waypoint '{name}' is never used by a stage, a sector or C code (WP_{name})"), w.span));
+        out.push(warn(
+            "FPL-W007",
+            format!("waypoint '{name}' is never used by a stage, a sector or C code (WP_{name})"),
+            w.span,
+        ));
     }
 }
 
@@ -368,7 +410,8 @@ pub fn dead_stages(plan: &FlightPlan, out: &mut Vec<Warning>) {
                         format!("{n} stage(s) of block '{block}' can never run: they follow a <{}> that never goes on to the next stage", s.kind.tag()),
                         next.span,
                     );
-                    w.notes.push(Note { message: "this stage never hands over".into(), span: s.span });
+                    w.notes
+                        .push(Note { message: "this stage never hands over".into(), span: s.span });
                     out.push(w);
                 }
                 return;

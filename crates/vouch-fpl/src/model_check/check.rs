@@ -47,7 +47,13 @@ pub struct Outcome {
 /// A path: the initial state, then (edge index in the source's list, target) per call.
 type Path = Vec<(usize, usize)>;
 
-fn bfs(g: &Graph, start: usize, allowed: &dyn Fn(usize) -> bool, target: &dyn Fn(usize) -> bool, skip_start: bool) -> Option<(usize, Path)> {
+fn bfs(
+    g: &Graph,
+    start: usize,
+    allowed: &dyn Fn(usize) -> bool,
+    target: &dyn Fn(usize) -> bool,
+    skip_start: bool,
+) -> Option<(usize, Path)> {
     let n = g.states.len();
     let mut parent: Vec<Option<(usize, usize)>> = vec![None; n];
     let mut seen = vec![false; n];
@@ -162,7 +168,13 @@ fn steps_of(g: &Graph, from: usize, path: &Path, first_call: usize) -> Vec<Step>
     out
 }
 
-fn lasso(g: &Graph, prefix: &Path, s: usize, allowed: &dyn Fn(usize) -> bool, explanation: String) -> Counterexample {
+fn lasso(
+    g: &Graph,
+    prefix: &Path,
+    s: usize,
+    allowed: &dyn Fn(usize) -> bool,
+    explanation: String,
+) -> Counterexample {
     let mut steps = steps_of(g, 0, prefix, 1);
     let loop_from = steps.len();
     if let Some((_, cyc)) = bfs(g, s, allowed, &|t| t == s, true) {
@@ -172,7 +184,12 @@ fn lasso(g: &Graph, prefix: &Path, s: usize, allowed: &dyn Fn(usize) -> bool, ex
 }
 
 fn finite(g: &Graph, path: &Path, explanation: String) -> Counterexample {
-    Counterexample { initial: g.describe(0), steps: steps_of(g, 0, path, 1), loop_from: None, explanation }
+    Counterexample {
+        initial: g.describe(0),
+        steps: steps_of(g, 0, path, 1),
+        loop_from: None,
+        explanation,
+    }
 }
 
 fn outcome(g: &Graph, name: String, cx: Option<Counterexample>) -> Outcome {
@@ -185,16 +202,26 @@ pub fn check_property(g: &Graph, name: &str, p: &Property) -> Outcome {
     let all = |_: usize| true;
     let not_f = |s: usize| !f(s);
     let cx = match p.temporal {
-        Temporal::Always => bfs(g, 0, &all, &not_f, false)
-            .map(|(s, path)| finite(g, &path, format!("reaches {}, where the formula is false", g.describe(s)))),
+        Temporal::Always => bfs(g, 0, &all, &not_f, false).map(|(s, path)| {
+            finite(g, &path, format!("reaches {}, where the formula is false", g.describe(s)))
+        }),
         Temporal::Eventually => {
             if f(0) {
                 None
             } else {
                 let (comp, cyclic) = sccs(g, &not_f);
-                bfs(g, 0, &not_f, &|s| comp[s] != usize::MAX && cyclic[comp[s]], false).map(|(s, path)| {
-                    lasso(g, &path, s, &|t| !f(t) && comp[t] == comp[s], "a run that never satisfies the formula: this cycle avoids it forever".into())
-                })
+                bfs(g, 0, &not_f, &|s| comp[s] != usize::MAX && cyclic[comp[s]], false).map(
+                    |(s, path)| {
+                        lasso(
+                            g,
+                            &path,
+                            s,
+                            &|t| !f(t) && comp[t] == comp[s],
+                            "a run that never satisfies the formula: this cycle avoids it forever"
+                                .into(),
+                        )
+                    },
+                )
             }
         }
         Temporal::AlwaysEventually => {
@@ -206,7 +233,13 @@ pub fn check_property(g: &Graph, name: &str, p: &Property) -> Outcome {
         Temporal::EventuallyAlways => {
             let (comp, cyclic) = sccs(g, &all);
             bfs(g, 0, &all, &|s| !f(s) && cyclic[comp[s]], false).map(|(s, path)| {
-                lasso(g, &path, s, &|t| comp[t] == comp[s], "a cycle through a state violating the formula can repeat forever".into())
+                lasso(
+                    g,
+                    &path,
+                    s,
+                    &|t| comp[t] == comp[s],
+                    "a cycle through a state violating the formula can repeat forever".into(),
+                )
             })
         }
     };
@@ -227,8 +260,11 @@ pub fn check_safe_blocks(g: &Graph, safe: &[usize]) -> Outcome {
     }
     // States with dropped transitions might reach a safe block through them: unknown, so they
     // count as able to (a failure is then only reported when it is certain).
-    let mut q: VecDeque<usize> =
-        (0..n).filter(|&s| safe.contains(&g.states[s].block) || g.incomplete.get(s).copied().unwrap_or(true)).collect();
+    let mut q: VecDeque<usize> = (0..n)
+        .filter(|&s| {
+            safe.contains(&g.states[s].block) || g.incomplete.get(s).copied().unwrap_or(true)
+        })
+        .collect();
     for &s in &q {
         ok[s] = true;
     }
@@ -242,7 +278,11 @@ pub fn check_safe_blocks(g: &Graph, safe: &[usize]) -> Outcome {
     }
     let names: Vec<String> = safe.iter().filter_map(|&b| g.block_names.get(b).cloned()).collect();
     let cx = bfs(g, 0, &|_| true, &|s| !ok[s], false).map(|(s, path)| {
-        finite(g, &path, format!("from {} no run can reach a safe block ({})", g.describe(s), names.join(", ")))
+        finite(
+            g,
+            &path,
+            format!("from {} no run can reach a safe block ({})", g.describe(s), names.join(", ")),
+        )
     });
     outcome(g, format!("every state can reach a safe block ({})", names.join(", ")), cx)
 }
@@ -269,8 +309,13 @@ pub fn check_deadlock_free(g: &Graph) -> Outcome {
             && !g.edges[s].is_empty()
             && g.edges[s].iter().all(|e| !e.blocked.is_empty())
     };
-    let cx = bfs(g, 0, &|_| true, &stuck, false)
-        .map(|(s, path)| finite(g, &path, format!("in {} every possible call is refused its block change", g.describe(s))));
+    let cx = bfs(g, 0, &|_| true, &stuck, false).map(|(s, path)| {
+        finite(
+            g,
+            &path,
+            format!("in {} every possible call is refused its block change", g.describe(s)),
+        )
+    });
     outcome(g, "no reachable state where every successor is forbidden".into(), cx)
 }
 
@@ -291,8 +336,16 @@ pub fn render(o: &Outcome) -> String {
             }
             let ans: Vec<String> = st.answers.iter().map(|a| a.to_string()).collect();
             match &st.operator {
-                Some(b) => s.push_str(&format!("  call {:>3}  operator jumps to '{b}' -> {}", st.call, st.state)),
-                None => s.push_str(&format!("  call {:>3}  answers [{}] -> {}", st.call, ans.join(" "), st.state)),
+                Some(b) => s.push_str(&format!(
+                    "  call {:>3}  operator jumps to '{b}' -> {}",
+                    st.call, st.state
+                )),
+                None => s.push_str(&format!(
+                    "  call {:>3}  answers [{}] -> {}",
+                    st.call,
+                    ans.join(" "),
+                    st.state
+                )),
             }
             for (a, b) in &st.blocked {
                 s.push_str(&format!("  (refused: '{a}' -> '{b}')"));

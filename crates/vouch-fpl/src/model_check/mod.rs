@@ -111,7 +111,8 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
         let from = states[next].clone();
         interp.state = from.clone();
         graph.states.push(interp.observe());
-        let tree = enumerate_call(&mut interp, &from, 100_000).map_err(|e| format!("interpreter: {e:?}"))?;
+        let tree = enumerate_call(&mut interp, &from, 100_000)
+            .map_err(|e| format!("interpreter: {e:?}"))?;
         let mut incomplete = tree.cut;
         if tree.cut {
             graph.cut = Some("more than 100000 paths in one call".into());
@@ -199,7 +200,13 @@ impl Graph {
     pub fn describe(&self, s: usize) -> String {
         let o = self.states[s];
         let name = |b: usize| self.block_names.get(b).cloned().unwrap_or_else(|| b.to_string());
-        format!("block '{}' stage {} (last: '{}' stage {})", name(o.block), o.stage, name(o.last_block), o.last_stage)
+        format!(
+            "block '{}' stage {} (last: '{}' stage {})",
+            name(o.block),
+            o.stage,
+            name(o.last_block),
+            o.last_stage
+        )
     }
 
     pub fn block_index(&self, name: &str) -> Option<usize> {

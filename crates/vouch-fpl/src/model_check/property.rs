@@ -128,12 +128,19 @@ impl<'a> Parser<'a> {
                 let arg = rest[..end].trim().trim_matches(|c| c == '\'' || c == '"').to_string();
                 self.pos += end + 1;
                 return match kind {
-                    2 => arg.parse().map(StateFormula::Stage).map_err(|_| format!("stage({arg}): not a number")),
+                    2 => arg
+                        .parse()
+                        .map(StateFormula::Stage)
+                        .map_err(|_| format!("stage({arg}): not a number")),
                     _ => {
                         let b = self.blocks.iter().position(|n| *n == arg).ok_or_else(|| {
                             format!("unknown block '{arg}' (blocks: {})", self.blocks.join(", "))
                         })?;
-                        Ok(if kind == 0 { StateFormula::Block(b) } else { StateFormula::LastBlock(b) })
+                        Ok(if kind == 0 {
+                            StateFormula::Block(b)
+                        } else {
+                            StateFormula::LastBlock(b)
+                        })
                     }
                 };
             }
@@ -163,7 +170,10 @@ pub fn parse(text: &str, blocks: &[String]) -> Result<Property, String> {
         if p.pos != text.len() {
             return p.err("unexpected text");
         }
-        return Ok(Property { temporal: Temporal::Always, formula: StateFormula::Not(Box::new(f)) });
+        return Ok(Property {
+            temporal: Temporal::Always,
+            formula: StateFormula::Not(Box::new(f)),
+        });
     } else {
         return p.err("a property starts with always, eventually or never");
     };
@@ -186,8 +196,12 @@ mod tests {
     #[test]
     fn parses_the_language() {
         let p = parse("always eventually block(Land)", &blocks()).expect("parses");
-        assert_eq!(p, Property { temporal: Temporal::AlwaysEventually, formula: StateFormula::Block(1) });
-        let p = parse("never (block('Take off') && !stage(2)) or last_block(Land)", &blocks()).expect("parses");
+        assert_eq!(
+            p,
+            Property { temporal: Temporal::AlwaysEventually, formula: StateFormula::Block(1) }
+        );
+        let p = parse("never (block('Take off') && !stage(2)) or last_block(Land)", &blocks())
+            .expect("parses");
         assert_eq!(p.temporal, Temporal::Always);
         let o = Observation { block: 0, stage: 1, last_block: 0, last_stage: 0 };
         // in Take off at stage 1 (not 2), last block not Land: the inner formula holds, never fails

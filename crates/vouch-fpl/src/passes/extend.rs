@@ -58,19 +58,50 @@ pub struct ExtStage<S, B> {
 #[derive(Debug, Clone, Serialize)]
 pub enum ExtKind<B> {
     /// `while` test; `label`/`end_label` are the C labels around the loop.
-    WhileTest { cond: Cond, label: String, end_label: String },
+    WhileTest {
+        cond: Cond,
+        label: String,
+        end_label: String,
+    },
     /// Loop-back stage after a `while` body (`END_WHILE`): jumps to the test.
-    EndWhile { label: String, end_label: String },
+    EndWhile {
+        label: String,
+        end_label: String,
+    },
     /// `for` init stage (declares and sets the counters, falls through to the test).
-    ForInit { var: String, from: String, to: String },
-    ForTest { var: String, label: String, end_label: String },
-    EndFor { label: String, end_label: String },
-    Set { code: Code },
-    Call { fun: String, loop_: bool, brk: bool, until: Option<Cond> },
-    Deroute { target: B },
-    Return { reset: String },
+    ForInit {
+        var: String,
+        from: String,
+        to: String,
+    },
+    ForTest {
+        var: String,
+        label: String,
+        end_label: String,
+    },
+    EndFor {
+        label: String,
+        end_label: String,
+    },
+    Set {
+        code: Code,
+    },
+    Call {
+        fun: String,
+        loop_: bool,
+        brk: bool,
+        until: Option<Cond>,
+    },
+    Deroute {
+        target: B,
+    },
+    Return {
+        reset: String,
+    },
     /// First step of a two-step navigation stage (`NAV_INIT`).
-    NavInit { lines: Vec<Code> },
+    NavInit {
+        lines: Vec<Code>,
+    },
     /// A navigation stage (its `init` is always `None` here).
     Nav(Box<NavStage>),
 }
@@ -131,22 +162,47 @@ fn push(out: &mut Vec<ExtStage<usize, usize>>, depth: usize, kind: ExtKind<usize
     out.push(ExtStage { no, depth, kind });
 }
 
-fn flatten(stages: &[FpStage], depth: usize, out: &mut Vec<ExtStage<usize, usize>>, labels: &mut Labels) {
+fn flatten(
+    stages: &[FpStage],
+    depth: usize,
+    out: &mut Vec<ExtStage<usize, usize>>,
+    labels: &mut Labels,
+) {
     for s in stages {
         match s {
             FpStage::While { cond, body, .. } => {
                 // Both labels are allocated before the body, as upstream does.
                 let label = labels.next("while");
                 let end_label = labels.next("endwhile");
-                push(out, depth, ExtKind::WhileTest { cond: cond.clone(), label: label.clone(), end_label: end_label.clone() });
+                push(
+                    out,
+                    depth,
+                    ExtKind::WhileTest {
+                        cond: cond.clone(),
+                        label: label.clone(),
+                        end_label: end_label.clone(),
+                    },
+                );
                 flatten(body, depth + 1, out, labels);
                 push(out, depth + 1, ExtKind::EndWhile { label, end_label });
             }
             FpStage::For { var, from, to, body, .. } => {
                 let label = labels.next("for");
                 let end_label = labels.next("endfor");
-                push(out, depth, ExtKind::ForInit { var: var.clone(), from: from.clone(), to: to.clone() });
-                push(out, depth, ExtKind::ForTest { var: var.clone(), label: label.clone(), end_label: end_label.clone() });
+                push(
+                    out,
+                    depth,
+                    ExtKind::ForInit { var: var.clone(), from: from.clone(), to: to.clone() },
+                );
+                push(
+                    out,
+                    depth,
+                    ExtKind::ForTest {
+                        var: var.clone(),
+                        label: label.clone(),
+                        end_label: end_label.clone(),
+                    },
+                );
                 flatten(body, depth + 1, out, labels);
                 push(out, depth + 1, ExtKind::EndFor { label, end_label });
             }
@@ -156,8 +212,12 @@ fn flatten(stages: &[FpStage], depth: usize, out: &mut Vec<ExtStage<usize, usize
                 depth,
                 ExtKind::Call { fun: fun.clone(), loop_: *loop_, brk: *brk, until: until.clone() },
             ),
-            FpStage::Deroute { target, .. } => push(out, depth, ExtKind::Deroute { target: *target }),
-            FpStage::Return { reset, .. } => push(out, depth, ExtKind::Return { reset: reset.clone() }),
+            FpStage::Deroute { target, .. } => {
+                push(out, depth, ExtKind::Deroute { target: *target })
+            }
+            FpStage::Return { reset, .. } => {
+                push(out, depth, ExtKind::Return { reset: reset.clone() })
+            }
             FpStage::Nav(n) => {
                 let mut main = (**n).clone();
                 if let Some(lines) = main.init.take() {
@@ -175,7 +235,13 @@ mod tests {
     use crate::ast::Span;
 
     fn call(f: &str) -> FpStage {
-        FpStage::Call { fun: f.into(), loop_: false, brk: false, until: None, span: Span::default() }
+        FpStage::Call {
+            fun: f.into(),
+            loop_: false,
+            brk: false,
+            until: None,
+            span: Span::default(),
+        }
     }
 
     fn fp(stages: Vec<FpStage>) -> Fp {
@@ -200,7 +266,13 @@ mod tests {
     fn numbering_follows_upstream_slot_counts() {
         // call(0); while(1) { call(2) } loop-back(3); for init(4) test(5) { call(6) } loop-back(7); end 8
         let w = FpStage::While { cond: "c".into(), body: vec![call("x")], span: Span::default() };
-        let f = FpStage::For { var: "_var_i".into(), from: "1".into(), to: "3".into(), body: vec![call("y")], span: Span::default() };
+        let f = FpStage::For {
+            var: "_var_i".into(),
+            from: "1".into(),
+            to: "3".into(),
+            body: vec![call("y")],
+            span: Span::default(),
+        };
         let e = extend(&fp(vec![call("a"), w, f]));
         let b = &e.blocks[0];
         let kinds: Vec<(usize, usize, &str)> = b
@@ -235,8 +307,14 @@ mod tests {
         assert_eq!(b.default_stage, 8);
         // Labels: one counter, both labels of a loop allocated before its body.
         match (&b.stages[1].kind, &b.stages[5].kind) {
-            (ExtKind::WhileTest { label, end_label, .. }, ExtKind::ForTest { label: l2, end_label: e2, .. }) => {
-                assert_eq!((label.as_str(), end_label.as_str(), l2.as_str(), e2.as_str()), ("while_1", "endwhile_2", "for_3", "endfor_4"));
+            (
+                ExtKind::WhileTest { label, end_label, .. },
+                ExtKind::ForTest { label: l2, end_label: e2, .. },
+            ) => {
+                assert_eq!(
+                    (label.as_str(), end_label.as_str(), l2.as_str(), e2.as_str()),
+                    ("while_1", "endwhile_2", "for_3", "endfor_4")
+                );
             }
             _ => panic!("unexpected kinds"),
         }

@@ -75,16 +75,41 @@ pub struct FpBlock {
 /// translation to `while` would not reproduce.
 #[derive(Debug, Clone, Serialize)]
 pub enum FpStage {
-    While { cond: Cond, body: Vec<FpStage>, span: Span },
-    For { var: String, from: String, to: String, body: Vec<FpStage>, span: Span },
+    While {
+        cond: Cond,
+        body: Vec<FpStage>,
+        span: Span,
+    },
+    For {
+        var: String,
+        from: String,
+        to: String,
+        body: Vec<FpStage>,
+        span: Span,
+    },
     /// `set`: the assignment `var = value`.
-    Set { code: Code, span: Span },
+    Set {
+        code: Code,
+        span: Span,
+    },
     /// `call` / `call_once`. `loop_` true: call until it returns false (the call is a
     /// condition); false: call once (the call is code).
-    Call { fun: String, loop_: bool, brk: bool, until: Option<Cond>, span: Span },
-    Deroute { target: BlockIx, span: Span },
+    Call {
+        fun: String,
+        loop_: bool,
+        brk: bool,
+        until: Option<Cond>,
+        span: Span,
+    },
+    Deroute {
+        target: BlockIx,
+        span: Span,
+    },
     /// `reset` is the raw `reset_stage` text; the runtime restarts at stage 0 iff it equals 1.
-    Return { reset: String, span: Span },
+    Return {
+        reset: String,
+        span: Span,
+    },
     Nav(Box<NavStage>),
 }
 

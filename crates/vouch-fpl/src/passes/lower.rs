@@ -4,7 +4,8 @@
 //! (missing altitude for `alt` vmode, glide without route, ...).
 
 use crate::ast::{
-    self, BlockRef, ExprAttr, FlightPlan, HMode, NavCommon, Pitch, Span, StageKind, Text, VMode, Vertical, WpRef,
+    self, BlockRef, ExprAttr, FlightPlan, HMode, NavCommon, Pitch, Span, StageKind, Text, VMode,
+    Vertical, WpRef,
 };
 use crate::expr::print_upstream;
 
@@ -33,7 +34,11 @@ pub fn lower(plan: &FlightPlan) -> Result<Fp, CompileError> {
     let forbidden = plan
         .forbidden_deroutes
         .iter()
-        .map(|f| FpForbidden { from: f.from.id.0, to: f.to.id.0, only_when: f.only_when.as_ref().map(p) })
+        .map(|f| FpForbidden {
+            from: f.from.id.0,
+            to: f.to.id.0,
+            only_when: f.only_when.as_ref().map(p),
+        })
         .collect();
     let init = plan
         .variables
@@ -43,7 +48,12 @@ pub fn lower(plan: &FlightPlan) -> Result<Fp, CompileError> {
             ast::VariableDecl::Var(_) => None,
         })
         .collect();
-    Ok(Fp { blocks, exceptions: plan.exceptions.iter().map(lower_exception).collect(), forbidden, init })
+    Ok(Fp {
+        blocks,
+        exceptions: plan.exceptions.iter().map(lower_exception).collect(),
+        forbidden,
+        init,
+    })
 }
 
 /// `AbiBindMsg<name>(<id>, &FP_<name>_ev, <callback or handler>)` of `auto_nav_init`.
@@ -75,7 +85,12 @@ fn blk(b: &BlockRef) -> usize {
 }
 
 fn lower_exception(e: &ast::Exception) -> FpException {
-    FpException { cond: p(&e.cond), target: blk(&e.deroute), exec: e.exec.as_ref().map(raw), span: e.span }
+    FpException {
+        cond: p(&e.cond),
+        target: blk(&e.deroute),
+        exec: e.exec.as_ref().map(raw),
+        span: e.span,
+    }
 }
 
 fn lower_body(body: &[ast::Stage]) -> Result<Vec<FpStage>, CompileError> {
@@ -97,7 +112,9 @@ fn lower_stage(s: &ast::Stage) -> Result<FpStage, CompileError> {
             body: lower_body(&f.body)?,
             span,
         },
-        StageKind::Set(x) => FpStage::Set { code: Code::stmt(format!("{} = {}", x.var.value, p(&x.value))), span },
+        StageKind::Set(x) => {
+            FpStage::Set { code: Code::stmt(format!("{} = {}", x.var.value, p(&x.value))), span }
+        }
         StageKind::Call(c) => FpStage::Call {
             fun: c.fun.value.clone(),
             loop_: c.loop_.as_ref().map(|l| l.value).unwrap_or(true),
@@ -114,7 +131,11 @@ fn lower_stage(s: &ast::Stage) -> Result<FpStage, CompileError> {
         },
         StageKind::Deroute(d) => FpStage::Deroute { target: blk(&d.block), span },
         StageKind::Return(r) => FpStage::Return {
-            reset: r.reset_stage.as_ref().map(|t| t.value.clone()).unwrap_or_else(|| "0".to_string()),
+            reset: r
+                .reset_stage
+                .as_ref()
+                .map(|t| t.value.clone())
+                .unwrap_or_else(|| "0".to_string()),
             span,
         },
         kind => FpStage::Nav(Box::new(lower_nav(kind, span)?)),
@@ -155,12 +176,19 @@ fn vmode_lines(
     match &v.pitch {
         Some(Pitch::Auto(_)) => {
             if vmode == VMode::Throttle && !only_pitch {
-                return Err(CompileError::new("pitch=\"auto\" is not compatible with vmode=\"throttle\"", span));
+                return Err(CompileError::new(
+                    "pitch=\"auto\" is not compatible with vmode=\"throttle\"",
+                    span,
+                ));
             }
-            let th = v.throttle.as_ref().ok_or_else(|| CompileError::new("pitch=\"auto\" needs a throttle attribute", span))?;
+            let th = v.throttle.as_ref().ok_or_else(|| {
+                CompileError::new("pitch=\"auto\" needs a throttle attribute", span)
+            })?;
             out.push(Code::stmt(format!("{t}VerticalAutoPitchMode(9600*({}))", p(th))));
         }
-        Some(Pitch::Expr(e)) => out.push(Code::stmt(format!("{t}VerticalAutoThrottleMode(RadOfDeg({}))", p(e)))),
+        Some(Pitch::Expr(e)) => {
+            out.push(Code::stmt(format!("{t}VerticalAutoThrottleMode(RadOfDeg({}))", p(e))))
+        }
         None => out.push(Code::stmt(format!("{t}VerticalAutoThrottleMode(RadOfDeg(0.000000))"))),
     }
     if only_pitch {
@@ -183,18 +211,20 @@ fn vmode_lines(
             out.push(Code::stmt(format!("{t}VerticalAltitudeMode({a}, 0.)")));
         }
         VMode::Climb => {
-            let c = v.climb.as_ref().ok_or_else(|| CompileError::new("vmode \"climb\" needs a climb attribute", span))?;
+            let c = v.climb.as_ref().ok_or_else(|| {
+                CompileError::new("vmode \"climb\" needs a climb attribute", span)
+            })?;
             out.push(Code::stmt(format!("{t}VerticalClimbMode({})", p(c))));
         }
         VMode::Throttle => {
-            let th = v
-                .throttle
-                .as_ref()
-                .ok_or_else(|| CompileError::new("vmode \"throttle\" needs a throttle attribute", span))?;
+            let th = v.throttle.as_ref().ok_or_else(|| {
+                CompileError::new("vmode \"throttle\" needs a throttle attribute", span)
+            })?;
             out.push(Code::stmt(format!("{t}VerticalThrottleMode(9600*({}))", p(th))));
         }
         VMode::Glide => {
-            let w = wp.ok_or_else(|| CompileError::new("vmode \"glide\" needs a waypoint", span))?;
+            let w =
+                wp.ok_or_else(|| CompileError::new("vmode \"glide\" needs a waypoint", span))?;
             out.push(Code::stmt(format!("{t}Glide({}, {w})", from.unwrap_or("last_wp"))));
         }
         VMode::Xyz => {}
@@ -243,7 +273,10 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
                 (None, Some(e)) => negate(&e.value),
                 (None, None) => "CARROT".to_string(),
                 (Some(_), Some(_)) => {
-                    return Err(CompileError::new("approaching_time and exceeding_time are not compatible", span))
+                    return Err(CompileError::new(
+                        "approaching_time and exceeding_time are not compatible",
+                        span,
+                    ))
                 }
             };
             let from = g.from.as_ref().map(wp);
@@ -257,7 +290,13 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
                 return Err(CompileError::new("vmode \"glide\" requires hmode \"route\"", span));
             }
             n.lines.push(max_speed(t, &g.common));
-            n.lines.push(hmode_line(t, g.hmode.as_ref().map(|h| h.value), from.as_deref().or(Some("last_wp")), &w, &pf.np));
+            n.lines.push(hmode_line(
+                t,
+                g.hmode.as_ref().map(|h| h.value),
+                from.as_deref().or(Some("last_wp")),
+                &w,
+                &pf.np,
+            ));
             n.lines.extend(vmode_lines(t, &g.vertical, Some(&w), from.as_deref(), false, span)?);
             n.approach = Some((cond, g.wp.as_ref().map(|w| w.id.upstream_index()).unwrap_or(0)));
             n
@@ -268,7 +307,13 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             let w = wp(&s.wp);
             n.lines.push(max_speed(&pf.t, &s.common));
             // Quirk 18: a route stay has no `from`; upstream prints an empty first argument.
-            n.lines.push(hmode_line(&pf.t, s.hmode.as_ref().map(|h| h.value), Some(""), &w, &pf.np));
+            n.lines.push(hmode_line(
+                &pf.t,
+                s.hmode.as_ref().map(|h| h.value),
+                Some(""),
+                &w,
+                &pf.np,
+            ));
             n.lines.extend(vmode_lines(&pf.t, &s.vertical, Some(&w), None, false, span)?);
             n
         }
@@ -278,21 +323,36 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             let w = wp(&c.wp);
             n.lines.extend(vmode_lines(&pf.t, &c.vertical, Some(&w), None, false, span)?);
             n.lines.push(max_speed(&pf.t, &c.common));
-            n.lines.push(Code::stmt(format!("{}CircleWaypoint({w}, {}{})", pf.t, p(&c.radius), pf.np)));
+            n.lines.push(Code::stmt(format!(
+                "{}CircleWaypoint({w}, {}{})",
+                pf.t,
+                p(&c.radius),
+                pf.np
+            )));
             n
         }
         StageKind::Heading(h) => {
             let pf = prefix(&h.common);
             let mut n = nav("heading", &h.common, span);
             n.lines.push(max_speed(&pf.t, &h.common));
-            n.lines.push(Code::stmt(format!("{}Heading(RadOfDeg({}){})", pf.t, p(&h.course), pf.np)));
+            n.lines.push(Code::stmt(format!(
+                "{}Heading(RadOfDeg({}){})",
+                pf.t,
+                p(&h.course),
+                pf.np
+            )));
             n.lines.extend(vmode_lines(&pf.t, &h.vertical, None, None, false, span)?);
             n
         }
         StageKind::Attitude(a) => {
             let pf = prefix(&a.common);
             let mut n = nav("attitude", &a.common, span);
-            n.lines.push(Code::stmt(format!("{}Attitude(RadOfDeg({}){})", pf.t, p(&a.roll), pf.np)));
+            n.lines.push(Code::stmt(format!(
+                "{}Attitude(RadOfDeg({}){})",
+                pf.t,
+                p(&a.roll),
+                pf.np
+            )));
             n.lines.extend(vmode_lines(&pf.t, &a.vertical, None, None, false, span)?);
             n
         }
@@ -301,7 +361,10 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             let mut n = nav("guided", &g.common, span);
             n.lines.push(max_speed(&pf.t, &g.common));
             let flags = g.flags.as_ref().map(|f| f.value.as_str()).unwrap_or("0");
-            n.lines.push(Code::stmt(format!("{}Guided({flags}, {}{})", pf.t, g.commands.value, pf.np)));
+            n.lines.push(Code::stmt(format!(
+                "{}Guided({flags}, {}{})",
+                pf.t, g.commands.value, pf.np
+            )));
             n
         }
         StageKind::Follow(f) => {
@@ -341,7 +404,11 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             n.init = Some(vec![Code::stmt("nav_eight_init()")]);
             n.lines.push(max_speed("Nav", &e.common));
             n.lines.extend(vmode_lines(&pf.t, &e.vertical, Some(&c), None, false, span)?);
-            n.lines.push(Code::stmt(format!("Eight({c}, {}, {})", wp(&e.turn_around), p(&e.radius))));
+            n.lines.push(Code::stmt(format!(
+                "Eight({c}, {}, {})",
+                wp(&e.turn_around),
+                p(&e.radius)
+            )));
             n
         }
         StageKind::Oval(o) => {
@@ -364,7 +431,12 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             };
             n.init = Some(vec![
                 max_speed(&pf.t, &s.common),
-                Code::stmt(format!("{}SurveyRectangleInit({w1}, {w2}, {}, {o}{})", pf.t, p(&s.grid), pf.np)),
+                Code::stmt(format!(
+                    "{}SurveyRectangleInit({w1}, {w2}, {}, {o}{})",
+                    pf.t,
+                    p(&s.grid),
+                    pf.np
+                )),
             ]);
             n.lines.push(Code::stmt(format!("{}SurveyRectangle({w1}, {w2})", pf.t)));
             n
@@ -385,7 +457,8 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
 /// `a+b` gives `-a+b` (quirk 7); vouch negates the whole value: `-(a+b)`, and keeps the upstream
 /// text `-t` when `t` is a single number or identifier (where both agree).
 fn negate(t: &str) -> String {
-    let simple = !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
+    let simple =
+        !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
     if simple {
         format!("-{t}")
     } else {
@@ -396,7 +469,9 @@ fn negate(t: &str) -> String {
 /// The "hmode line". `from` is the route start (`last_wp` when the stage has none).
 fn hmode_line(t: &str, h: Option<HMode>, from: Option<&str>, w: &str, np: &str) -> Code {
     match h {
-        Some(HMode::Route) => Code::stmt(format!("{t}Segment({}, {w}{np})", from.unwrap_or("last_wp"))),
+        Some(HMode::Route) => {
+            Code::stmt(format!("{t}Segment({}, {w}{np})", from.unwrap_or("last_wp")))
+        }
         _ => Code::stmt(format!("{t}GotoWaypoint({w}{np})")),
     }
 }

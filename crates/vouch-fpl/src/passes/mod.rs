@@ -40,7 +40,11 @@ pub enum CompileErrorKind {
 
 impl CompileError {
     pub fn new(message: impl Into<String>, span: Span) -> Self {
-        CompileError { message: message.into(), span: Some(span), kind: CompileErrorKind::Generation }
+        CompileError {
+            message: message.into(),
+            span: Some(span),
+            kind: CompileErrorKind::Generation,
+        }
     }
     pub fn size(message: impl Into<String>, span: Option<Span>) -> Self {
         CompileError { message: message.into(), span, kind: CompileErrorKind::Size }

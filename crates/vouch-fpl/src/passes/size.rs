@@ -62,9 +62,14 @@ impl Fps {
 
 fn block_no(i: usize, n_blocks: usize) -> Result<BlockNo, CompileError> {
     if i >= n_blocks {
-        return Err(CompileError::size(format!("reference to block {i}, but the plan has {n_blocks} blocks"), None));
+        return Err(CompileError::size(
+            format!("reference to block {i}, but the plan has {n_blocks} blocks"),
+            None,
+        ));
     }
-    u8::try_from(i).map(BlockNo).map_err(|_| CompileError::size(format!("block number {i} does not fit in uint8_t"), None))
+    u8::try_from(i)
+        .map(BlockNo)
+        .map_err(|_| CompileError::size(format!("block number {i} does not fit in uint8_t"), None))
 }
 
 pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
@@ -82,15 +87,21 @@ pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
             span,
         ));
     }
-    let exceptions = |es: Vec<ExtException<usize>>| -> Result<Vec<ExtException<BlockNo>>, CompileError> {
-        es.into_iter()
-            .map(|e| Ok(ExtException { cond: e.cond, target: block_no(e.target, n)?, exec: e.exec }))
-            .collect()
-    };
+    let exceptions =
+        |es: Vec<ExtException<usize>>| -> Result<Vec<ExtException<BlockNo>>, CompileError> {
+            es.into_iter()
+                .map(|e| {
+                    Ok(ExtException { cond: e.cond, target: block_no(e.target, n)?, exec: e.exec })
+                })
+                .collect()
+        };
     let mut blocks = Vec::with_capacity(n);
     for (i, b) in fpe.blocks.into_iter().enumerate() {
         if b.no != i {
-            return Err(CompileError::size(format!("block '{}' is numbered {} at position {i}", b.name, b.no), Some(b.span)));
+            return Err(CompileError::size(
+                format!("block '{}' is numbered {} at position {i}", b.name, b.no),
+                Some(b.span),
+            ));
         }
         let count = b.stages.len() + 1;
         if count > MAX_STAGES {
@@ -104,7 +115,10 @@ pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
             ));
         }
         if b.default_stage != b.stages.len() {
-            return Err(CompileError::size(format!("block '{}': default stage is not last", b.name), Some(b.span)));
+            return Err(CompileError::size(
+                format!("block '{}': default stage is not last", b.name),
+                Some(b.span),
+            ));
         }
         let mut stages = Vec::with_capacity(b.stages.len());
         for (k, s) in b.stages.into_iter().enumerate() {
@@ -116,23 +130,32 @@ pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
             }
             let kind = match s.kind {
                 ExtKind::Deroute { target } => ExtKind::Deroute { target: block_no(target, n)? },
-                ExtKind::WhileTest { cond, label, end_label } => ExtKind::WhileTest { cond, label, end_label },
+                ExtKind::WhileTest { cond, label, end_label } => {
+                    ExtKind::WhileTest { cond, label, end_label }
+                }
                 ExtKind::EndWhile { label, end_label } => ExtKind::EndWhile { label, end_label },
                 ExtKind::ForInit { var, from, to } => ExtKind::ForInit { var, from, to },
-                ExtKind::ForTest { var, label, end_label } => ExtKind::ForTest { var, label, end_label },
+                ExtKind::ForTest { var, label, end_label } => {
+                    ExtKind::ForTest { var, label, end_label }
+                }
                 ExtKind::EndFor { label, end_label } => ExtKind::EndFor { label, end_label },
                 ExtKind::Set { code } => ExtKind::Set { code },
-                ExtKind::Call { fun, loop_, brk, until } => ExtKind::Call { fun, loop_, brk, until },
+                ExtKind::Call { fun, loop_, brk, until } => {
+                    ExtKind::Call { fun, loop_, brk, until }
+                }
                 ExtKind::Return { reset } => ExtKind::Return { reset },
                 ExtKind::NavInit { lines } => ExtKind::NavInit { lines },
                 ExtKind::Nav(nav) => ExtKind::Nav(nav),
             };
             // k < count <= 256, so the conversion cannot fail; keep it checked anyway.
-            let no = u8::try_from(k).map(StageNo).map_err(|_| CompileError::size("stage number overflow", Some(b.span)))?;
+            let no = u8::try_from(k)
+                .map(StageNo)
+                .map_err(|_| CompileError::size("stage number overflow", Some(b.span)))?;
             stages.push(ExtStage { no, depth: s.depth, kind });
         }
-        let default_stage =
-            u8::try_from(b.default_stage).map(StageNo).map_err(|_| CompileError::size("stage number overflow", Some(b.span)))?;
+        let default_stage = u8::try_from(b.default_stage)
+            .map(StageNo)
+            .map_err(|_| CompileError::size("stage number overflow", Some(b.span)))?;
         blocks.push(ExtBlock {
             no: block_no(i, n)?,
             name: b.name,
@@ -149,7 +172,13 @@ pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
     let forbidden = fpe
         .forbidden
         .into_iter()
-        .map(|f| Ok(ExtForbidden { from: block_no(f.from, n)?, to: block_no(f.to, n)?, only_when: f.only_when }))
+        .map(|f| {
+            Ok(ExtForbidden {
+                from: block_no(f.from, n)?,
+                to: block_no(f.to, n)?,
+                only_when: f.only_when,
+            })
+        })
         .collect::<Result<Vec<_>, CompileError>>()?;
     Ok(Fps(Ext { blocks, exceptions: exceptions(fpe.exceptions)?, forbidden }))
 }

@@ -135,7 +135,13 @@ impl<'p> Interp<'p> {
             ends.push(next);
         }
         let full0 = Self::full_of(fp, 0);
-        let state = State { block: 0, remaining: full0.clone(), last_block: 0, last_remaining: full0, counters: HashMap::new() };
+        let state = State {
+            block: 0,
+            remaining: full0.clone(),
+            last_block: 0,
+            last_remaining: full0,
+            counters: HashMap::new(),
+        };
         Interp { fp, first, ends, state, calls: 0, forbidden_off: false }
     }
 
@@ -157,7 +163,9 @@ impl<'p> Interp<'p> {
         let key = |s: &&FpStage| *s as *const FpStage;
         match item {
             Item::Stage(s) => self.first.get(&key(s)).copied().unwrap_or(0),
-            Item::ForTest(s) | Item::NavMain(s) => self.first.get(&key(s)).copied().unwrap_or(0) + 1,
+            Item::ForTest(s) | Item::NavMain(s) => {
+                self.first.get(&key(s)).copied().unwrap_or(0) + 1
+            }
             Item::LoopBack(s) => self.first.get(&key(s)).copied().unwrap_or(0) + slots(s) - 1,
         }
     }
@@ -174,7 +182,8 @@ impl<'p> Interp<'p> {
     /// last position, and the `for` counters, sorted.
     pub fn key(&self) -> StateKey {
         let s = &self.state;
-        let mut counters: Vec<((BlockIx, usize), (i8, i8))> = s.counters.iter().map(|(k, v)| (*k, *v)).collect();
+        let mut counters: Vec<((BlockIx, usize), (i8, i8))> =
+            s.counters.iter().map(|(k, v)| (*k, *v)).collect();
         counters.sort_unstable();
         StateKey {
             block: s.block,
@@ -207,7 +216,13 @@ impl<'p> Interp<'p> {
     }
 
     /// VFPG forbidden deroutes: the first matching entry whose `only_when` holds forbids.
-    fn forbidden(&self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, from: BlockIx, to: BlockIx) -> bool {
+    fn forbidden(
+        &self,
+        ev: &mut Vec<Event>,
+        oracle: &mut dyn Oracle,
+        from: BlockIx,
+        to: BlockIx,
+    ) -> bool {
         if self.forbidden_off {
             return false;
         }
@@ -258,15 +273,23 @@ impl<'p> Interp<'p> {
             t => oracle::literal_value(t) == Some(1),
         };
         self.state.block = self.state.last_block;
-        self.state.remaining =
-            if reset { Self::full_of(self.fp, self.state.last_block) } else { self.state.last_remaining.clone() };
+        self.state.remaining = if reset {
+            Self::full_of(self.fp, self.state.last_block)
+        } else {
+            self.state.last_remaining.clone()
+        };
         if let Some(c) = self.fp.blocks.get(self.state.block).and_then(|b| b.on_enter.as_ref()) {
             Self::code(ev, c);
         }
     }
 
     /// Exceptions (IR-1/IR-2): `true` when one was raised (the call ends).
-    fn exceptions(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, list: &'p [crate::passes::fp::FpException]) -> bool {
+    fn exceptions(
+        &mut self,
+        ev: &mut Vec<Event>,
+        oracle: &mut dyn Oracle,
+        list: &'p [crate::passes::fp::FpException],
+    ) -> bool {
         for e in list {
             if self.state.block != e.target && Self::cond(ev, oracle, &e.cond) {
                 if let Some(x) = &e.exec {
@@ -289,7 +312,13 @@ impl<'p> Interp<'p> {
             let b = self.state.block;
             // Every lowered plan has at least the HOME block; a hand-built empty one does nothing.
             let Some(block) = fp.blocks.get(b) else {
-                return Ok(StepRecord { call: self.calls, operator_goto: None, before, events: ev, after: self.observe() });
+                return Ok(StepRecord {
+                    call: self.calls,
+                    operator_goto: None,
+                    before,
+                    events: ev,
+                    after: self.observe(),
+                });
             };
             if let Some(c) = &block.pre_call {
                 Self::code(&mut ev, c);
@@ -301,7 +330,13 @@ impl<'p> Interp<'p> {
                 }
             }
         }
-        Ok(StepRecord { call: self.calls, operator_goto: None, before, events: ev, after: self.observe() })
+        Ok(StepRecord {
+            call: self.calls,
+            operator_goto: None,
+            before,
+            events: ev,
+            after: self.observe(),
+        })
     }
 
     /// An operator block change between two calls (the ground station's "go to block", which
@@ -318,11 +353,20 @@ impl<'p> Interp<'p> {
 
     /// Runs `n` calls; `jumps` lists (call number, block) operator block changes applied just
     /// before that call.
-    pub fn run_with_jumps(&mut self, oracle: &mut dyn Oracle, n: usize, jumps: &[(usize, usize)]) -> Result<Run, StepError> {
-        let mut run = Run { init: if self.calls == 0 { self.init_events() } else { Vec::new() }, steps: Vec::new() };
+    pub fn run_with_jumps(
+        &mut self,
+        oracle: &mut dyn Oracle,
+        n: usize,
+        jumps: &[(usize, usize)],
+    ) -> Result<Run, StepError> {
+        let mut run = Run {
+            init: if self.calls == 0 { self.init_events() } else { Vec::new() },
+            steps: Vec::new(),
+        };
         for _ in 0..n {
             let call = self.calls + 1;
-            let op = jumps.iter().find(|(c, _)| *c == call).map(|&(_, b)| (b, self.operator_goto(b)));
+            let op =
+                jumps.iter().find(|(c, _)| *c == call).map(|&(_, b)| (b, self.operator_goto(b)));
             let mut rec = self.step(oracle)?;
             rec.operator_goto = op;
             run.steps.push(rec);
@@ -332,14 +376,22 @@ impl<'p> Interp<'p> {
 
     /// Runs `n` calls from the current state.
     pub fn run(&mut self, oracle: &mut dyn Oracle, n: usize) -> Result<Run, StepError> {
-        let mut run = Run { init: if self.calls == 0 { self.init_events() } else { Vec::new() }, steps: Vec::new() };
+        let mut run = Run {
+            init: if self.calls == 0 { self.init_events() } else { Vec::new() },
+            steps: Vec::new(),
+        };
         for _ in 0..n {
             run.steps.push(self.step(oracle)?);
         }
         Ok(run)
     }
 
-    fn run_stages(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, b: BlockIx) -> Result<(), StepError> {
+    fn run_stages(
+        &mut self,
+        ev: &mut Vec<Event>,
+        oracle: &mut dyn Oracle,
+        b: BlockIx,
+    ) -> Result<(), StepError> {
         let bound = 2 * self.ends.get(b).copied().unwrap_or(0) + 2;
         for _ in 0..bound {
             let Some(top) = self.state.remaining.last().copied() else {
@@ -361,7 +413,13 @@ impl<'p> Interp<'p> {
         self.state.remaining.pop();
     }
 
-    fn exec(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, b: BlockIx, item: Item<'p>) -> Flow {
+    fn exec(
+        &mut self,
+        ev: &mut Vec<Event>,
+        oracle: &mut dyn Oracle,
+        b: BlockIx,
+        item: Item<'p>,
+    ) -> Flow {
         match item {
             Item::Stage(s) => self.exec_stage(ev, oracle, b, s),
             Item::LoopBack(s) => {
@@ -395,7 +453,13 @@ impl<'p> Interp<'p> {
         }
     }
 
-    fn exec_stage(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, b: BlockIx, s: &'p FpStage) -> Flow {
+    fn exec_stage(
+        &mut self,
+        ev: &mut Vec<Event>,
+        oracle: &mut dyn Oracle,
+        b: BlockIx,
+        s: &'p FpStage,
+    ) -> Flow {
         match s {
             FpStage::While { cond, body, .. } => {
                 self.pop();

@@ -23,7 +23,8 @@ pub fn corpus_plans(dir: &Path) -> Vec<PathBuf> {
         .skip(1)
         .filter_map(|l| {
             let cols: Vec<&str> = l.split('\t').collect();
-            (cols.len() >= 7 && cols[1] == "flight_plan" && cols[6] == "yes").then(|| dir.join(cols[0]))
+            (cols.len() >= 7 && cols[1] == "flight_plan" && cols[6] == "yes")
+                .then(|| dir.join(cols[0]))
         })
         .collect()
 }

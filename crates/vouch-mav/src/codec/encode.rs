@@ -27,17 +27,13 @@ pub struct MessageBuilder<'d> {
 
 impl<'d> MessageBuilder<'d> {
     pub fn new(dialect: &'d Dialect, name: &str) -> Result<Self, EncodeError> {
-        let def = dialect
-            .by_name(name)
-            .ok_or_else(|| EncodeError::UnknownMessage(name.to_string()))?;
+        let def =
+            dialect.by_name(name).ok_or_else(|| EncodeError::UnknownMessage(name.to_string()))?;
         Ok(Self::for_def(def))
     }
 
     pub fn for_def(def: &'d MessageDef) -> Self {
-        MessageBuilder {
-            def,
-            payload: [0; 255],
-        }
+        MessageBuilder { def, payload: [0; 255] }
     }
 
     pub fn def(&self) -> &'d MessageDef {
@@ -45,12 +41,10 @@ impl<'d> MessageBuilder<'d> {
     }
 
     fn field(&self, name: &str) -> Result<&'d FieldDef, EncodeError> {
-        self.def
-            .field(name)
-            .ok_or_else(|| EncodeError::UnknownField {
-                msg: self.def.name.clone(),
-                field: name.to_string(),
-            })
+        self.def.field(name).ok_or_else(|| EncodeError::UnknownField {
+            msg: self.def.name.clone(),
+            field: name.to_string(),
+        })
     }
 
     /// Sets a numeric field (element 0 of an array); the value is converted to the wire type
@@ -126,14 +120,7 @@ impl<'d> MessageBuilder<'d> {
     pub fn frame_v2_len(&self, seq: u8, sysid: u8, compid: u8, len: usize) -> Vec<u8> {
         let len = len.min(self.payload().len());
         let def = self.def;
-        frame_v2_raw(
-            def.id,
-            def.crc_extra,
-            &self.payload[..len],
-            seq,
-            sysid,
-            compid,
-        )
+        frame_v2_raw(def.id, def.crc_extra, &self.payload[..len], seq, sysid, compid)
     }
 
     /// MAVLink 1 frame: base fields only, never truncated.

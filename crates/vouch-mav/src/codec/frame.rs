@@ -182,20 +182,13 @@ pub fn parse_frame<'a>(buf: &'a [u8], dialect: &Dialect, unknown_ok: bool) -> Pa
     if h.incompat & !INCOMPAT_SIGNED != 0 {
         return Parse::Invalid(InvalidKind::BadIncompat);
     }
-    let sig = if h.incompat & INCOMPAT_SIGNED != 0 {
-        SIGNATURE_LEN
-    } else {
-        0
-    };
+    let sig = if h.incompat & INCOMPAT_SIGNED != 0 { SIGNATURE_LEN } else { 0 };
     let total = h.header_len + h.len + 2 + sig;
     let msg = dialect.index_of_id(h.msgid);
     if let Some(idx) = msg {
         let def: &MessageDef = dialect.message(idx);
-        let max = if h.version == Version::V1 {
-            def.base_len.max(def.max_len)
-        } else {
-            def.max_len
-        };
+        let max =
+            if h.version == Version::V1 { def.base_len.max(def.max_len) } else { def.max_len };
         if h.len > usize::from(max) {
             return Parse::Invalid(InvalidKind::BadLength);
         }

@@ -117,11 +117,7 @@ impl<'a> Iterator for TlogReader<'a> {
                         self.skip_byte(&mut resyncing);
                         continue;
                     }
-                    let rec = TlogRecord {
-                        time_us: time,
-                        offset: self.pos,
-                        frame: f,
-                    };
+                    let rec = TlogRecord { time_us: time, offset: self.pos, frame: f };
                     self.counter.count(&f);
                     self.last_time = Some(time);
                     self.pos = end;

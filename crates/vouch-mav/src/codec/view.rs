@@ -50,11 +50,7 @@ fn read_le(payload: &[u8], offset: usize, size: usize) -> u64 {
 /// Reads element `index` of a field (0 for scalars) from a payload.
 #[inline]
 pub fn read_field(payload: &[u8], field: &FieldDef, index: usize) -> Value {
-    read_prim(
-        payload,
-        field.ty,
-        usize::from(field.offset) + index * field.ty.size(),
-    )
+    read_prim(payload, field.ty, usize::from(field.offset) + index * field.ty.size())
 }
 
 /// Reads a primitive at a byte offset (used with offsets precomputed at protocol load time).
@@ -100,11 +96,7 @@ impl<'a> MessageView<'a> {
         dialect: &'a crate::dialect::Dialect,
     ) -> Option<MessageView<'a>> {
         let index = frame.msg?;
-        Some(MessageView {
-            index,
-            def: dialect.message(index),
-            payload: frame.payload,
-        })
+        Some(MessageView { index, def: dialect.message(index), payload: frame.payload })
     }
 
     pub fn name(&self) -> &'a str {
@@ -113,9 +105,7 @@ impl<'a> MessageView<'a> {
 
     /// Scalar field (or first element of an array) by name.
     pub fn get(&self, field: &str) -> Option<Value> {
-        self.def
-            .field(field)
-            .map(|f| read_field(self.payload, f, 0))
+        self.def.field(field).map(|f| read_field(self.payload, f, 0))
     }
 
     pub fn get_f64(&self, field: &str) -> Option<f64> {

@@ -115,9 +115,7 @@ pub struct MessageDef {
 
 impl MessageDef {
     pub fn field(&self, name: &str) -> Option<&FieldDef> {
-        self.field_index
-            .get(name)
-            .map(|&i| &self.fields[usize::from(i)])
+        self.field_index.get(name).map(|&i| &self.fields[usize::from(i)])
     }
 
     pub fn field_position(&self, name: &str) -> Option<usize> {
@@ -158,12 +156,8 @@ impl Dialect {
         messages.sort_by_key(|m| m.id);
         messages.dedup_by_key(|m| m.id);
         for m in &mut messages {
-            m.field_index = m
-                .fields
-                .iter()
-                .enumerate()
-                .map(|(i, f)| (f.name.clone(), i as u16))
-                .collect();
+            m.field_index =
+                m.fields.iter().enumerate().map(|(i, f)| (f.name.clone(), i as u16)).collect();
         }
         let max_id = messages.iter().map(|m| m.id).max().unwrap_or(0) as usize;
         let mut by_id = vec![NO_MSG; max_id + 1];
@@ -180,15 +174,7 @@ impl Dialect {
                 entry_by_name.entry(n.clone()).or_insert((i, *v));
             }
         }
-        Dialect {
-            name,
-            messages,
-            by_id,
-            by_name,
-            enums,
-            enum_by_name,
-            entry_by_name,
-        }
+        Dialect { name, messages, by_id, by_name, enums, enum_by_name, entry_by_name }
     }
 
     /// The default dialect: ardupilotmega.xml with its includes, embedded at build time.
@@ -236,18 +222,12 @@ impl Dialect {
 
     /// Looks up an enum entry by its (globally unique) name: (enum name, value).
     pub fn enum_entry(&self, entry: &str) -> Option<(&str, u64)> {
-        self.entry_by_name
-            .get(entry)
-            .map(|&(i, v)| (self.enums[i].name.as_str(), v))
+        self.entry_by_name.get(entry).map(|&(i, v)| (self.enums[i].name.as_str(), v))
     }
 
     /// Name of the entry of `enum_name` whose value is `value` (first match), for reports.
     pub fn enum_value_name(&self, enum_name: &str, value: u64) -> Option<&str> {
-        self.enum_def(enum_name)?
-            .entries
-            .iter()
-            .find(|(_, v)| *v == value)
-            .map(|(n, _)| n.as_str())
+        self.enum_def(enum_name)?.entries.iter().find(|(_, v)| *v == value).map(|(n, _)| n.as_str())
     }
 }
 

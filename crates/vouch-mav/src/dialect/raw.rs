@@ -73,7 +73,12 @@ fn load_one<E>(
     let text = read(file).map_err(RawError::Read)?;
     let doc = roxmltree::Document::parse(&text).map_err(|e| {
         let pos = e.pos();
-        RawError::Xml { file: file.to_string(), line: pos.row, col: pos.col, message: e.to_string() }
+        RawError::Xml {
+            file: file.to_string(),
+            line: pos.row,
+            col: pos.col,
+            message: e.to_string(),
+        }
     })?;
     let root = doc.root_element();
     for inc in root.children().filter(|n| n.has_tag_name("include")) {
@@ -136,7 +141,11 @@ fn parse_int(s: &str) -> Option<u64> {
 
 fn read_message<E>(file: &str, m: roxmltree::Node) -> Result<RawMessage, RawError<E>> {
     let name = m.attribute("name").unwrap_or("").to_string();
-    let bad = |problem: String| RawError::Message { file: file.to_string(), message: name.clone(), problem };
+    let bad = |problem: String| RawError::Message {
+        file: file.to_string(),
+        message: name.clone(),
+        problem,
+    };
     let id: u32 = m
         .attribute("id")
         .and_then(|s| s.trim().parse().ok())
@@ -215,12 +224,14 @@ pub fn read_digest(text: &str) -> Result<RawDialect, usize> {
         let bad = i + 1;
         let mut t = line.split(' ');
         match (t.next(), t.next(), t.next(), t.next(), t.next(), t.next()) {
-            (Some("M"), Some(id), Some(name), Some(file), None, None) => d.messages.push(RawMessage {
-                id: id.parse().map_err(|_| bad)?,
-                name: name.to_string(),
-                file: file.to_string(),
-                fields: Vec::new(),
-            }),
+            (Some("M"), Some(id), Some(name), Some(file), None, None) => {
+                d.messages.push(RawMessage {
+                    id: id.parse().map_err(|_| bad)?,
+                    name: name.to_string(),
+                    file: file.to_string(),
+                    fields: Vec::new(),
+                })
+            }
             (Some("F"), Some(name), Some(ty), Some(ext), Some(en), None) => {
                 d.messages.last_mut().ok_or(bad)?.fields.push(RawField {
                     name: name.to_string(),
@@ -229,9 +240,11 @@ pub fn read_digest(text: &str) -> Result<RawDialect, usize> {
                     enum_name: (en != "-").then(|| en.to_string()),
                 })
             }
-            (Some("E"), Some(name), Some(bm), None, None, None) => {
-                d.enums.push(RawEnum { name: name.to_string(), bitmask: bm == "1", entries: Vec::new() })
-            }
+            (Some("E"), Some(name), Some(bm), None, None, None) => d.enums.push(RawEnum {
+                name: name.to_string(),
+                bitmask: bm == "1",
+                entries: Vec::new(),
+            }),
             (Some("V"), Some(name), Some(v), None, None, None) => d
                 .enums
                 .last_mut()

@@ -13,23 +13,11 @@ include!(concat!(env!("OUT_DIR"), "/embedded_dialect.rs"));
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum DialectError {
     #[error("cannot read dialect file {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    Io { path: String, source: std::io::Error },
     #[error("{file}:{line}:{col}: invalid XML: {message}")]
-    Xml {
-        file: String,
-        line: u32,
-        col: u32,
-        message: String,
-    },
+    Xml { file: String, line: u32, col: u32, message: String },
     #[error("{file}: message {message}: {problem}")]
-    Message {
-        file: String,
-        message: String,
-        problem: String,
-    },
+    Message { file: String, message: String, problem: String },
     #[error("no default dialect was embedded at build time (set VOUCH_MAV_DEFINITIONS when building, or pass --dialect FILE.xml)")]
     NoEmbedded,
     #[error("include {name} (from {from}) not found")]
@@ -43,21 +31,12 @@ pub fn embedded_origin() -> &'static str {
 
 /// Loads a dialect file and its includes from disk.
 pub fn load_dialect_file(path: &Path) -> Result<Dialect, DialectError> {
-    let dir = path
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."));
-    let root = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .unwrap_or("dialect.xml")
-        .to_string();
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+    let root = path.file_name().and_then(|n| n.to_str()).unwrap_or("dialect.xml").to_string();
     let read = |name: &str| -> Result<String, DialectError> {
         let p = dir.join(name);
-        std::fs::read_to_string(&p).map_err(|source| DialectError::Io {
-            path: p.display().to_string(),
-            source,
-        })
+        std::fs::read_to_string(&p)
+            .map_err(|source| DialectError::Io { path: p.display().to_string(), source })
     };
     load_dialect_from(&root, &read)
 }
@@ -82,8 +61,12 @@ pub fn load_dialect_from(
 ) -> Result<Dialect, DialectError> {
     let raw = read_xml(root, read).map_err(|e| match e {
         RawError::Read(e) => e,
-        RawError::Xml { file, line, col, message } => DialectError::Xml { file, line, col, message },
-        RawError::Message { file, message, problem } => DialectError::Message { file, message, problem },
+        RawError::Xml { file, line, col, message } => {
+            DialectError::Xml { file, line, col, message }
+        }
+        RawError::Message { file, message, problem } => {
+            DialectError::Message { file, message, problem }
+        }
     })?;
     from_raw(root, raw)
 }
@@ -105,12 +88,16 @@ fn from_raw(root: &str, raw: RawDialect) -> Result<Dialect, DialectError> {
 
 fn finish_message(m: RawMessage) -> Result<MessageDef, DialectError> {
     let RawMessage { id, name, file, fields: raw_fields } = m;
-    let bad = |problem: String| DialectError::Message { file: file.clone(), message: name.clone(), problem };
+    let bad = |problem: String| DialectError::Message {
+        file: file.clone(),
+        message: name.clone(),
+        problem,
+    };
     let mut base = Vec::new();
     let mut ext = Vec::new();
     for f in raw_fields {
-        let (prim, array_len) =
-            parse_type(&f.ty).ok_or_else(|| bad(format!("field {}: unknown type {}", f.name, f.ty)))?;
+        let (prim, array_len) = parse_type(&f.ty)
+            .ok_or_else(|| bad(format!("field {}: unknown type {}", f.name, f.ty)))?;
         let def = FieldDef {
             name: f.name,
             ty: prim,

@@ -192,13 +192,15 @@ fn handshake(gcs: UdpSocket, vehicle: UdpSocket, entry: SocketAddr) -> io::Resul
 fn upload_latencies(rig: &Rig, uploads: usize, out: &mut Vec<f64>) -> io::Result<()> {
     let mut buf = [0u8; 512];
     let (mut gs, mut vs) = (Seqs(0), Seqs(0));
-    let mut hop = |from: &UdpSocket, to_addr: SocketAddr, to: &UdpSocket, frame: &[u8]| -> io::Result<()> {
-        let t = Instant::now();
-        from.send_to(frame, to_addr)?;
-        recv(to, &mut buf).ok_or_else(|| io::Error::new(io::ErrorKind::TimedOut, "message lost in upload"))?;
-        out.push(t.elapsed().as_secs_f64() * 1e6);
-        Ok(())
-    };
+    let mut hop =
+        |from: &UdpSocket, to_addr: SocketAddr, to: &UdpSocket, frame: &[u8]| -> io::Result<()> {
+            let t = Instant::now();
+            from.send_to(frame, to_addr)?;
+            recv(to, &mut buf)
+                .ok_or_else(|| io::Error::new(io::ErrorKind::TimedOut, "message lost in upload"))?;
+            out.push(t.elapsed().as_secs_f64() * 1e6);
+            Ok(())
+        };
     for _ in 0..uploads {
         hop(&rig.gcs, rig.entry, &rig.vehicle, &mission_count(100, gs.next()))?;
         for seq in 0..100u16 {
@@ -325,7 +327,12 @@ fn pin_child(pid: u32, cpu: usize) {
     }
 }
 
-fn measure(label: &str, relay: &mut Relay, vehicle: UdpSocket, a: &BenchArgs) -> io::Result<PathResult> {
+fn measure(
+    label: &str,
+    relay: &mut Relay,
+    vehicle: UdpSocket,
+    a: &BenchArgs,
+) -> io::Result<PathResult> {
     let gcs = sock()?;
     let entry = match relay {
         Relay::Direct => vehicle.local_addr()?,
@@ -394,7 +401,12 @@ fn stop(relay: Relay) {
 pub fn run_bench(a: BenchArgs) -> Result<Vec<PathResult>, String> {
     let io = |e: io::Error| e.to_string();
     let mut results = vec![];
-    let socat = Command::new("socat").arg("-V").stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok();
+    let socat = Command::new("socat")
+        .arg("-V")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok();
     let mut paths: Vec<(String, Option<Vec<String>>)> = vec![("direct".into(), None)];
     if socat {
         paths.push(("socat".into(), Some(vec![])));
@@ -423,7 +435,14 @@ pub fn run_bench(a: BenchArgs) -> Result<Vec<PathResult>, String> {
             .map_err(io)?,
             (_, Some(x)) => spawn_relay(
                 Command::new(&a.vouch_exe)
-                    .args(["mav", "guard", "--gcs", &format!("udpin:{entry}"), "--vehicle", &format!("udpout:{v_addr}")])
+                    .args([
+                        "mav",
+                        "guard",
+                        "--gcs",
+                        &format!("udpin:{entry}"),
+                        "--vehicle",
+                        &format!("udpout:{v_addr}"),
+                    ])
                     .args(x),
                 entry,
             )
@@ -450,8 +469,20 @@ fn print_table(rs: &[PathResult], rate: u32) {
     let direct = rs.first().cloned().unwrap_or_default();
     println!(
         "{:<17} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8} {:>8} {:>8}",
-        "path", "upl p50", "upl p99", "ping p50", "ping p99", "+p50 vs d", "+p99 vs d",
-        "strm ok%", "strm p99", "sat msg/s", "msg/CPU-s", "start kB", "peak kB", "end kB"
+        "path",
+        "upl p50",
+        "upl p99",
+        "ping p50",
+        "ping p99",
+        "+p50 vs d",
+        "+p99 vs d",
+        "strm ok%",
+        "strm p99",
+        "sat msg/s",
+        "msg/CPU-s",
+        "start kB",
+        "peak kB",
+        "end kB"
     );
     let kb = |k: Option<u64>| k.map(|k| k.to_string()).unwrap_or_else(|| "-".into());
     for r in rs {

@@ -57,7 +57,8 @@ pub fn run_guard(a: GuardArgs) -> u8 {
 fn run(a: GuardArgs) -> Result<(), (u8, String)> {
     let usage = |e: String| (EXIT_USAGE, e);
     if let Some(d) = a.duration {
-        Duration::try_from_secs_f64(d).map_err(|_| usage(format!("--duration {d}: not a number of seconds")))?;
+        Duration::try_from_secs_f64(d)
+            .map_err(|_| usage(format!("--duration {d}: not a number of seconds")))?;
     }
     let gcs = a.gcs.parse().map_err(usage)?;
     let vehicle = a.vehicle.parse().map_err(usage)?;
@@ -67,13 +68,16 @@ fn run(a: GuardArgs) -> Result<(), (u8, String)> {
             sign_to_vehicle: a.sign_to_vehicle,
             link_id: a.signing_link_id,
         }),
-        None if a.sign_to_vehicle => return Err(usage("--sign-to-vehicle needs --signing-key".into())),
+        None if a.sign_to_vehicle => {
+            return Err(usage("--sign-to-vehicle needs --signing-key".into()))
+        }
         None => None,
     };
     let (inspector, what): (Box<dyn Inspector>, String) = if a.relay_only {
         (Box::new(PassThrough), "no protocols (relay only)".into())
     } else {
-        super::monitor_inspector::build(a.dialect.as_deref(), &a.protocols, a.with_stdlib, &a.set).map_err(|e| match e {
+        super::monitor_inspector::build(a.dialect.as_deref(), &a.protocols, a.with_stdlib, &a.set)
+            .map_err(|e| match e {
             super::monitor_inspector::BuildError::Io(s) => (EXIT_USAGE, s),
             super::monitor_inspector::BuildError::Rejected(s) => (EXIT_REJECTED, s),
         })?
@@ -90,7 +94,8 @@ fn run(a: GuardArgs) -> Result<(), (u8, String)> {
     };
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register(sig, stop.clone()).map_err(|e| usage(format!("cannot install signal handler: {e}")))?;
+        signal_hook::flag::register(sig, stop.clone())
+            .map_err(|e| usage(format!("cannot install signal handler: {e}")))?;
     }
     let g = start(cfg, inspector).map_err(|e| usage(e.to_string()))?;
     eprintln!(
@@ -106,7 +111,10 @@ fn run(a: GuardArgs) -> Result<(), (u8, String)> {
     );
     let started = Instant::now();
     let limit = match a.duration {
-        Some(d) => Some(Duration::try_from_secs_f64(d).map_err(|_| usage(format!("--duration {d}: not a number of seconds")))?),
+        Some(d) => Some(
+            Duration::try_from_secs_f64(d)
+                .map_err(|_| usage(format!("--duration {d}: not a number of seconds")))?,
+        ),
         None => None,
     };
     while !stop.load(Ordering::Relaxed) && limit.is_none_or(|l| started.elapsed() < l) {

@@ -10,7 +10,8 @@ use crate::codec::frame::header_ids;
 
 // The wire constants are the codec's: one definition of the format for both readers.
 pub use crate::codec::frame::{
-    INCOMPAT_SIGNED as IFLAG_SIGNED, MAGIC_V1, MAGIC_V2, SIGNATURE_LEN, V1_HEADER_LEN, V2_HEADER_LEN,
+    INCOMPAT_SIGNED as IFLAG_SIGNED, MAGIC_V1, MAGIC_V2, SIGNATURE_LEN, V1_HEADER_LEN,
+    V2_HEADER_LEN,
 };
 
 /// Total length of the frame starting at `buf[0]`, if the header is complete enough to tell.
@@ -42,13 +43,21 @@ impl<'a> FrameRef<'a> {
         self.bytes[0] == MAGIC_V2
     }
     pub fn header_len(&self) -> usize {
-        if self.is_v2() { V2_HEADER_LEN } else { V1_HEADER_LEN }
+        if self.is_v2() {
+            V2_HEADER_LEN
+        } else {
+            V1_HEADER_LEN
+        }
     }
     pub fn payload_len(&self) -> usize {
         self.bytes[1] as usize
     }
     pub fn incompat_flags(&self) -> u8 {
-        if self.is_v2() { self.bytes[2] } else { 0 }
+        if self.is_v2() {
+            self.bytes[2]
+        } else {
+            0
+        }
     }
     pub fn is_signed(&self) -> bool {
         self.incompat_flags() & IFLAG_SIGNED != 0
@@ -258,7 +267,12 @@ mod tests {
         split_datagram(&d, |p| pieces.push(p));
         assert_eq!(
             pieces,
-            vec![Piece::Garbage(0, 3), Piece::Frame(3, 19), Piece::Frame(19, 35), Piece::Garbage(35, 40)]
+            vec![
+                Piece::Garbage(0, 3),
+                Piece::Frame(3, 19),
+                Piece::Frame(19, 35),
+                Piece::Garbage(35, 40)
+            ]
         );
     }
 
@@ -272,7 +286,14 @@ mod tests {
         let mut frames = 0;
         let mut junk = 0;
         for chunk in all.chunks(3) {
-            sp.push(chunk, |b, is_frame| if is_frame { assert_eq!(b, &f[..]); frames += 1 } else { junk += b.len() });
+            sp.push(chunk, |b, is_frame| {
+                if is_frame {
+                    assert_eq!(b, &f[..]);
+                    frames += 1
+                } else {
+                    junk += b.len()
+                }
+            });
         }
         assert_eq!((frames, junk), (2, 1));
     }
@@ -286,7 +307,10 @@ mod tests {
         bad[1] = 4 + 16; // claims 10 + 20 + 2 = 32 bytes: itself and the next frame
         let mut d = bad.clone();
         d.extend_from_slice(&f);
-        let crc_ok = |b: &[u8]| FrameRef::new(b).is_some_and(|fr| crc_accumulate(crc_of(fr.crc_covered()), 221) == fr.crc());
+        let crc_ok = |b: &[u8]| {
+            FrameRef::new(b)
+                .is_some_and(|fr| crc_accumulate(crc_of(fr.crc_covered()), 221) == fr.crc())
+        };
         let mut frames = vec![];
         split_datagram_resync(&d, |p| match p {
             Piece::Frame(a, b) => {

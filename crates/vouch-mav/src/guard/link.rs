@@ -68,12 +68,22 @@ impl PeerSet {
 
 enum EgressKind {
     /// `udpout`: one fixed peer.
-    UdpFixed { sock: Arc<UdpSocket>, peer: SocketAddr },
+    UdpFixed {
+        sock: Arc<UdpSocket>,
+        peer: SocketAddr,
+    },
     /// `udpin`: peers learned from received datagrams.
-    UdpLearned { sock: Arc<UdpSocket>, peers: Mutex<PeerSet> },
+    UdpLearned {
+        sock: Arc<UdpSocket>,
+        peers: Mutex<PeerSet>,
+    },
     /// `tcpin`/`tcpout`: live connections by id.
-    Streams { conns: Mutex<Vec<(usize, TcpStream)>> },
-    Serial { port: Mutex<File> },
+    Streams {
+        conns: Mutex<Vec<(usize, TcpStream)>>,
+    },
+    Serial {
+        port: Mutex<File>,
+    },
 }
 
 /// Sending half of one side of the proxy.
@@ -86,7 +96,9 @@ impl Egress {
     /// (a GCS that went away must not block the rest); the count of successful sends is returned.
     pub fn send_all(&self, bytes: &[u8]) -> usize {
         match &self.kind {
-            EgressKind::UdpFixed { sock, peer } => usize::from(udp_batch::send_to(sock, bytes, peer)),
+            EgressKind::UdpFixed { sock, peer } => {
+                usize::from(udp_batch::send_to(sock, bytes, peer))
+            }
             EgressKind::UdpLearned { sock, peers } => {
                 let peers = lock(peers);
                 peers.peers.iter().filter(|(a, _)| udp_batch::send_to(sock, bytes, a)).count()
@@ -105,10 +117,13 @@ impl Egress {
     pub fn send_to(&self, origin: Origin, bytes: &[u8]) -> bool {
         match (&self.kind, origin) {
             (EgressKind::UdpFixed { sock, peer }, _) => udp_batch::send_to(sock, bytes, peer),
-            (EgressKind::UdpLearned { sock, .. }, Origin::Udp(a)) => udp_batch::send_to(sock, bytes, &a),
-            (EgressKind::Streams { conns }, Origin::Stream(id)) => {
-                lock(conns).iter_mut().find(|(i, _)| *i == id).is_some_and(|(_, s)| s.write_all(bytes).is_ok())
+            (EgressKind::UdpLearned { sock, .. }, Origin::Udp(a)) => {
+                udp_batch::send_to(sock, bytes, &a)
             }
+            (EgressKind::Streams { conns }, Origin::Stream(id)) => lock(conns)
+                .iter_mut()
+                .find(|(i, _)| *i == id)
+                .is_some_and(|(_, s)| s.write_all(bytes).is_ok()),
             (EgressKind::Serial { port }, _) => lock(port).write_all(bytes).is_ok(),
             _ => self.send_all(bytes) > 0,
         }
@@ -137,22 +152,32 @@ pub struct OpenedLink {
 }
 
 /// Opens `ep`, starts its readers (named after `side`), and returns its egress.
-pub fn open(ep: &Endpoint, side: &'static str, handler: Handler, stop: Arc<AtomicBool>) -> io::Result<OpenedLink> {
+pub fn open(
+    ep: &Endpoint,
+    side: &'static str,
+    handler: Handler,
+    stop: Arc<AtomicBool>,
+) -> io::Result<OpenedLink> {
     match ep {
         Endpoint::UdpIn(addr) => {
             let sock = Arc::new(UdpSocket::bind(addr)?);
             let local = sock.local_addr()?;
             let egress = Arc::new(Egress {
-                kind: EgressKind::UdpLearned { sock: sock.clone(), peers: Mutex::new(PeerSet { peers: vec![] }) },
+                kind: EgressKind::UdpLearned {
+                    sock: sock.clone(),
+                    peers: Mutex::new(PeerSet { peers: vec![] }),
+                },
             });
             let t = spawn_udp_reader(side, sock, Some(egress.clone()), handler, stop)?;
             Ok(OpenedLink { egress, local_addr: Some(local), threads: vec![t] })
         }
         Endpoint::UdpOut(peer) => {
-            let bind: SocketAddr = if peer.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" }.parse().expect("literal");
+            let bind: SocketAddr =
+                if peer.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" }.parse().expect("literal");
             let sock = Arc::new(UdpSocket::bind(bind)?);
             let local = sock.local_addr()?;
-            let egress = Arc::new(Egress { kind: EgressKind::UdpFixed { sock: sock.clone(), peer: *peer } });
+            let egress =
+                Arc::new(Egress { kind: EgressKind::UdpFixed { sock: sock.clone(), peer: *peer } });
             let t = spawn_udp_reader(side, sock, None, handler, stop)?;
             Ok(OpenedLink { egress, local_addr: Some(local), threads: vec![t] })
         }
@@ -160,7 +185,8 @@ pub fn open(ep: &Endpoint, side: &'static str, handler: Handler, stop: Arc<Atomi
             let listener = TcpListener::bind(addr)?;
             let local = listener.local_addr()?;
             listener.set_nonblocking(true)?;
-            let egress = Arc::new(Egress { kind: EgressKind::Streams { conns: Mutex::new(vec![]) } });
+            let egress =
+                Arc::new(Egress { kind: EgressKind::Streams { conns: Mutex::new(vec![]) } });
             let eg = egress.clone();
             let t = thread::Builder::new().name(format!("{side}-accept")).spawn(move || {
                 let next_id = AtomicUsize::new(0);
@@ -169,7 +195,9 @@ pub fn open(ep: &Endpoint, side: &'static str, handler: Handler, stop: Arc<Atomi
                     match listener.accept() {
                         Ok((s, _)) if eg.peer_count() < MAX_TCP_CLIENTS => {
                             let id = next_id.fetch_add(1, Ordering::Relaxed);
-                            if let Ok(r) = register_stream(&eg, id, s, side, handler.clone(), stop.clone()) {
+                            if let Ok(r) =
+                                register_stream(&eg, id, s, side, handler.clone(), stop.clone())
+                            {
                                 readers.push(r);
                             }
                         }
@@ -187,7 +215,8 @@ pub fn open(ep: &Endpoint, side: &'static str, handler: Handler, stop: Arc<Atomi
         Endpoint::TcpOut(peer) => {
             let s = TcpStream::connect_timeout(peer, Duration::from_secs(5))?;
             let local = s.local_addr().ok();
-            let egress = Arc::new(Egress { kind: EgressKind::Streams { conns: Mutex::new(vec![]) } });
+            let egress =
+                Arc::new(Egress { kind: EgressKind::Streams { conns: Mutex::new(vec![]) } });
             let t = register_stream(&egress, 0, s, side, handler, stop)?;
             Ok(OpenedLink { egress, local_addr: local, threads: vec![t] })
         }
@@ -259,7 +288,13 @@ fn spawn_udp_reader(
                     }
                     udp_batch::flush();
                 }
-                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut | io::ErrorKind::Interrupted) => {}
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        io::ErrorKind::WouldBlock
+                            | io::ErrorKind::TimedOut
+                            | io::ErrorKind::Interrupted
+                    ) => {}
                 // ICMP port unreachable from an earlier send surfaces here on Linux: not fatal.
                 Err(e) if e.kind() == io::ErrorKind::ConnectionRefused => {}
                 Err(_) => thread::sleep(POLL_INTERVAL / 10),
@@ -286,9 +321,22 @@ fn spawn_stream_reader<R: Read + Send + 'static>(
                 Ok(0) if zero_is_eof => break,
                 Ok(0) => {}
                 Ok(n) => splitter.push_resync(&buf[..n], |piece, is_frame| {
-                    handler(origin, if is_frame { Received::StreamFrame(piece) } else { Received::StreamJunk(piece) })
+                    handler(
+                        origin,
+                        if is_frame {
+                            Received::StreamFrame(piece)
+                        } else {
+                            Received::StreamJunk(piece)
+                        },
+                    )
                 }),
-                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut | io::ErrorKind::Interrupted) => {}
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        io::ErrorKind::WouldBlock
+                            | io::ErrorKind::TimedOut
+                            | io::ErrorKind::Interrupted
+                    ) => {}
                 Err(_) => break,
             }
         }

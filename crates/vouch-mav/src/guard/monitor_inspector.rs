@@ -68,7 +68,11 @@ impl Inspector for MonitorInspector {
                 let msg = v.message.split_whitespace().next().unwrap_or("message");
                 let why = v.predicate.clone().unwrap_or_else(|| v.reason.clone());
                 let vals: Vec<String> = v.values.iter().map(|(n, x)| format!("{n}={x}")).collect();
-                let summary = if vals.is_empty() { format!("{msg}: {why}") } else { format!("{msg}: {why} ({})", vals.join(", ")) };
+                let summary = if vals.is_empty() {
+                    format!("{msg}: {why}")
+                } else {
+                    format!("{msg}: {why} ({})", vals.join(", "))
+                };
                 let record = serde_json::to_value(&*v).unwrap_or_default();
                 Verdict::Violation(Finding { summary, record, replies })
             }
@@ -80,8 +84,10 @@ fn parse_consts(consts: &[String]) -> Result<Vec<(String, f64)>, String> {
     consts
         .iter()
         .map(|c| {
-            let (n, v) = c.split_once('=').ok_or_else(|| format!("--set `{c}`: expected NAME=VALUE"))?;
-            let v: f64 = v.trim().parse().map_err(|_| format!("--set `{c}`: `{v}` is not a number"))?;
+            let (n, v) =
+                c.split_once('=').ok_or_else(|| format!("--set `{c}`: expected NAME=VALUE"))?;
+            let v: f64 =
+                v.trim().parse().map_err(|_| format!("--set `{c}`: `{v}` is not a number"))?;
             Ok((n.trim().to_string(), v))
         })
         .collect()
@@ -118,10 +124,15 @@ pub fn build(
     .map_err(|e| BuildError::Io(e.to_string()))?;
     let d = Arc::new(d);
     let overrides = parse_consts(set).map_err(BuildError::Io)?;
-    let mut sources = if protocols.is_empty() || with_stdlib { crate::protocol::stdlib::sources() } else { vec![] };
+    let mut sources = if protocols.is_empty() || with_stdlib {
+        crate::protocol::stdlib::sources()
+    } else {
+        vec![]
+    };
     for p in protocols {
-        let text = std::fs::read_to_string(p)
-            .map_err(|e| BuildError::Io(format!("cannot read protocol file {}: {e}", p.display())))?;
+        let text = std::fs::read_to_string(p).map_err(|e| {
+            BuildError::Io(format!("cannot read protocol file {}: {e}", p.display()))
+        })?;
         sources.push((p.display().to_string(), text));
     }
     let monitor = Monitor::from_sources(d.clone(), &sources, &overrides)

@@ -305,7 +305,8 @@ impl Core {
         if !recorded {
             self.record(side, bytes);
         }
-        if side == Side::Vehicle && fr.msgid() == 0 && self.vehicle_ids.load(Ordering::Relaxed) == 0 {
+        if side == Side::Vehicle && fr.msgid() == 0 && self.vehicle_ids.load(Ordering::Relaxed) == 0
+        {
             let packed = (u64::from(fr.sysid()) << 8 | u64::from(fr.compid())) + 1;
             self.vehicle_ids.store(packed, Ordering::Relaxed);
         }
@@ -322,7 +323,11 @@ impl Core {
                     "kind": "violation", "summary": f.summary, "sysid": fr.sysid(), "compid": fr.compid(),
                     "msgid": fr.msgid(), "frame": hex(bytes), "violation": f.record}));
                 if self.print_violations && within_rate(&self.print_window, MAX_PRINTS_PER_SECOND) {
-                    eprintln!("vouch mav guard: violation from {} ({action}): {}", side.as_str(), f.summary);
+                    eprintln!(
+                        "vouch mav guard: violation from {} ({action}): {}",
+                        side.as_str(),
+                        f.summary
+                    );
                 }
                 if self.alert_gcs {
                     self.alert(&f.summary);
@@ -386,7 +391,8 @@ impl Core {
             return;
         }
         let packed = self.vehicle_ids.load(Ordering::Relaxed);
-        let (sysid, compid) = if packed == 0 { (1, 1) } else { (((packed - 1) >> 8) as u8, (packed - 1) as u8) };
+        let (sysid, compid) =
+            if packed == 0 { (1, 1) } else { (((packed - 1) >> 8) as u8, (packed - 1) as u8) };
         let r = statustext(SEVERITY_WARNING, &format!("vouch: {summary}"), sysid, compid);
         let Some(out) = self.out(Side::Gcs) else { return };
         let seq = self.own_seq.fetch_add(1, Ordering::Relaxed);
@@ -508,7 +514,10 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
                 threads.into_iter().for_each(|t: JoinHandle<()>| {
                     let _ = t.join();
                 });
-                return Err(io::Error::new(e.kind(), format!("{} endpoint {ep}: {e}", side.as_str())));
+                return Err(io::Error::new(
+                    e.kind(),
+                    format!("{} endpoint {ep}: {e}", side.as_str()),
+                ));
             }
         };
         let _ = core.egress[side.index()].set(opened.egress);

@@ -29,8 +29,11 @@ fn speed(baud: u32) -> Option<libc::speed_t> {
 /// Opens `device` in raw mode at `baud`. Reads return after at most 100 ms (VMIN=0, VTIME=1)
 /// so the reader thread can notice shutdown.
 pub fn open_raw(device: &str, baud: u32) -> io::Result<File> {
-    let sp = speed(baud).ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, format!("unsupported baud {baud}")))?;
-    let file = OpenOptions::new().read(true).write(true).custom_flags(libc::O_NOCTTY).open(device)?;
+    let sp = speed(baud).ok_or_else(|| {
+        io::Error::new(io::ErrorKind::InvalidInput, format!("unsupported baud {baud}"))
+    })?;
+    let file =
+        OpenOptions::new().read(true).write(true).custom_flags(libc::O_NOCTTY).open(device)?;
     let fd = file.as_raw_fd();
     // SAFETY: fd is a valid open descriptor owned by `file`; termios is plain data filled by tcgetattr.
     unsafe {

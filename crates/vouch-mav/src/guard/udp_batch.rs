@@ -58,7 +58,12 @@ fn from_storage(ss: &libc::sockaddr_storage) -> Option<SocketAddr> {
             // SAFETY: the kernel wrote a sockaddr_in6 for AF_INET6.
             let s = unsafe { &*(ss as *const _ as *const libc::sockaddr_in6) };
             let ip = std::net::Ipv6Addr::from(s.sin6_addr.s6_addr);
-            Some(SocketAddr::V6(SocketAddrV6::new(ip, u16::from_be(s.sin6_port), s.sin6_flowinfo, s.sin6_scope_id)))
+            Some(SocketAddr::V6(SocketAddrV6::new(
+                ip,
+                u16::from_be(s.sin6_port),
+                s.sin6_flowinfo,
+                s.sin6_scope_id,
+            )))
         }
         _ => None,
     }
@@ -104,7 +109,13 @@ impl RecvBatch {
         }
         // SAFETY: fd is an open UDP socket; headers point into buffers owned by self.
         let n = unsafe {
-            libc::recvmmsg(sock.as_raw_fd(), self.hdrs.as_mut_ptr(), BATCH as libc::c_uint, libc::MSG_WAITFORONE, std::ptr::null_mut())
+            libc::recvmmsg(
+                sock.as_raw_fd(),
+                self.hdrs.as_mut_ptr(),
+                BATCH as libc::c_uint,
+                libc::MSG_WAITFORONE,
+                std::ptr::null_mut(),
+            )
         };
         if n < 0 {
             return Err(io::Error::last_os_error());
@@ -179,9 +190,10 @@ pub fn flush() {
         }
         let SendQueue { data, items, iovs, hdrs, .. } = &mut *q;
         iovs.clear();
-        iovs.extend(
-            items.iter().map(|p| libc::iovec { iov_base: data[p.start..].as_mut_ptr().cast(), iov_len: p.end - p.start }),
-        );
+        iovs.extend(items.iter().map(|p| libc::iovec {
+            iov_base: data[p.start..].as_mut_ptr().cast(),
+            iov_len: p.end - p.start,
+        }));
         hdrs.clear();
         // SAFETY: plain data, pointers into `items`/`iovs`/`data` that live through the calls.
         hdrs.extend((0..items.len()).map(|_| unsafe { zeroed::<libc::mmsghdr>() }));
@@ -204,7 +216,9 @@ pub fn flush() {
             while k < j && attempts < j - i + 1 {
                 attempts += 1;
                 // SAFETY: hdrs[k..j] are initialised above; fd is an open socket.
-                let n = unsafe { libc::sendmmsg(fd, hdrs[k..].as_mut_ptr(), (j - k) as libc::c_uint, 0) };
+                let n = unsafe {
+                    libc::sendmmsg(fd, hdrs[k..].as_mut_ptr(), (j - k) as libc::c_uint, 0)
+                };
                 if n <= 0 {
                     k += 1;
                 } else {

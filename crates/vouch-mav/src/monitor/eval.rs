@@ -83,16 +83,10 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
         Expr::Str(s) => Val::text(s),
         Expr::Bool(b) => Val::Bool(*b),
         Expr::Var(s) => env.vars.get(*s).copied().unwrap_or(Val::Unknown),
-        Expr::Field(i) => env
-            .fields
-            .get(*i)
-            .map(|l| read_loc(env.payload, l))
-            .unwrap_or(Val::Unknown),
-        Expr::Const(i) => env
-            .consts
-            .get(*i)
-            .map(|v| Val::Num(*v))
-            .unwrap_or(Val::Unknown),
+        Expr::Field(i) => {
+            env.fields.get(*i).map(|l| read_loc(env.payload, l)).unwrap_or(Val::Unknown)
+        }
+        Expr::Const(i) => env.consts.get(*i).map(|v| Val::Num(*v)).unwrap_or(Val::Unknown),
         Expr::Key(i) => env.keys.get(*i).copied().unwrap_or(Val::Unknown),
         Expr::Vehicle(a) => {
             let Some(v) = env.vehicle else {
@@ -107,10 +101,7 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
                 VehicleAttr::Type => num(v.mav_type.map(f64::from)),
             }
         }
-        Expr::Param(i) => match env
-            .vehicle
-            .and_then(|v| v.params.get(*i).copied().flatten())
-        {
+        Expr::Param(i) => match env.vehicle.and_then(|v| v.params.get(*i).copied().flatten()) {
             Some(x) => Val::Num(x),
             None => Val::Unknown,
         },
@@ -180,9 +171,7 @@ fn bin(op: BinOp, a: &Expr, b: &Expr, env: &Env) -> Val {
 /// Index of the first conjunct that is not known to hold, or `None` when all hold.
 #[inline]
 pub fn first_failing(p: &Pred, env: &Env) -> Option<usize> {
-    p.conjuncts
-        .iter()
-        .position(|c| eval(&c.expr, env) != Val::Bool(true))
+    p.conjuncts.iter().position(|c| eval(&c.expr, env) != Val::Bool(true))
 }
 
 /// Whether a selector (`when`) holds; unknown counts as not selected.

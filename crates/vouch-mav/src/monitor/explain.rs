@@ -21,10 +21,7 @@ impl Monitor {
         let p = &self.set.protocols[s.proto];
         let st = &p.states[s.state];
         let (ti, kind, conj) = match r {
-            StepResult::Refused {
-                transition,
-                conjunct,
-            } => {
+            StepResult::Refused { transition, conjunct } => {
                 let t = &st.transitions[transition];
                 (
                     transition,
@@ -32,17 +29,10 @@ impl Monitor {
                     t.where_.as_ref().and_then(|w| w.conjuncts.get(conjunct)),
                 )
             }
-            StepResult::Invariant {
-                transition,
-                rec,
-                conjunct,
-            } => (
+            StepResult::Invariant { transition, rec, conjunct } => (
                 transition,
                 ViolationKind::Invariant,
-                p.recs[rec]
-                    .invariant
-                    .as_ref()
-                    .and_then(|w| w.conjuncts.get(conjunct)),
+                p.recs[rec].invariant.as_ref().and_then(|w| w.conjuncts.get(conjunct)),
             ),
             _ => (0, ViolationKind::Refinement, None),
         };
@@ -87,11 +77,7 @@ impl Monitor {
             session: self.describe_session(p, s, is_start),
             message: describe_message(msg, s.ids[role], &self.targets_of(msg)),
             step: format!("{}: {}", t.label, t.text),
-            expected: st
-                .transitions
-                .iter()
-                .map(|t| format!("{}: {}", t.label, t.text))
-                .collect(),
+            expected: st.transitions.iter().map(|t| format!("{}: {}", t.label, t.text)).collect(),
             predicate: conj.map(|c| c.text.clone()),
             values,
             reason,
@@ -102,13 +88,7 @@ impl Monitor {
     }
 
     pub(super) fn orphan_violation(&self, p: usize, strict: usize, arrival: &Arrival) -> Violation {
-        let Arrival {
-            msg,
-            from: (sysid, compid),
-            target,
-            time_us,
-            ..
-        } = *arrival;
+        let Arrival { msg, from: (sysid, compid), target, time_us, .. } = *arrival;
         let proto = &self.set.protocols[p];
         let rule = &proto.strict[strict];
         let ids = session_ids(rule.from, (sysid, compid), target);
@@ -190,12 +170,8 @@ impl Monitor {
     }
 
     fn describe_session(&self, p: &Protocol, s: &Session, is_start: bool) -> String {
-        let ids: Vec<String> = p
-            .roles
-            .iter()
-            .zip(&s.ids)
-            .map(|((n, _), (sy, co))| format!("{n} {sy}/{co}"))
-            .collect();
+        let ids: Vec<String> =
+            p.roles.iter().zip(&s.ids).map(|((n, _), (sy, co))| format!("{n} {sy}/{co}")).collect();
         let keys: Vec<String> = p
             .keys
             .iter()
@@ -209,12 +185,7 @@ impl Monitor {
     fn reply_for(&self, p: &Protocol, s: &Session, env: &Env) -> Option<Reply> {
         let r = p.reply.as_ref()?;
         let def = self.dialect.message(r.msg);
-        let env = Env {
-            vars: &s.vars,
-            keys: &s.keys,
-            fields: &[],
-            ..*env
-        };
+        let env = Env { vars: &s.vars, keys: &s.keys, fields: &[], ..*env };
         let (to_sys, to_comp) = s.ids[r.to];
         let (from_sys, from_comp) = s.ids[1 - r.to];
         let mut fields = Vec::new();

@@ -98,11 +98,7 @@ impl Monitor {
             .iter()
             .map(|m| Some((loc(m, "target_system")?, loc(m, "target_component")?)))
             .collect();
-        let stats = set
-            .protocols
-            .iter()
-            .map(|p| ProtocolStats::new(&p.name))
-            .collect();
+        let stats = set.protocols.iter().map(|p| ProtocolStats::new(&p.name)).collect();
         let consts = set.consts.iter().map(|c| c.value).collect();
         let tracker = VehicleTracker::new(&dialect, set.params.clone());
         Monitor {
@@ -178,15 +174,7 @@ impl Monitor {
         self.messages += 1;
         self.tracker.observe(sysid, compid, msg);
         if let Some(is_gcs) = self.tracker.heartbeat_is_gcs(msg) {
-            self.learn_role(
-                sysid,
-                compid,
-                if is_gcs {
-                    RoleKind::Gcs
-                } else {
-                    RoleKind::Vehicle
-                },
-            );
+            self.learn_role(sysid, compid, if is_gcs { RoleKind::Gcs } else { RoleKind::Vehicle });
         }
         if time_us >= self.last_sweep_us + SWEEP_US {
             self.last_sweep_us = time_us;
@@ -206,13 +194,8 @@ impl Monitor {
             let n = |v: Val| if let Val::Num(x) = v { x as u8 } else { 0 };
             (n(s), n(c))
         });
-        let verdict = self.dispatch(&session::Arrival {
-            msg,
-            from: (sysid, compid),
-            kind,
-            target,
-            time_us,
-        });
+        let verdict =
+            self.dispatch(&session::Arrival { msg, from: (sysid, compid), kind, target, time_us });
         if !verdict.is_violation() {
             self.tracker.apply_param_set(msg);
         } else {
@@ -222,11 +205,7 @@ impl Monitor {
     }
 
     fn learn_role(&mut self, sysid: u8, compid: u8, kind: RoleKind) {
-        match self
-            .roles
-            .iter_mut()
-            .find(|(ids, _)| *ids == (sysid, compid))
-        {
+        match self.roles.iter_mut().find(|(ids, _)| *ids == (sysid, compid)) {
             Some(r) => r.1 = kind,
             None => self.roles.push(((sysid, compid), kind)),
         }
@@ -259,9 +238,7 @@ impl Monitor {
         while i < self.sessions.len() {
             let s = &self.sessions[i];
             let p = &self.set.protocols[s.proto];
-            if p.timeout_us
-                .is_some_and(|t| now_us.saturating_sub(s.last_us) > t)
-            {
+            if p.timeout_us.is_some_and(|t| now_us.saturating_sub(s.last_us) > t) {
                 self.close(i, false);
             } else {
                 i += 1;

@@ -27,13 +27,9 @@ pub fn check_tlog(data: &[u8], monitor: &mut Monitor) -> RecordingReport {
         let Some(view) = MessageView::of_frame(&rec.frame, &dialect) else {
             continue;
         };
-        if let Verdict::Violation(v) = monitor.observe(
-            &view,
-            rec.frame.sysid,
-            rec.frame.compid,
-            Origin::Unknown,
-            rec.time_us,
-        ) {
+        if let Verdict::Violation(v) =
+            monitor.observe(&view, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us)
+        {
             violations.push(*v);
         }
     }

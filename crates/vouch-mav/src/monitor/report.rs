@@ -37,8 +37,7 @@ impl Reply {
 
     /// The reply as a MAVLink 2 frame (unsigned), sent as `from_sys/from_comp`.
     pub fn encode_v2(&self, dialect: &Dialect, seq: u8) -> Vec<u8> {
-        self.builder(dialect)
-            .frame_v2(seq, self.from_sys, self.from_comp)
+        self.builder(dialect).frame_v2(seq, self.from_sys, self.from_comp)
     }
 }
 
@@ -80,20 +79,12 @@ pub struct Violation {
 
 impl fmt::Display for Violation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "[{}] {} — {}: {}",
-            self.protocol, self.session, self.message, self.reason
-        )?;
+        write!(f, "[{}] {} — {}: {}", self.protocol, self.session, self.message, self.reason)?;
         if let Some(p) = &self.predicate {
             write!(f, "\n    failed: {p}")?;
         }
         if !self.values.is_empty() {
-            let v: Vec<String> = self
-                .values
-                .iter()
-                .map(|(n, v)| format!("{n} = {v}"))
-                .collect();
+            let v: Vec<String> = self.values.iter().map(|(n, v)| format!("{n} = {v}")).collect();
             write!(f, "\n    with:   {}", v.join(", "))?;
         }
         if !self.step.is_empty() {
@@ -103,11 +94,7 @@ impl fmt::Display for Violation {
             write!(f, "\n    expected one of: {}", self.expected.join("; "))?;
         }
         if let Some(r) = &self.reply {
-            write!(
-                f,
-                "\n    reply:  {} to {}/{}",
-                r.message, r.to_sys, r.to_comp
-            )?;
+            write!(f, "\n    reply:  {} to {}/{}", r.message, r.to_sys, r.to_comp)?;
         }
         for o in &self.others {
             write!(f, "\n  and {o}")?;

@@ -36,10 +36,7 @@ pub struct ProtocolStats {
 
 impl ProtocolStats {
     pub fn new(name: &str) -> Self {
-        ProtocolStats {
-            name: name.to_string(),
-            ..Default::default()
-        }
+        ProtocolStats { name: name.to_string(), ..Default::default() }
     }
 }
 
@@ -113,13 +110,7 @@ pub(super) struct Arrival<'m, 'd> {
 
 impl Monitor {
     pub(super) fn dispatch(&mut self, arrival: &Arrival) -> Verdict {
-        let Arrival {
-            msg,
-            from: (sysid, compid),
-            kind,
-            target,
-            time_us,
-        } = *arrival;
+        let Arrival { msg, from: (sysid, compid), kind, target, time_us } = *arrival;
         let idx = usize::from(msg.index);
         let mut accepted = false;
         let mut violations: Vec<Violation> = Vec::new();
@@ -297,14 +288,7 @@ impl Monitor {
     }
 
     fn step_session(&mut self, i: usize, role: usize, msg: &MessageView) -> StepResult {
-        let Monitor {
-            sessions,
-            set,
-            tracker,
-            scratch,
-            consts,
-            ..
-        } = self;
+        let Monitor { sessions, set, tracker, scratch, consts, .. } = self;
         let s = &mut sessions[i];
         let p = &set.protocols[s.proto];
         let input = StepInput {
@@ -320,13 +304,7 @@ impl Monitor {
     /// Opens a session if the message starts protocol `p`: `Some(Ok(serial))`, `Some(Err(report))`
     /// when its refinement fails, `None` when the message starts nothing.
     fn try_start(&mut self, p: usize, arrival: &Arrival) -> Option<Result<u64, Box<Violation>>> {
-        let Arrival {
-            msg,
-            from,
-            kind,
-            target,
-            time_us,
-        } = *arrival;
+        let Arrival { msg, from, kind, target, time_us } = *arrival;
         let proto = &self.set.protocols[p];
         let role = role_of_kind(proto, kind);
         let ids = session_ids(role, from, target);
@@ -371,18 +349,9 @@ impl Monitor {
                 Some(Ok(self.serial))
             }
             r => {
-                let s = Session {
-                    proto: p,
-                    state: 0,
-                    ids,
-                    keys,
-                    vars,
-                    last_us: time_us,
-                    serial: 0,
-                };
-                Some(Err(Box::new(
-                    self.violation_for(&s, role, msg, r, time_us, true),
-                )))
+                let s =
+                    Session { proto: p, state: 0, ids, keys, vars, last_us: time_us, serial: 0 };
+                Some(Err(Box::new(self.violation_for(&s, role, msg, r, time_us, true))))
             }
         }
     }

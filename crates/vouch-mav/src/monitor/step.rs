@@ -11,18 +11,11 @@ use crate::vehicle_state::VehicleState;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StepResult {
     /// A branch was taken; `next` is the new state, `None` when the session ended.
-    Took {
-        next: Option<StateId>,
-        transition: usize,
-    },
+    Took { next: Option<StateId>, transition: usize },
     /// A branch matched by sender, message and selector but its refinement failed.
     Refused { transition: usize, conjunct: usize },
     /// A branch was taken but the invariant of the recursion it entered failed.
-    Invariant {
-        transition: usize,
-        rec: usize,
-        conjunct: usize,
-    },
+    Invariant { transition: usize, rec: usize, conjunct: usize },
     /// No branch of the state is about this message.
     Mismatch,
 }
@@ -74,10 +67,7 @@ pub fn step(
         }
         if let Some(w) = &t.where_ {
             if let Some(c) = first_failing(w, &env) {
-                refused.get_or_insert(StepResult::Refused {
-                    transition: ti,
-                    conjunct: c,
-                });
+                refused.get_or_insert(StepResult::Refused { transition: ti, conjunct: c });
                 continue;
             }
         }
@@ -87,21 +77,11 @@ pub fn step(
             Cont::Goto(s) => Some(*s),
             Cont::Enter { rec, assigns, then } => {
                 for (slot, e) in assigns {
-                    let v = eval(
-                        e,
-                        &Env {
-                            vars: scratch,
-                            ..env_like(input, &lf.fields)
-                        },
-                    );
+                    let v = eval(e, &Env { vars: scratch, ..env_like(input, &lf.fields) });
                     scratch[*slot] = v;
                 }
                 if let Some(c) = invariant_fails(proto, *rec, input, &lf.fields, scratch) {
-                    return StepResult::Invariant {
-                        transition: ti,
-                        rec: *rec,
-                        conjunct: c,
-                    };
+                    return StepResult::Invariant { transition: ti, rec: *rec, conjunct: c };
                 }
                 Some(*then)
             }
@@ -110,32 +90,19 @@ pub fn step(
                 // allows at most MAX_CONTINUE_ASSIGNS updates per `continue`.
                 let mut new = [Val::Unknown; MAX_CONTINUE_ASSIGNS];
                 for (k, (_, e)) in assigns.iter().enumerate().take(MAX_CONTINUE_ASSIGNS) {
-                    new[k] = eval(
-                        e,
-                        &Env {
-                            vars: scratch,
-                            ..env_like(input, &lf.fields)
-                        },
-                    );
+                    new[k] = eval(e, &Env { vars: scratch, ..env_like(input, &lf.fields) });
                 }
                 for (k, (slot, _)) in assigns.iter().enumerate().take(MAX_CONTINUE_ASSIGNS) {
                     scratch[*slot] = new[k];
                 }
                 if let Some(c) = invariant_fails(proto, *rec, input, &lf.fields, scratch) {
-                    return StepResult::Invariant {
-                        transition: ti,
-                        rec: *rec,
-                        conjunct: c,
-                    };
+                    return StepResult::Invariant { transition: ti, rec: *rec, conjunct: c };
                 }
                 Some(proto.recs[*rec].entry)
             }
         };
         vars.copy_from_slice(scratch);
-        return StepResult::Took {
-            next,
-            transition: ti,
-        };
+        return StepResult::Took { next, transition: ti };
     }
     refused.unwrap_or(StepResult::Mismatch)
 }
@@ -159,11 +126,5 @@ fn invariant_fails(
     vars: &[Val],
 ) -> Option<usize> {
     let inv = proto.recs[rec].invariant.as_ref()?;
-    first_failing(
-        inv,
-        &Env {
-            vars,
-            ..env_like(input, fields)
-        },
-    )
+    first_failing(inv, &Env { vars, ..env_like(input, fields) })
 }

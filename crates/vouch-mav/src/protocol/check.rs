@@ -49,11 +49,7 @@ pub(super) fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
     Some(FieldLoc {
         ty: f.ty,
         offset: f.offset,
-        text_len: if f.ty == PrimType::Char && f.array_len > 0 {
-            f.array_len
-        } else {
-            0
-        },
+        text_len: if f.ty == PrimType::Char && f.array_len > 0 { f.array_len } else { 0 },
         enum_name: f.enum_name.clone(),
     })
 }
@@ -62,22 +58,13 @@ pub(super) fn ty_of_loc(l: &FieldLoc) -> Ty {
     if l.text_len > 0 {
         Ty::Str
     } else {
-        Ty::Num {
-            enum_: l.enum_name.clone(),
-        }
+        Ty::Num { enum_: l.enum_name.clone() }
     }
 }
 
 impl<'a> Compiler<'a> {
     pub fn new(dialect: &'a Dialect, src: &'a str, set: &'a mut ProtocolSet) -> Self {
-        Compiler {
-            dialect,
-            src,
-            set,
-            proto: None,
-            keys: vec![],
-            in_reply: false,
-        }
+        Compiler { dialect, src, set, proto: None, keys: vec![], in_reply: false }
     }
 
     pub(super) fn err<T>(&self, span: Span, msg: impl Into<String>) -> CResult<T> {
@@ -93,10 +80,8 @@ impl<'a> Compiler<'a> {
                 self.const_decl(c)?;
             }
             if self.set.protocols.iter().any(|q| q.name == p.name.name) {
-                return self.err(
-                    p.name.span,
-                    format!("protocol `{}` is defined twice", p.name.name),
-                );
+                return self
+                    .err(p.name.span, format!("protocol `{}` is defined twice", p.name.name));
             }
             let proto = self.protocol(p)?;
             self.set.protocols.push(proto);
@@ -106,16 +91,10 @@ impl<'a> Compiler<'a> {
 
     fn const_decl(&mut self, c: &ast::ConstDecl) -> CResult<()> {
         if self.set.consts.iter().any(|k| k.name == c.name.name) {
-            return self.err(
-                c.name.span,
-                format!("constant `{}` is defined twice", c.name.name),
-            );
+            return self.err(c.name.span, format!("constant `{}` is defined twice", c.name.name));
         }
         let value = self.const_value(&c.value)?;
-        self.set.consts.push(ConstIR {
-            name: c.name.name.clone(),
-            value,
-        });
+        self.set.consts.push(ConstIR { name: c.name.name.clone(), value });
         Ok(())
     }
 
@@ -149,10 +128,8 @@ impl<'a> Compiler<'a> {
 
     fn protocol(&mut self, p: &ast::ProtocolDecl) -> CResult<Protocol> {
         if p.roles.len() != 2 {
-            return self.err(
-                p.name.span,
-                "a protocol declares exactly two roles: `roles gcs, uav;`",
-            );
+            return self
+                .err(p.name.span, "a protocol declares exactly two roles: `roles gcs, uav;`");
         }
         let mut roles = vec![];
         for r in &p.roles {
@@ -166,10 +143,8 @@ impl<'a> Compiler<'a> {
             roles.push((r.name.clone(), kind));
         }
         if roles[0].1 == roles[1].1 {
-            return self.err(
-                p.roles[1].span,
-                "the two roles must be a ground station and a vehicle",
-            );
+            return self
+                .err(p.roles[1].span, "the two roles must be a ground station and a vehicle");
         }
         self.keys = p.keys.iter().map(|k| k.name.clone()).collect();
         self.proto = Some(Protocol {
@@ -187,16 +162,11 @@ impl<'a> Compiler<'a> {
         match p.body.first() {
             Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
             Some(_) => {
-                return self.err(
-                    p.name.span,
-                    "a protocol must start with a message step or a choice",
-                )
+                return self
+                    .err(p.name.span, "a protocol must start with a message step or a choice")
             }
             None => {
-                return self.err(
-                    p.name.span,
-                    "empty protocol: it needs at least one message step",
-                )
+                return self.err(p.name.span, "empty protocol: it needs at least one message step")
             }
         }
         let mut scope = Scope::default();
@@ -212,11 +182,7 @@ impl<'a> Compiler<'a> {
                 "{} -> {} : {}",
                 s.from.name,
                 s.to.name,
-                s.labels
-                    .iter()
-                    .map(|l| l.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(" | ")
+                s.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ")
             );
             self.proto_mut().strict.push(StrictIR { from, msgs, text });
         }
@@ -224,11 +190,7 @@ impl<'a> Compiler<'a> {
         let mut alphabet: Vec<MsgIndex> = proto
             .states
             .iter()
-            .flat_map(|s| {
-                s.transitions
-                    .iter()
-                    .flat_map(|t| t.msgs.iter().map(|m| m.msg))
-            })
+            .flat_map(|s| s.transitions.iter().flat_map(|t| t.msgs.iter().map(|m| m.msg)))
             .chain(proto.strict.iter().flat_map(|s| s.msgs.iter().copied()))
             .collect();
         alphabet.sort_unstable();
@@ -241,16 +203,10 @@ impl<'a> Compiler<'a> {
             if locs.is_empty() {
                 return self.err(
                     k.span,
-                    format!(
-                        "key `{}` is a field of none of the protocol's messages",
-                        k.name
-                    ),
+                    format!("key `{}` is a field of none of the protocol's messages", k.name),
                 );
             }
-            proto.keys.push(KeyIR {
-                name: k.name.clone(),
-                locs,
-            });
+            proto.keys.push(KeyIR { name: k.name.clone(), locs });
         }
         proto.alphabet = alphabet;
         if let Some(r) = &p.reply {
@@ -270,10 +226,7 @@ impl<'a> Compiler<'a> {
         let proto = self.proto.as_ref().expect("protocol under construction");
         match proto.roles.iter().position(|(n, _)| *n == r.name) {
             Some(i) => Ok(i),
-            None => self.err(
-                r.span,
-                format!("`{}` is not a role of this protocol", r.name),
-            ),
+            None => self.err(r.span, format!("`{}` is not a role of this protocol", r.name)),
         }
     }
 
@@ -284,10 +237,7 @@ impl<'a> Compiler<'a> {
                 Some(i) => Ok(i),
                 None => self.err(
                     l.span,
-                    format!(
-                        "unknown message `{}` in dialect {}",
-                        l.name, self.dialect.name
-                    ),
+                    format!("unknown message `{}` in dialect {}", l.name, self.dialect.name),
                 ),
             })
             .collect()
@@ -302,10 +252,7 @@ impl<'a> Compiler<'a> {
         for (f, e) in &r.fields {
             let Some(loc) = loc_of(def, &f.name) else {
                 self.in_reply = false;
-                return self.err(
-                    f.span,
-                    format!("message {} has no field `{}`", def.name, f.name),
-                );
+                return self.err(f.span, format!("message {} has no field `{}`", def.name, f.name));
             };
             let mut scope = Scope::default();
             let mut shows = vec![];

@@ -15,10 +15,7 @@ impl Span {
 
     pub fn to(self, other: Span) -> Span {
         let end = (other.start + other.len).max(self.start + self.len);
-        Span {
-            start: self.start,
-            len: end - self.start,
-        }
+        Span { start: self.start, len: end - self.start }
     }
 }
 
@@ -48,12 +45,7 @@ impl ProtocolError {
         let start = span.start.min(src.len());
         let before = &src[..start];
         let line = before.matches('\n').count() + 1;
-        let col = before
-            .rsplit('\n')
-            .next()
-            .map(|l| l.chars().count())
-            .unwrap_or(0)
-            + 1;
+        let col = before.rsplit('\n').next().map(|l| l.chars().count()).unwrap_or(0) + 1;
         ProtocolError {
             message: message.into(),
             src: NamedSource::new(name, src.to_string()),
@@ -81,12 +73,6 @@ impl ProtocolError {
 
     /// `file:line:col: message` for plain output.
     pub fn short(&self) -> String {
-        format!(
-            "{}:{}:{}: {}",
-            self.src.name(),
-            self.line,
-            self.col,
-            self.message
-        )
+        format!("{}:{}:{}: {}", self.src.name(), self.line, self.col, self.message)
     }
 }

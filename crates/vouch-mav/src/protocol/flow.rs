@@ -27,10 +27,8 @@ impl Compiler<'_> {
         };
         let trailing = |this: &Self, what: &str| -> CResult<()> {
             if let Some(next) = stmts.get(1) {
-                return this.err(
-                    stmt_span(next),
-                    format!("unreachable: nothing can follow {what}"),
-                );
+                return this
+                    .err(stmt_span(next), format!("unreachable: nothing can follow {what}"));
             }
             Ok(())
         };
@@ -41,12 +39,8 @@ impl Compiler<'_> {
             }
             Stmt::Continue { name, assigns, .. } => {
                 trailing(self, "`continue`")?;
-                let Some((_, rec, vars)) = scope
-                    .recs
-                    .iter()
-                    .rev()
-                    .find(|(n, _, _)| *n == name.name)
-                    .cloned()
+                let Some((_, rec, vars)) =
+                    scope.recs.iter().rev().find(|(n, _, _)| *n == name.name).cloned()
                 else {
                     return self.err(
                         name.span,
@@ -79,16 +73,8 @@ impl Compiler<'_> {
                 }
                 Ok(Cont::Continue { rec, assigns: out })
             }
-            Stmt::Rec {
-                name,
-                vars,
-                invariant,
-                body,
-            } => {
-                trailing(
-                    self,
-                    "a `rec` block (end its body with `end` or `continue`)",
-                )?;
+            Stmt::Rec { name, vars, invariant, body } => {
+                trailing(self, "a `rec` block (end its body with `end` or `continue`)")?;
                 let rec = self.proto_mut().recs.len();
                 self.proto_mut().recs.push(Rec {
                     name: name.name.clone(),
@@ -173,11 +159,7 @@ impl Compiler<'_> {
                 let label = head.labels[0].name.to_ascii_lowercase();
                 transitions.push(self.transition(label, head, rest, scope)?);
             }
-            Stmt::Choice {
-                branches,
-                complete_when,
-                ..
-            } => {
+            Stmt::Choice { branches, complete_when, .. } => {
                 if let Some(next) = stmts.get(1) {
                     return self.err(
                         stmt_span(next),
@@ -185,10 +167,7 @@ impl Compiler<'_> {
                     );
                 }
                 for b in branches {
-                    if transitions
-                        .iter()
-                        .any(|t: &Transition| t.label == b.label.name)
-                    {
+                    if transitions.iter().any(|t: &Transition| t.label == b.label.name) {
                         return self.err(
                             b.label.span,
                             format!("branch label `{}` used twice", b.label.name),
@@ -226,12 +205,8 @@ impl Compiler<'_> {
             return self.err(head.to.span, "sender and receiver must differ");
         }
         let msgs = self.messages(&head.labels)?;
-        let label_text = head
-            .labels
-            .iter()
-            .map(|l| l.name.as_str())
-            .collect::<Vec<_>>()
-            .join(" | ");
+        let label_text =
+            head.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ");
         let mut step = StepCx {
             msgs: msgs.clone(),
             names: vec![],
@@ -256,11 +231,8 @@ impl Compiler<'_> {
         };
         let cont = self.seq(rest, scope, Some(&mut step))?;
         scope.vars.truncate(mark);
-        let msgs = msgs
-            .iter()
-            .zip(step.locs)
-            .map(|(&msg, fields)| LabelFields { msg, fields })
-            .collect();
+        let msgs =
+            msgs.iter().zip(step.locs).map(|(&msg, fields)| LabelFields { msg, fields }).collect();
         Ok(Transition {
             label,
             from,
@@ -297,10 +269,8 @@ impl Compiler<'_> {
         }
         let ty = ty_of_loc(&locs[0]);
         if locs.iter().any(|l| ty_of_loc(l) != ty) {
-            return self.err(
-                span,
-                format!("field `{name}` has different types in {}", step.label_text),
-            );
+            return self
+                .err(span, format!("field `{name}` has different types in {}", step.label_text));
         }
         step.names.push(name.to_string());
         for (i, l) in locs.into_iter().enumerate() {

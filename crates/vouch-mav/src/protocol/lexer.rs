@@ -64,10 +64,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
                         "invalid hexadecimal number",
                     )
                 })?;
-                out.push(Token {
-                    tok: Tok::Num(v as f64),
-                    span: Span::new(start, i - start),
-                });
+                out.push(Token { tok: Tok::Num(v as f64), span: Span::new(start, i - start) });
                 continue;
             }
             while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
@@ -81,10 +78,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             let v: f64 = src[start..i].parse().map_err(|_| {
                 ProtocolError::at(src, Span::new(start, i - start), "invalid number")
             })?;
-            out.push(Token {
-                tok: Tok::Num(v),
-                span: Span::new(start, i - start),
-            });
+            out.push(Token { tok: Tok::Num(v), span: Span::new(start, i - start) });
             continue;
         }
         if c == b'"' {
@@ -110,10 +104,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
         match SYMS.iter().find(|s| rest.starts_with(**s)) {
             Some(s) => {
                 i += s.len();
-                out.push(Token {
-                    tok: Tok::Sym(s),
-                    span: Span::new(start, s.len()),
-                });
+                out.push(Token { tok: Tok::Sym(s), span: Span::new(start, s.len()) });
             }
             None => {
                 let ch = rest.chars().next().unwrap_or('?');
@@ -125,9 +116,6 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             }
         }
     }
-    out.push(Token {
-        tok: Tok::Eof,
-        span: Span::new(src.len(), 0),
-    });
+    out.push(Token { tok: Tok::Eof, span: Span::new(src.len(), 0) });
     Ok(out)
 }

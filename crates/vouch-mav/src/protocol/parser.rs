@@ -120,10 +120,8 @@ impl<'s> Parser<'s> {
             } else if self.is_kw("protocol") {
                 f.protocols.push(self.protocol()?);
             } else {
-                return self.err(format!(
-                    "expected `protocol` or `const`, found {}",
-                    self.describe()
-                ));
+                return self
+                    .err(format!("expected `protocol` or `const`, found {}", self.describe()));
             }
         }
     }
@@ -213,11 +211,7 @@ impl<'s> Parser<'s> {
                 }
                 self.expect_sym(")")?;
                 self.expect_sym(";")?;
-                d.reply = Some(ReplyDecl {
-                    to,
-                    message,
-                    fields,
-                });
+                d.reply = Some(ReplyDecl { to, message, fields });
             } else if self.is_kw("const") {
                 d.consts.push(self.const_decl()?);
             } else {
@@ -273,11 +267,7 @@ impl<'s> Parser<'s> {
             let name = self.ident("recursion variable")?;
             let assigns = self.assigns()?;
             self.expect_sym(";")?;
-            return Ok(Stmt::Continue {
-                name,
-                assigns,
-                span: sp.to(self.prev_span()),
-            });
+            return Ok(Stmt::Continue { name, assigns, span: sp.to(self.prev_span()) });
         }
         if self.is_kw("rec") {
             self.bump();
@@ -287,35 +277,18 @@ impl<'s> Parser<'s> {
             if !self.is_sym(")") {
                 loop {
                     let n = self.ident("variable name")?;
-                    let ty = if self.eat_sym(":") {
-                        Some(self.type_name()?)
-                    } else {
-                        None
-                    };
+                    let ty = if self.eat_sym(":") { Some(self.type_name()?) } else { None };
                     self.expect_sym("=")?;
-                    vars.push(VarDecl {
-                        name: n,
-                        ty,
-                        init: self.expr()?,
-                    });
+                    vars.push(VarDecl { name: n, ty, init: self.expr()? });
                     if !self.eat_sym(",") {
                         break;
                     }
                 }
             }
             self.expect_sym(")")?;
-            let invariant = if self.eat_kw("where") {
-                Some(self.expr()?)
-            } else {
-                None
-            };
+            let invariant = if self.eat_kw("where") { Some(self.expr()?) } else { None };
             let body = self.block()?;
-            return Ok(Stmt::Rec {
-                name,
-                vars,
-                invariant,
-                body,
-            });
+            return Ok(Stmt::Rec { name, vars, invariant, body });
         }
         if self.is_kw("choice") {
             let sp = self.bump().span;
@@ -338,26 +311,15 @@ impl<'s> Parser<'s> {
             }
             let end = self.expect_sym("}")?;
             if branches.is_empty() {
-                return Err(ProtocolError::at(
-                    self.src,
-                    sp,
-                    "a choice needs at least one branch",
-                ));
+                return Err(ProtocolError::at(self.src, sp, "a choice needs at least one branch"));
             }
-            return Ok(Stmt::Choice {
-                branches,
-                complete_when,
-                span: sp.to(end),
-            });
+            return Ok(Stmt::Choice { branches, complete_when, span: sp.to(end) });
         }
         if matches!(self.peek(), Tok::Ident(_)) && matches!(self.peek_at(1), Tok::Sym("->")) {
             let head = self.step_head()?;
             if self.is_sym("{") {
                 let block = self.block()?;
-                return Ok(Stmt::Step {
-                    head,
-                    block: Some(block),
-                });
+                return Ok(Stmt::Step { head, block: Some(block) });
             }
             self.expect_sym(";")?;
             return Ok(Stmt::Step { head, block: None });
@@ -423,26 +385,10 @@ impl<'s> Parser<'s> {
             }
             self.expect_sym(")")?;
         }
-        let when = if self.eat_kw("when") {
-            Some(self.expr()?)
-        } else {
-            None
-        };
-        let where_ = if self.eat_kw("where") {
-            Some(self.expr()?)
-        } else {
-            None
-        };
+        let when = if self.eat_kw("when") { Some(self.expr()?) } else { None };
+        let where_ = if self.eat_kw("where") { Some(self.expr()?) } else { None };
         let span = from.span.to(self.prev_span());
-        Ok(StepHead {
-            from,
-            to,
-            labels,
-            binds,
-            when,
-            where_,
-            span,
-        })
+        Ok(StepHead { from, to, labels, binds, when, where_, span })
     }
 
     // Expressions, loosest first: || && comparison additive multiplicative unary atom.
@@ -470,10 +416,7 @@ impl<'s> Parser<'s> {
         }
         let mut lhs = self.binary_level(level + 1)?;
         loop {
-            let op = LEVELS[level]
-                .iter()
-                .find(|(s, _)| self.is_sym(s))
-                .map(|(_, op)| *op);
+            let op = LEVELS[level].iter().find(|(s, _)| self.is_sym(s)).map(|(_, op)| *op);
             let Some(op) = op else { return Ok(lhs) };
             self.bump();
             let rhs = self.binary_level(level + 1)?;
@@ -482,10 +425,7 @@ impl<'s> Parser<'s> {
                 return self.err("comparisons cannot be chained; use `&&`");
             }
             let span = lhs.span.to(rhs.span);
-            lhs = Expr {
-                kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
-                span,
-            };
+            lhs = Expr { kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)), span };
         }
     }
 
@@ -494,18 +434,12 @@ impl<'s> Parser<'s> {
         if self.eat_sym("!") {
             let e = self.unary()?;
             let span = sp.to(e.span);
-            return Ok(Expr {
-                kind: ExprKind::Unary(UnOp::Not, Box::new(e)),
-                span,
-            });
+            return Ok(Expr { kind: ExprKind::Unary(UnOp::Not, Box::new(e)), span });
         }
         if self.eat_sym("-") {
             let e = self.unary()?;
             let span = sp.to(e.span);
-            return Ok(Expr {
-                kind: ExprKind::Unary(UnOp::Neg, Box::new(e)),
-                span,
-            });
+            return Ok(Expr { kind: ExprKind::Unary(UnOp::Neg, Box::new(e)), span });
         }
         self.atom()
     }
@@ -515,17 +449,11 @@ impl<'s> Parser<'s> {
         match self.peek().clone() {
             Tok::Num(n) => {
                 self.bump();
-                Ok(Expr {
-                    kind: ExprKind::Num(n),
-                    span: sp,
-                })
+                Ok(Expr { kind: ExprKind::Num(n), span: sp })
             }
             Tok::Str(s) => {
                 self.bump();
-                Ok(Expr {
-                    kind: ExprKind::Str(s),
-                    span: sp,
-                })
+                Ok(Expr { kind: ExprKind::Str(s), span: sp })
             }
             Tok::Sym("(") => {
                 self.bump();
@@ -536,18 +464,8 @@ impl<'s> Parser<'s> {
             Tok::Ident(name) => {
                 self.bump();
                 match name.as_str() {
-                    "true" => {
-                        return Ok(Expr {
-                            kind: ExprKind::Bool(true),
-                            span: sp,
-                        })
-                    }
-                    "false" => {
-                        return Ok(Expr {
-                            kind: ExprKind::Bool(false),
-                            span: sp,
-                        })
-                    }
+                    "true" => return Ok(Expr { kind: ExprKind::Bool(true), span: sp }),
+                    "false" => return Ok(Expr { kind: ExprKind::Bool(false), span: sp }),
                     "vehicle" | "param" if self.is_sym(".") => {
                         self.bump();
                         let member = self.ident(if name == "vehicle" {
@@ -565,10 +483,7 @@ impl<'s> Parser<'s> {
                     }
                     _ => {}
                 }
-                Ok(Expr {
-                    kind: ExprKind::Name(name),
-                    span: sp,
-                })
+                Ok(Expr { kind: ExprKind::Name(name), span: sp })
             }
             _ => self.err(format!("expected an expression, found {}", self.describe())),
         }

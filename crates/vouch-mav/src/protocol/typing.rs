@@ -44,11 +44,7 @@ impl<'a> Compiler<'a> {
         } else {
             self.err(
                 span,
-                format!(
-                    "type mismatch: expected {}, found {}",
-                    want.describe(),
-                    got.describe()
-                ),
+                format!("type mismatch: expected {}, found {}", want.describe(), got.describe()),
             )
         }
     }
@@ -71,16 +67,9 @@ impl<'a> Compiler<'a> {
                     format!("a condition must be a boolean, this is {}", ty.describe()),
                 );
             }
-            let text = self
-                .src
-                .get(p.span.start..p.span.start + p.span.len)
-                .unwrap_or("")
-                .to_string();
-            conjuncts.push(Conjunct {
-                expr: x,
-                text,
-                shows,
-            });
+            let text =
+                self.src.get(p.span.start..p.span.start + p.span.len).unwrap_or("").to_string();
+            conjuncts.push(Conjunct { expr: x, text, shows });
         }
         Ok(Pred { conjuncts })
     }
@@ -118,29 +107,19 @@ impl<'a> Compiler<'a> {
                     let p = self.proto.as_ref().expect("protocol under construction");
                     let slot = p.var_names.iter().rposition(|v| v == n).unwrap_or(0);
                     (Expr::Var(slot), Ty::num())
-                } else if let Some(i) = self
-                    .keys
-                    .iter()
-                    .position(|k| k == n)
-                    .filter(|_| self.in_reply)
+                } else if let Some(i) =
+                    self.keys.iter().position(|k| k == n).filter(|_| self.in_reply)
                 {
                     (Expr::Key(i), Ty::num())
                 } else if let Some(st) = step.as_deref_mut().filter(|st| {
-                    st.msgs
-                        .iter()
-                        .any(|&m| self.dialect.message(m).field(n).is_some())
+                    st.msgs.iter().any(|&m| self.dialect.message(m).field(n).is_some())
                 }) {
                     let (slot, ty) = self.field_slot(st, n, e.span)?;
                     (Expr::Field(slot), ty)
                 } else if let Some(i) = self.set.consts.iter().position(|k| &k.name == n) {
                     (Expr::Const(i), Ty::num())
                 } else if let Some((en, v)) = self.dialect.enum_entry(n) {
-                    return Ok((
-                        Expr::Num(v as f64),
-                        Ty::Num {
-                            enum_: Some(en.to_string()),
-                        },
-                    ));
+                    return Ok((Expr::Num(v as f64), Ty::Num { enum_: Some(en.to_string()) }));
                 } else {
                     let mut err =
                         ProtocolError::at(self.src, e.span, format!("unbound name `{n}`"));
@@ -162,12 +141,7 @@ impl<'a> Compiler<'a> {
                     "mode" => (VehicleAttr::Mode, Ty::num()),
                     "alt" => (VehicleAttr::Alt, Ty::num()),
                     "climb" => (VehicleAttr::Climb, Ty::num()),
-                    "type" => (
-                        VehicleAttr::Type,
-                        Ty::Num {
-                            enum_: Some("MAV_TYPE".into()),
-                        },
-                    ),
+                    "type" => (VehicleAttr::Type, Ty::Num { enum_: Some("MAV_TYPE".into()) }),
                     _ => {
                         return Err(ProtocolError::at(
                             self.src,

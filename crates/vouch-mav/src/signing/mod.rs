@@ -15,7 +15,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use sha2::{Digest, Sha256};
 
-use crate::guard::frame::{crc_accumulate, crc_of, recover_crc_extra, FrameRef, IFLAG_SIGNED, SIGNATURE_LEN};
+use crate::guard::frame::{
+    crc_accumulate, crc_of, recover_crc_extra, FrameRef, IFLAG_SIGNED, SIGNATURE_LEN,
+};
 
 /// UNIX seconds at 2015-01-01 00:00:00 UTC, the MAVLink signing epoch.
 pub const MAVLINK_EPOCH_UNIX_S: u64 = 1_420_070_400;
@@ -55,10 +57,12 @@ impl SigningKey {
             k.copy_from_slice(&bytes);
             return Ok(SigningKey(k));
         }
-        std::str::from_utf8(&bytes)
-            .ok()
-            .and_then(|s| Self::from_hex(s.trim()))
-            .ok_or_else(|| format!("signing key file `{spec}`: expected 32 raw bytes or 64 hex digits, found {} bytes", bytes.len()))
+        std::str::from_utf8(&bytes).ok().and_then(|s| Self::from_hex(s.trim())).ok_or_else(|| {
+            format!(
+                "signing key file `{spec}`: expected 32 raw bytes or 64 hex digits, found {} bytes",
+                bytes.len()
+            )
+        })
     }
 
     pub fn from_hex(s: &str) -> Option<Self> {

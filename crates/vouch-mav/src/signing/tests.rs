@@ -5,7 +5,8 @@
 use super::*;
 
 const PYMAVLINK_MISSION_COUNT: &str = "fd04010000ffe62c000064000101f8be0700b864d94500f16e608ca27f";
-const PYMAVLINK_HEARTBEAT: &str = "fd09010000ffe600000000000000060800000360a90701b864d945008f9956aa9a36";
+const PYMAVLINK_HEARTBEAT: &str =
+    "fd09010000ffe600000000000000060800000360a90701b864d945008f9956aa9a36";
 
 fn hex(s: &str) -> Vec<u8> {
     (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap()).collect()
@@ -54,7 +55,10 @@ fn rejects_replay_wrong_key_and_tamper() {
 fn new_stream_more_than_a_minute_old_is_rejected() {
     let f = hex(PYMAVLINK_HEARTBEAT);
     let mut v = Verifier::new(key());
-    assert_eq!(v.check(&FrameRef::new(&f).unwrap(), T0 + 1 + ONE_MINUTE + 1), Err(SigReject::TooOld));
+    assert_eq!(
+        v.check(&FrameRef::new(&f).unwrap(), T0 + 1 + ONE_MINUTE + 1),
+        Err(SigReject::TooOld)
+    );
     let mut v = Verifier::new(key());
     assert_eq!(v.check(&FrameRef::new(&f).unwrap(), T0 + 1 + ONE_MINUTE - 1), Ok(()));
 }

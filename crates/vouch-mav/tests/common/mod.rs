@@ -30,12 +30,7 @@ pub struct Craft {
 
 impl Craft {
     pub fn new() -> Option<Craft> {
-        Some(Craft {
-            d: dialect()?,
-            bytes: Vec::new(),
-            t: 1_700_000_000_000_000,
-            seq: 0,
-        })
+        Some(Craft { d: dialect()?, bytes: Vec::new(), t: 1_700_000_000_000_000, seq: 0 })
     }
 
     /// Appends one record: `from` sends `name` with numeric and text fields.
@@ -81,11 +76,7 @@ impl Craft {
 
     /// Vehicle → GCS 255/190 (target fields filled in when the message has them).
     pub fn uav(&mut self, name: &str, fields: &[(&str, f64)]) {
-        let has_target = self
-            .d
-            .by_name(name)
-            .and_then(|m| m.field("target_system"))
-            .is_some();
+        let has_target = self.d.by_name(name).and_then(|m| m.field("target_system")).is_some();
         let mut f = if has_target {
             vec![("target_system", 255.0), ("target_component", 190.0)]
         } else {
@@ -134,26 +125,13 @@ impl Craft {
     pub fn count(&mut self, n: u16, mission_type: u8) {
         self.gcs(
             "MISSION_COUNT",
-            &[
-                ("count", f64::from(n)),
-                ("mission_type", f64::from(mission_type)),
-            ],
+            &[("count", f64::from(n)), ("mission_type", f64::from(mission_type))],
         );
     }
 
     pub fn request(&mut self, seq: u16, mission_type: u8, deprecated: bool) {
-        let name = if deprecated {
-            "MISSION_REQUEST"
-        } else {
-            "MISSION_REQUEST_INT"
-        };
-        self.uav(
-            name,
-            &[
-                ("seq", f64::from(seq)),
-                ("mission_type", f64::from(mission_type)),
-            ],
-        );
+        let name = if deprecated { "MISSION_REQUEST" } else { "MISSION_REQUEST_INT" };
+        self.uav(name, &[("seq", f64::from(seq)), ("mission_type", f64::from(mission_type))]);
     }
 
     pub fn item(&mut self, seq: u16, mission_type: u8) {
@@ -174,10 +152,7 @@ impl Craft {
     pub fn ack(&mut self, result: u8, mission_type: u8) {
         self.uav(
             "MISSION_ACK",
-            &[
-                ("type", f64::from(result)),
-                ("mission_type", f64::from(mission_type)),
-            ],
+            &[("type", f64::from(result)), ("mission_type", f64::from(mission_type))],
         );
     }
 
@@ -209,11 +184,7 @@ pub fn violation_texts(r: &RecordingReport) -> Vec<String> {
 
 /// Asserts that the recording raised no violation.
 pub fn assert_clean(r: &RecordingReport) {
-    assert!(
-        r.violations.is_empty(),
-        "expected no violation, got: {:#?}",
-        violation_texts(r)
-    );
+    assert!(r.violations.is_empty(), "expected no violation, got: {:#?}", violation_texts(r));
 }
 
 pub fn only_violation(r: &RecordingReport) -> &Violation {

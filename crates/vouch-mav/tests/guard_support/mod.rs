@@ -12,10 +12,14 @@ pub const GCS_HEARTBEAT: &str = "fd09000000ffe60000000000000006080000038751";
 pub const STATUSTEXT_FRAME: &str = "fd0a00000001bffd000004766f7563683a20686985e7";
 /// Signed frames, key bytes 0..=31, link id 7, timestamps 300000000000 and +1 (pymavlink signing).
 pub const SIGNED_MISSION_COUNT: &str = "fd04010000ffe62c000064000101f8be0700b864d94500f16e608ca27f";
-pub const SIGNED_HEARTBEAT: &str = "fd09010000ffe600000000000000060800000360a90701b864d945008f9956aa9a36";
+pub const SIGNED_HEARTBEAT: &str =
+    "fd09010000ffe600000000000000060800000360a90701b864d945008f9956aa9a36";
 
 pub fn hex(s: &str) -> Vec<u8> {
-    (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("test hex")).collect()
+    (0..s.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("test hex"))
+        .collect()
 }
 
 pub fn key_0_to_31() -> [u8; 32] {
@@ -63,6 +67,7 @@ pub fn recv_one(s: &UdpSocket, wait: Duration) -> Option<Vec<u8>> {
 }
 /// COMMAND_LONG DO_PARACHUTE (208) RELEASE (param1 = 2) to 1/1 from 255/230:
 /// pymavlink `command_long_encode(1, 1, 208, 0, 2, 0, 0, 0, 0, 0, 0)`.
-pub const PARACHUTE_RELEASE: &str = "fd20000000ffe64c000000000040000000000000000000000000000000000000000000000000d0000101a15d";
+pub const PARACHUTE_RELEASE: &str =
+    "fd20000000ffe64c000000000040000000000000000000000000000000000000000000000000d0000101a15d";
 /// HEARTBEAT from the vehicle 1/1 (quadrotor, ArduPilot): `heartbeat_encode(2, 3, 0, 0, 4)`.
 pub const VEHICLE_HEARTBEAT: &str = "fd0900000001010000000000000002030004034ad7";

@@ -24,7 +24,8 @@ fn usage(msg: &str) -> ExitCode {
 
 fn main() -> ExitCode {
     let mut args = std::env::args().skip(1);
-    let (mut mode, mut algo, mut trace, mut pot, mut perturb, mut path) = ("paper".to_string(), "dijkstra".to_string(), None, false, None, None::<PathBuf>);
+    let (mut mode, mut algo, mut trace, mut pot, mut perturb, mut path) =
+        ("paper".to_string(), "dijkstra".to_string(), None, false, None, None::<PathBuf>);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--mode" => mode = args.next().unwrap_or_default(),

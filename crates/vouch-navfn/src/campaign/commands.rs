@@ -11,7 +11,9 @@ use crate::campaign::pictures::counterexample_png;
 use crate::campaign::report::{summary_table, Finding, Report};
 use crate::campaign::rng::SplitMix64;
 use crate::campaign::ros_import::import_ros_map;
-use crate::campaign::runner::{find_map, picture_path, run_campaign, CampaignError, CampaignOptions};
+use crate::campaign::runner::{
+    find_map, picture_path, run_campaign, CampaignError, CampaignOptions,
+};
 use crate::campaign::suite_io::{write_suite, SuiteIoError};
 use crate::campaign::trace::TraceDetail;
 use crate::maps::{find_test_files, read_suite_file, MapError};
@@ -68,10 +70,18 @@ impl From<CampaignError> for CmdError {
 }
 
 /// `suite gen`: generate (and import ROS maps), write the suite, describe it.
-pub fn suite_gen(opts: &GenOptions, out: &Path, ros_maps: &[PathBuf], ros_cases: usize) -> Result<String, CmdError> {
+pub fn suite_gen(
+    opts: &GenOptions,
+    out: &Path,
+    ros_maps: &[PathBuf],
+    ros_cases: usize,
+) -> Result<String, CmdError> {
     let mut maps = generate(opts)?;
     for (i, yaml) in ros_maps.iter().enumerate() {
-        let name = yaml.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| format!("ros{i}"));
+        let name = yaml
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| format!("ros{i}"));
         let mut m = import_ros_map(yaml, &name, None)?;
         let mut rng = SplitMix64::derive(opts.seed, "ROS", i as u64);
         m.cases = sample_cases(&m, &mut rng, ros_cases);
@@ -79,7 +89,12 @@ pub fn suite_gen(opts: &GenOptions, out: &Path, ros_maps: &[PathBuf], ros_cases:
     }
     write_suite(out, &maps)?;
     let cases: usize = maps.iter().map(|m| m.cases.len()).sum();
-    Ok(format!("wrote {} maps, {cases} cases to {} (seed {})\n", maps.len(), out.display(), opts.seed))
+    Ok(format!(
+        "wrote {} maps, {cases} cases to {} (seed {})\n",
+        maps.len(),
+        out.display(),
+        opts.seed
+    ))
 }
 
 /// `campaign`: run, optionally diff against an oracle, write report and pictures.
@@ -100,14 +115,24 @@ pub fn campaign(
     }
     if let Some(cmd) = oracle {
         let files = find_test_files(suite, "test.txt")?;
-        let dopts = DiffOptions { oracle: cmd.into(), mode: opts.mode, white_box: Some(TraceDetail::Hash), perturb_pri_inc: None };
+        let dopts = DiffOptions {
+            oracle: cmd.into(),
+            mode: opts.mode,
+            white_box: Some(TraceDetail::Hash),
+            perturb_pri_inc: None,
+        };
         for (i, f) in files.iter().enumerate() {
             // Oracle comparison is sharded by file (one oracle process per file).
             if !opts.shard.owns(i as u64) {
                 continue;
             }
             let (eq, diff, m) = diff_file(f, &dopts).map_err(|e| CmdError::Usage(e.to_string()))?;
-            let category = f.parent().and_then(Path::parent).and_then(Path::file_name).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            let category = f
+                .parent()
+                .and_then(Path::parent)
+                .and_then(Path::file_name)
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
             let st = report.categories.entry(category.clone()).or_default();
             st.oracle.pass += eq as u64;
             st.oracle.fail += diff as u64;
@@ -115,10 +140,20 @@ pub fn campaign(
                 report.findings.push(Finding {
                     kind: "oracle_mismatch".into(),
                     category,
-                    map: f.parent().and_then(Path::file_name).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+                    map: f
+                        .parent()
+                        .and_then(Path::file_name)
+                        .map(|s| s.to_string_lossy().into_owned())
+                        .unwrap_or_default(),
                     case: m.case as u64,
                     coords: [0; 4],
-                    detail: format!("{}{}", m.fields.join("; "), m.divergence.map(|d| format!("; cycle {}: {}", d.cycle, d.detail)).unwrap_or_default()),
+                    detail: format!(
+                        "{}{}",
+                        m.fields.join("; "),
+                        m.divergence
+                            .map(|d| format!("; cycle {}: {}", d.cycle, d.detail))
+                            .unwrap_or_default()
+                    ),
                     score: 1.0,
                     picture: None,
                 });
@@ -127,14 +162,16 @@ pub fn campaign(
         report.trim_findings();
     }
     if let Some(dir) = pictures {
-        std::fs::create_dir_all(dir).map_err(|e| CmdError::Usage(format!("{}: {e}", dir.display())))?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CmdError::Usage(format!("{}: {e}", dir.display())))?;
         for f in report.findings.iter_mut() {
             if f.kind == "oracle_mismatch" || f.kind == "approx_relation" {
                 continue;
             }
             let Some(pm) = find_map(&maps, &f.category, &f.map) else { continue };
             let p = picture_path(dir, f);
-            counterexample_png(&p, pm, f.case as usize, opts.mode).map_err(|e| CmdError::Usage(format!("{}: {e}", p.display())))?;
+            counterexample_png(&p, pm, f.case as usize, opts.mode)
+                .map_err(|e| CmdError::Usage(format!("{}: {e}", p.display())))?;
             f.picture = Some(p.display().to_string());
         }
     }
@@ -142,11 +179,15 @@ pub fn campaign(
         write_report(p, &report)?;
     }
     let mut text = summary_table(&report);
-    let worst: Vec<&Finding> = report.findings.iter().filter(|f| f.kind == "suboptimal").take(3).collect();
+    let worst: Vec<&Finding> =
+        report.findings.iter().filter(|f| f.kind == "suboptimal").take(3).collect();
     if !worst.is_empty() {
         text.push_str("worst optimality counterexamples:\n");
         for f in worst {
-            text.push_str(&format!("  {}/{} case {} {:?}: {}\n", f.category, f.map, f.case, f.coords, f.detail));
+            text.push_str(&format!(
+                "  {}/{} case {} {:?}: {}\n",
+                f.category, f.map, f.case, f.coords, f.detail
+            ));
         }
     }
     Ok((text, report))
@@ -171,8 +212,10 @@ pub fn write_report(p: &Path, r: &Report) -> Result<(), CmdError> {
 }
 
 pub fn read_report(p: &Path) -> Result<Report, CmdError> {
-    let text = std::fs::read_to_string(p).map_err(|e| CmdError::Usage(format!("{}: {e}", p.display())))?;
-    serde_json::from_str(&text).map_err(|e| CmdError::Input(format!("{}: not a campaign report: {e}", p.display())))
+    let text =
+        std::fs::read_to_string(p).map_err(|e| CmdError::Usage(format!("{}: {e}", p.display())))?;
+    serde_json::from_str(&text)
+        .map_err(|e| CmdError::Input(format!("{}: not a campaign report: {e}", p.display())))
 }
 
 /// `report merge`: join shard reports, write the merged one, return its summary.
@@ -188,7 +231,11 @@ pub fn report_merge(out: &Path, inputs: &[PathBuf]) -> Result<(String, Report), 
 }
 
 /// `suite diff`: returns the description and whether everything agreed.
-pub fn suite_diff(suite: &Path, opts: &DiffOptions, json: Option<&Path>) -> Result<(String, bool), CmdError> {
+pub fn suite_diff(
+    suite: &Path,
+    opts: &DiffOptions,
+    json: Option<&Path>,
+) -> Result<(String, bool), CmdError> {
     let r = crate::campaign::diff::diff_suite(suite, opts).map_err(|e| match e {
         crate::campaign::diff::DiffError::Map(m) => CmdError::from(m),
         other => CmdError::Usage(other.to_string()),
@@ -201,7 +248,11 @@ pub fn suite_diff(suite: &Path, opts: &DiffOptions, json: Option<&Path>) -> Resu
 }
 
 /// `suite run --trace/--pot`: vouch's side of the oracle contract for every test file below `path`.
-pub fn suite_run_traced(path: &Path, opts: &EmitOptions, out: &mut dyn std::io::Write) -> Result<usize, CmdError> {
+pub fn suite_run_traced(
+    path: &Path,
+    opts: &EmitOptions,
+    out: &mut dyn std::io::Write,
+) -> Result<usize, CmdError> {
     let files = find_test_files(path, "test.txt")?;
     let mut cases = 0;
     for f in files {

@@ -13,7 +13,9 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use crate::campaign::exec::RunMode;
-use crate::campaign::oracle::{contract_args, emit_file, parse_answers, run_oracle, CaseAnswer, EmitOptions, OracleError};
+use crate::campaign::oracle::{
+    contract_args, emit_file, parse_answers, run_oracle, CaseAnswer, EmitOptions, OracleError,
+};
 use crate::campaign::trace::{first_divergence, TraceDetail, TraceDivergence};
 use crate::maps::{find_test_files, read_suite_file, MapError};
 use crate::suite_run::CaseError;
@@ -72,18 +74,28 @@ pub enum DiffError {
     Own(String),
 }
 
-const COMPARED: [&str; 8] = ["coords", "navfn_start", "navfn_goal", "prop", "len", "last_path_cost", "pot_fnv", "path_fnv"];
+const COMPARED: [&str; 8] =
+    ["coords", "navfn_start", "navfn_goal", "prop", "len", "last_path_cost", "pot_fnv", "path_fnv"];
 
 fn compare(ours: &CaseAnswer, theirs: &CaseAnswer) -> (Vec<String>, Option<TraceDivergence>) {
     let mut fields = Vec::new();
     for k in COMPARED {
         let (a, b) = (ours.fields.get(k), theirs.fields.get(k));
         if a != b {
-            fields.push(format!("{k}: {} vs {}", a.map_or("-", |s| s.as_str()), b.map_or("-", |s| s.as_str())));
+            fields.push(format!(
+                "{k}: {} vs {}",
+                a.map_or("-", |s| s.as_str()),
+                b.map_or("-", |s| s.as_str())
+            ));
         }
     }
     if ours.path != theirs.path {
-        let i = ours.path.iter().zip(&theirs.path).position(|(a, b)| a != b).unwrap_or(ours.path.len().min(theirs.path.len()));
+        let i = ours
+            .path
+            .iter()
+            .zip(&theirs.path)
+            .position(|(a, b)| a != b)
+            .unwrap_or(ours.path.len().min(theirs.path.len()));
         fields.push(format!(
             "PATH: point {i}: {} vs {}",
             ours.path.get(i).map_or("-", |s| s.as_str()),
@@ -102,20 +114,38 @@ fn compare(ours: &CaseAnswer, theirs: &CaseAnswer) -> (Vec<String>, Option<Trace
 fn pot_diff(ours: &CaseAnswer, theirs: &CaseAnswer, width: usize) -> Option<PotDiff> {
     let (a, b) = (ours.pot.as_ref()?, theirs.pot.as_ref()?);
     let i = a.iter().zip(b).position(|(p, q)| p != q)?;
-    Some(PotDiff { x: i % width, y: i / width, ours: f32::from_bits(a[i]), theirs: f32::from_bits(b[i]) })
+    Some(PotDiff {
+        x: i % width,
+        y: i / width,
+        ours: f32::from_bits(a[i]),
+        theirs: f32::from_bits(b[i]),
+    })
 }
 
-fn ours_for(file: &crate::maps::SuiteFile, opts: &DiffOptions, trace: Option<TraceDetail>, pot: bool) -> Result<BTreeMap<usize, CaseAnswer>, DiffError> {
+fn ours_for(
+    file: &crate::maps::SuiteFile,
+    opts: &DiffOptions,
+    trace: Option<TraceDetail>,
+    pot: bool,
+) -> Result<BTreeMap<usize, CaseAnswer>, DiffError> {
     let mut text = String::new();
-    emit_file(file, &EmitOptions { mode: opts.mode, trace, pot, perturb_pri_inc: opts.perturb_pri_inc }, &mut text)?;
+    emit_file(
+        file,
+        &EmitOptions { mode: opts.mode, trace, pot, perturb_pri_inc: opts.perturb_pri_inc },
+        &mut text,
+    )?;
     parse_answers(&text).map_err(DiffError::Own)
 }
 
 /// Diff one test file.
-pub fn diff_file(test_txt: &Path, opts: &DiffOptions) -> Result<(usize, usize, Option<CaseMismatch>), DiffError> {
+pub fn diff_file(
+    test_txt: &Path,
+    opts: &DiffOptions,
+) -> Result<(usize, usize, Option<CaseMismatch>), DiffError> {
     let file = read_suite_file(test_txt)?;
     let ours = ours_for(&file, opts, opts.white_box, false)?;
-    let theirs = run_oracle(&opts.oracle, &contract_args(opts.mode, opts.white_box, false), test_txt)?;
+    let theirs =
+        run_oracle(&opts.oracle, &contract_args(opts.mode, opts.white_box, false), test_txt)?;
     let mut equal = 0;
     let mut first: Option<usize> = None;
     let empty = CaseAnswer::default();
@@ -134,7 +164,11 @@ pub fn diff_file(test_txt: &Path, opts: &DiffOptions) -> Result<(usize, usize, O
 
     // Deep re-run of this file for the details of its first mismatch.
     let ours = ours_for(&file, opts, Some(TraceDetail::Cells), true)?;
-    let theirs = run_oracle(&opts.oracle, &contract_args(opts.mode, Some(TraceDetail::Cells), true), test_txt)?;
+    let theirs = run_oracle(
+        &opts.oracle,
+        &contract_args(opts.mode, Some(TraceDetail::Cells), true),
+        test_txt,
+    )?;
     let a = ours.get(&k).cloned().unwrap_or_default();
     let b = theirs.get(&k).cloned().unwrap_or_default();
     let (mut fields, divergence) = compare(&a, &b);
@@ -169,7 +203,10 @@ pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, DiffEr
 
 /// Human text of a diff report: totals and the first mismatch in detail.
 pub fn describe(r: &DiffReport) -> String {
-    let mut s = format!("{} files, {} cases: {} equal, {} different\n", r.files, r.cases, r.equal, r.different);
+    let mut s = format!(
+        "{} files, {} cases: {} equal, {} different\n",
+        r.files, r.cases, r.equal, r.different
+    );
     if let Some(m) = r.mismatches.first() {
         s.push_str(&format!("first diverging case: {} case {} ({})\n", m.file, m.case, m.coords));
         for f in &m.fields {
@@ -177,16 +214,25 @@ pub fn describe(r: &DiffReport) -> String {
         }
         match &m.divergence {
             Some(d) => {
-                s.push_str(&format!("  first diverging cycle: {} ({}: {})", d.cycle, d.what, d.detail));
+                s.push_str(&format!(
+                    "  first diverging cycle: {} ({}: {})",
+                    d.cycle, d.what, d.detail
+                ));
                 if let Some(p) = d.position {
-                    s.push_str(&format!("; position {p}: vouch cell {:?}, oracle cell {:?}", d.ours, d.theirs));
+                    s.push_str(&format!(
+                        "; position {p}: vouch cell {:?}, oracle cell {:?}",
+                        d.ours, d.theirs
+                    ));
                 }
                 s.push('\n');
             }
             None => s.push_str("  search traces agree (the difference arises after propagation)\n"),
         }
         if let Some(p) = &m.pot {
-            s.push_str(&format!("  first differing potential: cell ({}, {}): vouch {} vs oracle {}\n", p.x, p.y, p.ours, p.theirs));
+            s.push_str(&format!(
+                "  first differing potential: cell ({}, {}): vouch {} vs oracle {}\n",
+                p.x, p.y, p.ours, p.theirs
+            ));
         }
         if r.mismatches.len() > 1 {
             s.push_str(&format!("  ({} more files with mismatches)\n", r.mismatches.len() - 1));

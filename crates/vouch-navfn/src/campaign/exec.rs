@@ -5,7 +5,10 @@
 use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
 use crate::campaign::trace::{Trace, TraceDetail, TraceRecorder};
 use crate::checks::{check_plan, PlanView, Violation as PlanViolation};
-use crate::core::{Algo, Cell, CycleView, NavFn, PathStartView, PropagationEnd, PropagationEndView, SearchObserver, POT_HIGH};
+use crate::core::{
+    Algo, Cell, CycleView, NavFn, PathStartView, PropagationEnd, PropagationEndView,
+    SearchObserver, POT_HIGH,
+};
 use crate::suite_run::{CaseError, CaseOutcome, CaseRunner};
 
 /// Which call sequence (golden/README.md "Modes"); the campaign runs cell-level modes only.
@@ -82,7 +85,10 @@ impl<'a> CaseObserver<'a> {
             return; // the first violation is enough; keep the hot loop cheap
         }
         for &c in cells {
-            let bad = usize::try_from(c).ok().and_then(|i| self.costs.get(i)).is_none_or(|&cost| cost >= OBSTACLE);
+            let bad = usize::try_from(c)
+                .ok()
+                .and_then(|i| self.costs.get(i))
+                .is_none_or(|&cost| cost >= OBSTACLE);
             if bad {
                 self.violations.push(Violation {
                     property: "obstacle_free_queues".into(),
@@ -96,7 +102,8 @@ impl<'a> CaseObserver<'a> {
 
 impl SearchObserver for CaseObserver<'_> {
     fn on_cycle(&mut self, v: &CycleView<'_>) {
-        self.max_occupancy = self.max_occupancy.max(v.current.len() + v.next.len() + v.overflow.len());
+        self.max_occupancy =
+            self.max_occupancy.max(v.current.len() + v.next.len() + v.overflow.len());
         self.check_buffer(v.cycle, "current", v.current);
         self.check_buffer(v.cycle, "next", v.next);
         self.check_buffer(v.cycle, "overflow", v.overflow);
@@ -155,12 +162,26 @@ pub fn run_case(
     let to = Cell::new(case.x1 as usize, case.y1 as usize);
     let outcome = match mode {
         RunMode::Paper => runner.run_paper(&m.costs, w, h, from, to, &mut obs)?,
-        RunMode::NavfnDijkstra => {
-            runner.run_navfn(&m.costs, w, h, crate::suite_run::CostInput::Raw, Algo::Dijkstra, from, to, &mut obs)?
-        }
-        RunMode::NavfnAstar => {
-            runner.run_navfn(&m.costs, w, h, crate::suite_run::CostInput::Raw, Algo::Astar, from, to, &mut obs)?
-        }
+        RunMode::NavfnDijkstra => runner.run_navfn(
+            &m.costs,
+            w,
+            h,
+            crate::suite_run::CostInput::Raw,
+            Algo::Dijkstra,
+            from,
+            to,
+            &mut obs,
+        )?,
+        RunMode::NavfnAstar => runner.run_navfn(
+            &m.costs,
+            w,
+            h,
+            crate::suite_run::CostInput::Raw,
+            Algo::Astar,
+            from,
+            to,
+            &mut obs,
+        )?,
     };
     let mut violations = std::mem::take(&mut obs.violations);
     // No path without finite potential (the paper's (¬PathComputed) W NonInfinitePotAtInit):
@@ -168,7 +189,10 @@ pub fn run_case(
     if outcome.len > 0 && !obs.pot_at_path_start.is_some_and(|p| p < POT_HIGH) {
         violations.push(Violation {
             property: "no_path_without_finite_potential".into(),
-            detail: format!("path of {} points from a start of potential {:?}", outcome.len, obs.pot_at_path_start),
+            detail: format!(
+                "path of {} points from a start of potential {:?}",
+                outcome.len, obs.pot_at_path_start
+            ),
         });
     }
     Ok(CaseRun {
@@ -188,9 +212,13 @@ fn plan_check_name(v: &PlanViolation) -> &'static str {
     match v {
         PlanViolation::PoseInObstacle { .. } => "valid_path",
         PlanViolation::PoseOnUnreachedCell { .. } => "finite_potential_path",
-        PlanViolation::PotentialOnObstacle { .. } | PlanViolation::SizeMismatch { .. } => "position_safe",
+        PlanViolation::PotentialOnObstacle { .. } | PlanViolation::SizeMismatch { .. } => {
+            "position_safe"
+        }
         PlanViolation::NoProgress { .. } => "progress",
-        PlanViolation::WrongFirstPoint { .. } | PlanViolation::WrongLastPoint { .. } => "path_end_points",
+        PlanViolation::WrongFirstPoint { .. } | PlanViolation::WrongLastPoint { .. } => {
+            "path_end_points"
+        }
     }
 }
 
@@ -218,15 +246,32 @@ mod tests {
         let costs = [254u8, 50, 50, 254, 50];
         let pot = [0.0f32; 5];
         let mut obs = CaseObserver::new(&costs, None);
-        let clean = CycleView { cycle: 0, threshold: 254.0, current: &[1, 2], next: &[], overflow: &[4], potential: &pot };
+        let clean = CycleView {
+            cycle: 0,
+            threshold: 254.0,
+            current: &[1, 2],
+            next: &[],
+            overflow: &[4],
+            potential: &pot,
+        };
         obs.on_cycle(&clean);
         assert!(obs.violations.is_empty());
-        let dirty = CycleView { cycle: 3, threshold: 354.0, current: &[1], next: &[], overflow: &[3], potential: &pot };
+        let dirty = CycleView {
+            cycle: 3,
+            threshold: 354.0,
+            current: &[1],
+            next: &[],
+            overflow: &[3],
+            potential: &pot,
+        };
         obs.on_cycle(&dirty);
         obs.on_cycle(&dirty);
         assert_eq!(obs.violations.len(), 1);
         assert_eq!(obs.violations[0].property, "obstacle_free_queues");
-        assert!(obs.violations[0].detail.contains("cycle 3") && obs.violations[0].detail.contains("overflow"));
+        assert!(
+            obs.violations[0].detail.contains("cycle 3")
+                && obs.violations[0].detail.contains("overflow")
+        );
         assert_eq!(obs.max_occupancy, 3);
     }
 
@@ -248,7 +293,14 @@ mod tests {
         assert!(obs.violations[0].detail.contains("next (final)"));
         // Out-of-range indices are violations too, never a panic.
         let mut obs = CaseObserver::new(&costs, None);
-        let v = CycleView { cycle: 0, threshold: 0.0, current: &[-1], next: &[], overflow: &[], potential: &pot };
+        let v = CycleView {
+            cycle: 0,
+            threshold: 0.0,
+            current: &[-1],
+            next: &[],
+            overflow: &[],
+            potential: &pot,
+        };
         obs.on_cycle(&v);
         assert_eq!(obs.violations.len(), 1);
     }

@@ -78,7 +78,13 @@ pub struct OriginalCtx<'a> {
 }
 
 /// Evaluate all relations of transform `t` between the original run `o` and the transformed `r`.
-pub fn evaluate(t: Transform, ctx: &OriginalCtx<'_>, o: &RunDigest, r: &RunDigest, r_potential: &[f32]) -> Vec<RelationResult> {
+pub fn evaluate(
+    t: Transform,
+    ctx: &OriginalCtx<'_>,
+    o: &RunDigest,
+    r: &RunDigest,
+    r_potential: &[f32],
+) -> Vec<RelationResult> {
     let label = t.label();
     let mut out = Vec::new();
     if let (false, Some(conn)) = (r.cycle_limited(), ctx.connected) {
@@ -86,7 +92,9 @@ pub fn evaluate(t: Transform, ctx: &OriginalCtx<'_>, o: &RunDigest, r: &RunDiges
             format!("start reached = {}, but start and goal connected = {conn}", r.reached())
         }));
     }
-    out.push(rel(format!("properties@{label}"), r.properties_ok, || "a property failed on the transformed map".into()));
+    out.push(rel(format!("properties@{label}"), r.properties_ok, || {
+        "a property failed on the transformed map".into()
+    }));
     match t {
         Transform::Embed { pad } => {
             if !o.cycle_limited() {
@@ -99,30 +107,48 @@ pub fn evaluate(t: Transform, ctx: &OriginalCtx<'_>, o: &RunDigest, r: &RunDiges
                 if bad.is_none() {
                     'cells: for (i, v) in r_potential.iter().enumerate() {
                         let (x, y) = (i % w2, i / w2);
-                        let inner = x >= pad as usize && y >= pad as usize && x < w + pad as usize && y < h + pad as usize;
-                        let want = if inner { ctx.potential[(y - pad as usize) * w + (x - pad as usize)] } else { POT_HIGH };
+                        let inner = x >= pad as usize
+                            && y >= pad as usize
+                            && x < w + pad as usize
+                            && y < h + pad as usize;
+                        let want = if inner {
+                            ctx.potential[(y - pad as usize) * w + (x - pad as usize)]
+                        } else {
+                            POT_HIGH
+                        };
                         if v.to_bits() != want.to_bits() {
                             bad = Some(format!("potential at ({x}, {y}) is {v}, expected {want}"));
                             break 'cells;
                         }
                     }
                 }
-                out.push(rel(format!("embed_potential@{label}"), bad.is_none(), || bad.clone().unwrap_or_default()));
+                out.push(rel(format!("embed_potential@{label}"), bad.is_none(), || {
+                    bad.clone().unwrap_or_default()
+                }));
                 if o.len > 0 && !o.oscillated && !r.oscillated {
-                    let tol = 2.0 * f64::from(f32::EPSILON) * f64::from((ctx.width + 2 * pad).max(ctx.height + 2 * pad));
+                    let tol = 2.0
+                        * f64::from(f32::EPSILON)
+                        * f64::from((ctx.width + 2 * pad).max(ctx.height + 2 * pad));
                     let mut why = None;
                     if r.len != o.len {
                         why = Some(format!("{} points vs {} in the original", r.len, o.len));
                     } else {
                         for (k, (p, q)) in o.path.iter().zip(&r.path).enumerate() {
                             let (sx, sy) = t.point_f(ctx.width, ctx.height, (p[0], p[1]));
-                            if (f64::from(q[0]) - sx).abs() > tol || (f64::from(q[1]) - sy).abs() > tol {
-                                why = Some(format!("point {k}: ({}, {}) vs shifted ({sx}, {sy})", q[0], q[1]));
+                            if (f64::from(q[0]) - sx).abs() > tol
+                                || (f64::from(q[1]) - sy).abs() > tol
+                            {
+                                why = Some(format!(
+                                    "point {k}: ({}, {}) vs shifted ({sx}, {sy})",
+                                    q[0], q[1]
+                                ));
                                 break;
                             }
                         }
                     }
-                    out.push(rel(format!("embed_path@{label}"), why.is_none(), || why.clone().unwrap_or_default()));
+                    out.push(rel(format!("embed_path@{label}"), why.is_none(), || {
+                        why.clone().unwrap_or_default()
+                    }));
                 }
             }
         }
@@ -130,12 +156,16 @@ pub fn evaluate(t: Transform, ctx: &OriginalCtx<'_>, o: &RunDigest, r: &RunDiges
             if o.reached() && r.reached() {
                 let (a, b) = (f64::from(o.start_pot), f64::from(r.start_pot));
                 let ok = (a - b).abs() <= APPROX_REL * a.max(b);
-                out.push(rel(format!("approx_start_potential@{label}"), ok, || format!("start potential {a} vs {b}")));
+                out.push(rel(format!("approx_start_potential@{label}"), ok, || {
+                    format!("start potential {a} vs {b}")
+                }));
             }
             if let (Some(a), Some(b)) = (o.cost, r.cost) {
                 if a > 0.0 || b > 0.0 {
                     let ok = (a - b).abs() <= APPROX_REL * a.max(b);
-                    out.push(rel(format!("approx_path_cost@{label}"), ok, || format!("path cost {a:.1} vs {b:.1}")));
+                    out.push(rel(format!("approx_path_cost@{label}"), ok, || {
+                        format!("path cost {a:.1} vs {b:.1}")
+                    }));
                 }
             }
         }
@@ -147,8 +177,21 @@ pub fn evaluate(t: Transform, ctx: &OriginalCtx<'_>, o: &RunDigest, r: &RunDiges
 mod tests {
     use super::*;
 
-    fn digest(end: PropagationEnd, start_pot: f32, path: Vec<[f32; 2]>, cost: Option<f64>) -> RunDigest {
-        RunDigest { end: Some((end, 4)), len: path.len(), start_pot, oscillated: false, path, cost, properties_ok: true }
+    fn digest(
+        end: PropagationEnd,
+        start_pot: f32,
+        path: Vec<[f32; 2]>,
+        cost: Option<f64>,
+    ) -> RunDigest {
+        RunDigest {
+            end: Some((end, 4)),
+            len: path.len(),
+            start_pot,
+            oscillated: false,
+            path,
+            cost,
+            properties_ok: true,
+        }
     }
 
     #[test]
@@ -187,10 +230,18 @@ mod tests {
         assert!(!res.iter().find(|x| x.name == "reachability@rot90").expect("evaluated").held);
         let limited = digest(PropagationEnd::CycleLimit, POT_HIGH, vec![], None);
         let res = evaluate(Transform::Rot90, &ctx, &o, &limited, &pot);
-        assert!(res.iter().all(|x| x.name != "reachability@rot90"), "not applicable when cut by the cycle limit");
+        assert!(
+            res.iter().all(|x| x.name != "reachability@rot90"),
+            "not applicable when cut by the cycle limit"
+        );
         // Approximate: start potentials 10 vs 20 differ by 50 % > 25 %.
         let far = digest(PropagationEnd::StartReached, 20.0, vec![], None);
         let res = evaluate(Transform::MirrorX, &ctx, &o, &far, &pot);
-        assert!(!res.iter().find(|x| x.name == "approx_start_potential@mirror_x").expect("evaluated").held);
+        assert!(
+            !res.iter()
+                .find(|x| x.name == "approx_start_potential@mirror_x")
+                .expect("evaluated")
+                .held
+        );
     }
 }

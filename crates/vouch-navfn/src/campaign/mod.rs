@@ -12,19 +12,19 @@
 //! The campaign only calls the core (`crate::core`, `crate::suite_run`); it never changes a
 //! NavFn result.
 
+pub mod commands;
+pub mod diff;
 pub mod exec;
 pub mod gen;
 pub mod grid;
+pub mod metamorphic;
 pub mod optimal;
+pub mod oracle;
+pub mod pictures;
+pub mod report;
 pub mod rng;
+pub mod ros_import;
+pub mod runner;
 pub mod suite_io;
 pub mod trace;
 pub mod transform;
-pub mod metamorphic;
-pub mod report;
-pub mod runner;
-pub mod oracle;
-pub mod diff;
-pub mod ros_import;
-pub mod pictures;
-pub mod commands;

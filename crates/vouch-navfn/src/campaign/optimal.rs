@@ -49,7 +49,13 @@ impl PartialOrd for Entry {
 /// 8-connected Dijkstra from `source` under the campaign cost model. Stops early once `target`
 /// is settled (if given). Returns the distance and predecessor arrays (`INFINITY`/`usize::MAX`
 /// for cells not reached). Obstacle sources reach nothing.
-pub fn dijkstra(costs: &[u8], w: usize, h: usize, source: usize, target: Option<usize>) -> (Vec<f64>, Vec<usize>) {
+pub fn dijkstra(
+    costs: &[u8],
+    w: usize,
+    h: usize,
+    source: usize,
+    target: Option<usize>,
+) -> (Vec<f64>, Vec<usize>) {
     let n = w * h;
     let mut dist = vec![f64::INFINITY; n];
     let mut prev = vec![usize::MAX; n];
@@ -96,7 +102,13 @@ pub fn dijkstra(costs: &[u8], w: usize, h: usize, source: usize, target: Option<
 /// Least grid-path cost and cells from `start` to `goal` (start first), or `None` if the goal
 /// is not 8-connected to the start or either end is an obstacle or outside the map.
 /// `start == goal` gives cost 0 with a one-cell path.
-pub fn grid_optimum(costs: &[u8], w: u32, h: u32, start: (u32, u32), goal: (u32, u32)) -> Option<Optimum> {
+pub fn grid_optimum(
+    costs: &[u8],
+    w: u32,
+    h: u32,
+    start: (u32, u32),
+    goal: (u32, u32),
+) -> Option<Optimum> {
     let (wu, hu) = (w as usize, h as usize);
     if start.0 >= w || start.1 >= h || goal.0 >= w || goal.1 >= h {
         return None;

@@ -39,9 +39,13 @@ pub fn parse_answers(text: &str) -> Result<BTreeMap<usize, CaseAnswer>, String> 
         let at = |e: String| format!("line {}: {e}", i + 1);
         match head {
             "CASE" => {
-                let k: usize = rest.first().and_then(|s| s.parse().ok()).ok_or_else(|| at("CASE without a case number".into()))?;
+                let k: usize = rest
+                    .first()
+                    .and_then(|s| s.parse().ok())
+                    .ok_or_else(|| at("CASE without a case number".into()))?;
                 let a = out.entry(k).or_default();
-                let coords: Vec<&str> = rest.iter().skip(1).take_while(|t| !t.contains('=')).copied().collect();
+                let coords: Vec<&str> =
+                    rest.iter().skip(1).take_while(|t| !t.contains('=')).copied().collect();
                 a.fields.insert("coords".into(), coords.join(" "));
                 for t in rest.iter().filter(|t| t.contains('=')) {
                     if let Some((key, v)) = t.split_once('=') {
@@ -83,7 +87,11 @@ pub struct EmitOptions {
 }
 
 /// Run every case of `file` and append the contract's lines (`suite run --trace`).
-pub fn emit_file(file: &SuiteFile, opts: &EmitOptions, out: &mut String) -> Result<usize, CaseError> {
+pub fn emit_file(
+    file: &SuiteFile,
+    opts: &EmitOptions,
+    out: &mut String,
+) -> Result<usize, CaseError> {
     let mut runner = CaseRunner::new();
     if let Some(p) = opts.perturb_pri_inc {
         runner.nav_mut().set_pri_inc(p);
@@ -102,7 +110,14 @@ pub fn emit_file(file: &SuiteFile, opts: &EmitOptions, out: &mut String) -> Resu
                 trace::write_trace(out, case.number, &rec.trace);
                 o
             }
-            None => runner.run_case(file, case, mode, algo, CostInput::Raw, &mut crate::core::NoObserver)?,
+            None => runner.run_case(
+                file,
+                case,
+                mode,
+                algo,
+                CostInput::Raw,
+                &mut crate::core::NoObserver,
+            )?,
         };
         if opts.pot {
             trace::write_pot(out, case.number, runner.nav().potential());
@@ -137,7 +152,11 @@ pub fn contract_args(mode: RunMode, trace: Option<TraceDetail>, pot: bool) -> Ve
 }
 
 /// Run the oracle command on one test file and parse its answers.
-pub fn run_oracle(cmd: &str, args: &[String], test_txt: &Path) -> Result<BTreeMap<usize, CaseAnswer>, OracleError> {
+pub fn run_oracle(
+    cmd: &str,
+    args: &[String],
+    test_txt: &Path,
+) -> Result<BTreeMap<usize, CaseAnswer>, OracleError> {
     let file = test_txt.display().to_string();
     let output = Command::new("sh")
         .arg("-c")
@@ -150,9 +169,13 @@ pub fn run_oracle(cmd: &str, args: &[String], test_txt: &Path) -> Result<BTreeMa
     if !output.status.success() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         let stderr: String = stderr.lines().take(5).collect::<Vec<_>>().join(" | ");
-        return Err(OracleError::Failed { cmd: cmd.into(), file, status: output.status.to_string(), stderr });
+        return Err(OracleError::Failed {
+            cmd: cmd.into(),
+            file,
+            status: output.status.to_string(),
+            stderr,
+        });
     }
     let text = String::from_utf8_lossy(&output.stdout);
     parse_answers(&text).map_err(|msg| OracleError::Output { cmd: cmd.into(), file, msg })
 }
-

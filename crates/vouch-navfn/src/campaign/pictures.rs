@@ -43,21 +43,39 @@ fn polyline(img: &mut Rgb, pts: &[(i64, i64)], r: i64, c: [u8; 3]) {
 }
 
 /// Render the picture of case `k` of `pm` in `mode` and write it to `out`.
-pub fn counterexample_png(out: &Path, pm: &PreparedMap, k: usize, mode: RunMode) -> std::io::Result<()> {
+pub fn counterexample_png(
+    out: &Path,
+    pm: &PreparedMap,
+    k: usize,
+    mode: RunMode,
+) -> std::io::Result<()> {
     let m = &pm.map;
-    let case: Case = *m.cases.get(k).ok_or_else(|| std::io::Error::other(format!("no case {k} in {}", m.name)))?;
+    let case: Case = *m
+        .cases
+        .get(k)
+        .ok_or_else(|| std::io::Error::other(format!("no case {k} in {}", m.name)))?;
     let mut runner = CaseRunner::new();
     run_case(&mut runner, m, &pm.setup_costs, &case, mode, None).map_err(std::io::Error::other)?;
     let nav = runner.nav();
     let (nx, ny) = (m.width as usize, m.height as usize);
     let (start, goal) = navfn_ends(mode, &case);
-    let optimum = grid_optimum(&pm.setup_costs, m.width, m.height, (start.x as u32, start.y as u32), (goal.x as u32, goal.y as u32));
+    let optimum = grid_optimum(
+        &pm.setup_costs,
+        m.width,
+        m.height,
+        (start.x as u32, start.y as u32),
+        (goal.x as u32, goal.y as u32),
+    );
 
     let right = render(&PictureInput::of(nav, false));
     let s = cell_scale(nx, ny);
     let (pw, ph) = (nx * s, ny * s);
     let gap = 8;
-    let mut img = Rgb { width: 2 * pw + gap, height: ph.max(right.height), data: vec![255; (2 * pw + gap) * ph.max(right.height) * 3] };
+    let mut img = Rgb {
+        width: 2 * pw + gap,
+        height: ph.max(right.height),
+        data: vec![255; (2 * pw + gap) * ph.max(right.height) * 3],
+    };
     for y in 0..ny {
         for x in 0..nx {
             let c = pm.setup_costs[y * nx + x];
@@ -80,7 +98,8 @@ pub fn counterexample_png(out: &Path, pm: &PreparedMap, k: usize, mode: RunMode)
         let pts: Vec<_> = o.cells.iter().map(|&(x, y)| px(f64::from(x), f64::from(y))).collect();
         polyline(&mut img, &pts, r + 1, [40, 170, 60]);
     }
-    let path: Vec<_> = nav.path_recorded().iter().map(|q| px(f64::from(q[0]), f64::from(q[1]))).collect();
+    let path: Vec<_> =
+        nav.path_recorded().iter().map(|q| px(f64::from(q[0]), f64::from(q[1]))).collect();
     polyline(&mut img, &path, r, [30, 70, 230]);
     let marker = (s as i64 / 3).max(2);
     dot(&mut img, px(start.x as f64, start.y as f64), marker, [20, 200, 60]);

@@ -23,7 +23,8 @@ impl Shard {
 
     /// Parse `I/N` with `0 <= I < N`.
     pub fn parse(s: &str) -> Result<Shard, String> {
-        let (i, n) = s.split_once('/').ok_or_else(|| format!("shard `{s}`: expected I/N, e.g. 0/4"))?;
+        let (i, n) =
+            s.split_once('/').ok_or_else(|| format!("shard `{s}`: expected I/N, e.g. 0/4"))?;
         let index: u32 = i.trim().parse().map_err(|_| format!("shard `{s}`: bad index `{i}`"))?;
         let count: u32 = n.trim().parse().map_err(|_| format!("shard `{s}`: bad count `{n}`"))?;
         if count == 0 || index >= count {
@@ -262,7 +263,12 @@ impl Report {
     pub fn failures(&self) -> u64 {
         let t = self.total();
         let checks: u64 = t.checks.values().map(|p| p.fail).sum();
-        let exact: u64 = t.metamorphic.iter().filter(|(k, _)| !k.starts_with("approx")).map(|(_, p)| p.fail).sum();
+        let exact: u64 = t
+            .metamorphic
+            .iter()
+            .filter(|(k, _)| !k.starts_with("approx"))
+            .map(|(_, p)| p.fail)
+            .sum();
         checks + exact + t.oracle.fail
     }
 
@@ -291,10 +297,14 @@ impl Report {
     /// `vouch navfn report merge`: join shard reports of the same suite and mode.
     pub fn merge(reports: &[Report]) -> Result<Report, String> {
         let first = reports.first().ok_or("no reports to merge")?;
-        let mut out = Report { suite: first.suite.clone(), mode: first.mode.clone(), ..Report::default() };
+        let mut out =
+            Report { suite: first.suite.clone(), mode: first.mode.clone(), ..Report::default() };
         for r in reports {
             if r.suite != first.suite || r.mode != first.mode {
-                return Err(format!("cannot merge a report of `{}` ({}) with one of `{}` ({})", r.suite, r.mode, first.suite, first.mode));
+                return Err(format!(
+                    "cannot merge a report of `{}` ({}) with one of `{}` ({})",
+                    r.suite, r.mode, first.suite, first.mode
+                ));
             }
             for s in &r.shards {
                 if out.shards.contains(s) {
@@ -340,16 +350,40 @@ pub fn summary_table(r: &Report) -> String {
     let _ = writeln!(
         s,
         "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7} {:>7} {:>7} {:>7} {:>8}",
-        "category", "maps", "cases", "found", "s=g", "unrch", "cyclim", "pfail", "checks", "relation", "excess%", "ratioMx", "obtuse", "oscill", "cpu_s"
+        "category",
+        "maps",
+        "cases",
+        "found",
+        "s=g",
+        "unrch",
+        "cyclim",
+        "pfail",
+        "checks",
+        "relation",
+        "excess%",
+        "ratioMx",
+        "obtuse",
+        "oscill",
+        "cpu_s"
     );
-    let mut rows: Vec<(String, CategoryStats)> = r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+    let mut rows: Vec<(String, CategoryStats)> =
+        r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
     rows.push(("TOTAL".into(), r.total()));
     for (name, c) in &rows {
         let checks_fail: u64 = c.checks.values().map(|p| p.fail).sum();
         let checks_all: u64 = c.checks.values().map(|p| p.pass + p.fail).sum();
-        let rel_fail: u64 = c.metamorphic.iter().filter(|(k, _)| !k.starts_with("approx")).map(|(_, p)| p.fail).sum();
+        let rel_fail: u64 = c
+            .metamorphic
+            .iter()
+            .filter(|(k, _)| !k.starts_with("approx"))
+            .map(|(_, p)| p.fail)
+            .sum();
         let o = &c.optimality;
-        let excess = if o.optimal_cost_sum > 0.0 { 100.0 * (o.navfn_cost_sum / o.optimal_cost_sum - 1.0) } else { 0.0 };
+        let excess = if o.optimal_cost_sum > 0.0 {
+            100.0 * (o.navfn_cost_sum / o.optimal_cost_sum - 1.0)
+        } else {
+            0.0
+        };
         let _ = writeln!(
             s,
             "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7.2} {:>7.3} {:>7} {:>7} {:>8.3}",
@@ -376,7 +410,10 @@ pub fn summary_table(r: &Report) -> String {
         let _ = writeln!(s, "  {k:<34} {:>9} / {}", v.pass, v.fail);
     }
     if !t.metamorphic.is_empty() {
-        let _ = writeln!(s, "metamorphic relations (held / violated; `approx_*` are findings, not failures):");
+        let _ = writeln!(
+            s,
+            "metamorphic relations (held / violated; `approx_*` are findings, not failures):"
+        );
         for (k, v) in &t.metamorphic {
             let _ = writeln!(s, "  {k:<34} {:>9} / {}", v.pass, v.fail);
         }
@@ -404,10 +441,18 @@ pub fn summary_table(r: &Report) -> String {
             lo = hi;
         }
         let _ = writeln!(s, "{line}");
-        let _ = writeln!(s, "  excess navfn−optimal: min {:.1}, max {:.1}", o.excess_min, o.excess_max);
+        let _ =
+            writeln!(s, "  excess navfn−optimal: min {:.1}, max {:.1}", o.excess_min, o.excess_max);
     }
     let wall: f64 = r.wall_seconds.iter().copied().fold(0.0, f64::max);
-    let _ = writeln!(s, "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}", r.cases, r.shards.len(), wall, r.threads);
+    let _ = writeln!(
+        s,
+        "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}",
+        r.cases,
+        r.shards.len(),
+        wall,
+        r.threads
+    );
     s
 }
 
@@ -419,7 +464,8 @@ mod tests {
     fn shard_parse_and_ownership_partition_cases() {
         assert!(Shard::parse("3/3").is_err());
         assert!(Shard::parse("x").is_err());
-        let shards: Vec<Shard> = (0..4).map(|i| Shard::parse(&format!("{i}/4")).expect("valid")).collect();
+        let shards: Vec<Shard> =
+            (0..4).map(|i| Shard::parse(&format!("{i}/4")).expect("valid")).collect();
         for g in 0..1000u64 {
             assert_eq!(shards.iter().filter(|s| s.owns(g)).count(), 1);
         }
@@ -427,7 +473,13 @@ mod tests {
 
     #[test]
     fn merge_adds_counts_and_rejects_duplicates() {
-        let mut a = Report { suite: "s".into(), mode: "paper".into(), shards: vec![Shard { index: 0, count: 2 }], cases: 3, ..Report::default() };
+        let mut a = Report {
+            suite: "s".into(),
+            mode: "paper".into(),
+            shards: vec![Shard { index: 0, count: 2 }],
+            cases: 3,
+            ..Report::default()
+        };
         let mut c = CategoryStats { maps: 1, cases: 3, ..Default::default() };
         c.check("x", true);
         c.optimality.record(110.0, 100.0);

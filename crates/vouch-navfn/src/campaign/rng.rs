@@ -25,7 +25,8 @@ impl SplitMix64 {
             h ^= u64::from(b);
             h = h.wrapping_mul(0x0100_0000_01b3);
         }
-        let mut g = SplitMix64::new(seed ^ h.rotate_left(17) ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let mut g =
+            SplitMix64::new(seed ^ h.rotate_left(17) ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         // Discard one output so that nearby seeds decorrelate immediately.
         g.next_u64();
         g

@@ -12,7 +12,13 @@ use crate::maps::ros_yaml::parse_map_yaml;
 use crate::maps::MapError;
 
 /// Convert one grey sample (0..=maxval) with the yaml thresholds.
-pub fn pixel_to_navfn(pixel: u16, maxval: u16, negate: bool, free_thresh: f64, occupied_thresh: f64) -> u8 {
+pub fn pixel_to_navfn(
+    pixel: u16,
+    maxval: u16,
+    negate: bool,
+    free_thresh: f64,
+    occupied_thresh: f64,
+) -> u8 {
     let p = f64::from(pixel) * 255.0 / f64::from(maxval.max(1));
     let value = if negate { p } else { 255.0 - p };
     if value < free_thresh * 255.0 {
@@ -26,7 +32,11 @@ pub fn pixel_to_navfn(pixel: u16, maxval: u16, negate: bool, free_thresh: f64, o
 
 /// Read `yaml` (and the image it names, relative to it) into a suite map of category `ROS`.
 /// `image_override` replaces the yaml's image name (nav2's `empty_room.yaml` names a missing file).
-pub fn import_ros_map(yaml: &Path, name: &str, image_override: Option<&Path>) -> Result<SuiteMap, MapError> {
+pub fn import_ros_map(
+    yaml: &Path,
+    name: &str,
+    image_override: Option<&Path>,
+) -> Result<SuiteMap, MapError> {
     let text = std::fs::read_to_string(yaml).map_err(|e| MapError::io(yaml, e))?;
     let meta = parse_map_yaml(yaml, &text)?;
     let dir = yaml.parent().unwrap_or(Path::new("."));
@@ -37,12 +47,17 @@ pub fn import_ros_map(yaml: &Path, name: &str, image_override: Option<&Path>) ->
     let data = std::fs::read(&image).map_err(|e| MapError::io(&image, e))?;
     let img = parse_pgm(&image, &data)?;
     if img.width < 3 || img.height < 3 {
-        return Err(MapError::file(&image, format!("a {}x{} map is too small for NavFn (needs 3x3)", img.width, img.height)));
+        return Err(MapError::file(
+            &image,
+            format!("a {}x{} map is too small for NavFn (needs 3x3)", img.width, img.height),
+        ));
     }
     let costs = img
         .pixels
         .iter()
-        .map(|&p| pixel_to_navfn(p, img.maxval, meta.negate, meta.free_thresh, meta.occupied_thresh))
+        .map(|&p| {
+            pixel_to_navfn(p, img.maxval, meta.negate, meta.free_thresh, meta.occupied_thresh)
+        })
         .collect();
     let mut m = SuiteMap {
         category: "ROS".into(),

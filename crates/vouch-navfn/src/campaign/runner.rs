@@ -144,12 +144,21 @@ impl OptimumCache {
     }
 }
 
-fn digest(run: &CaseRun, runner: &CaseRunner, start: Cell, costs: &[u8], w: u32, h: u32, found_cost: bool) -> RunDigest {
+fn digest(
+    run: &CaseRun,
+    runner: &CaseRunner,
+    start: Cell,
+    costs: &[u8],
+    w: u32,
+    h: u32,
+    found_cost: bool,
+) -> RunDigest {
     let nav = runner.nav();
     let pot = nav.potential();
     let path = nav.path().to_vec();
     let oscillated = path_shape(&to_pairs(nav.path_recorded())).oscillations > 0;
-    let cost = (found_cost && run.outcome.len > 0).then(|| path_cost(costs, w, h, &to_pairs(&path)));
+    let cost =
+        (found_cost && run.outcome.len > 0).then(|| path_cost(costs, w, h, &to_pairs(&path)));
     RunDigest {
         end: run.end,
         len: run.outcome.len,
@@ -179,7 +188,12 @@ fn finding(kind: &str, m: &SuiteMap, k: usize, c: &Case, detail: String, score: 
 }
 
 /// Run the cases `range` of `pm` (those owned by the shard).
-fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOptions, bar: &indicatif::ProgressBar) -> Result<UnitResult, CampaignError> {
+fn run_unit(
+    pm: &PreparedMap,
+    range: std::ops::Range<usize>,
+    opts: &CampaignOptions,
+    bar: &indicatif::ProgressBar,
+) -> Result<UnitResult, CampaignError> {
     let m = &pm.map;
     let (w, h) = (m.width as usize, m.height as usize);
     let mut res = UnitResult { category: m.category.clone(), ..Default::default() };
@@ -202,7 +216,8 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
         st.max_buffer_occupancy = st.max_buffer_occupancy.max(run.max_occupancy as u64);
 
         let goal_open = pm.setup_costs[gi] < OBSTACLE;
-        let connected = goal_open.then(|| pm.components[si] != u32::MAX && pm.components[si] == pm.components[gi]);
+        let connected = goal_open
+            .then(|| pm.components[si] != u32::MAX && pm.components[si] == pm.components[gi]);
         let reached = runner.nav().potential()[si] < POT_HIGH;
 
         // Outcome classes (as in golden/README.md: "truly unreachable" = not connected).
@@ -255,7 +270,14 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
             if let Some(r) = rec.as_mut() {
                 r.failed.push(v.property.clone());
             }
-            res.findings.push(finding("check_failed", m, k, case, format!("{}: {}", v.property, v.detail), 1.0));
+            res.findings.push(finding(
+                "check_failed",
+                m,
+                k,
+                case,
+                format!("{}: {}", v.property, v.detail),
+                1.0,
+            ));
         }
 
         // Optimality and path shape.
@@ -267,7 +289,14 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
         }
         if oscillated {
             st.optimality.oscillating_paths += 1;
-            res.findings.push(finding("oscillation", m, k, case, format!("{} repeated points, path len {}", shape_rec.oscillations, run.outcome.len), f64::from(shape_rec.oscillations)));
+            res.findings.push(finding(
+                "oscillation",
+                m,
+                k,
+                case,
+                format!("{} repeated points, path len {}", shape_rec.oscillations, run.outcome.len),
+                f64::from(shape_rec.oscillations),
+            ));
         }
         if run.outcome.len > 0 && si != gi {
             let path = to_pairs(runner.nav().path());
@@ -278,7 +307,17 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
             }
             if !oscillated && shape.obtuse_turns > 0 {
                 st.optimality.obtuse_paths += 1;
-                res.findings.push(finding("obtuse", m, k, case, format!("{} obtuse turns, sharpest {:.1}°", shape.obtuse_turns, shape.max_turn_deg), shape.max_turn_deg));
+                res.findings.push(finding(
+                    "obtuse",
+                    m,
+                    k,
+                    case,
+                    format!(
+                        "{} obtuse turns, sharpest {:.1}°",
+                        shape.obtuse_turns, shape.max_turn_deg
+                    ),
+                    shape.max_turn_deg,
+                ));
             }
             if opts.optimality {
                 let best = cache.optimum(&pm.setup_costs, w, h, si, gi);
@@ -303,7 +342,8 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
         if opts.metamorphic && !pm.transformed.is_empty() {
             let o_dig = digest(&run, &runner, start, &pm.setup_costs, m.width, m.height, true);
             let o_pot = runner.nav().potential().to_vec();
-            let ctx = OriginalCtx { width: m.width, height: m.height, potential: &o_pot, connected };
+            let ctx =
+                OriginalCtx { width: m.width, height: m.height, potential: &o_pot, connected };
             for (t, tm, tcosts) in &pm.transformed {
                 let tc = tm.cases[k];
                 let trun = run_case(&mut runner, tm, tcosts, &tc, opts.mode, None).map_err(err)?;
@@ -313,12 +353,25 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
                 t_dig.properties_ok &= tfin.is_empty();
                 for r in metamorphic::evaluate(*t, &ctx, &o_dig, &t_dig, runner.nav().potential()) {
                     st.relation(&r.name, r.held);
-                    if let (false, false, Some(c)) = (r.held, r.name.starts_with("approx"), rec.as_mut()) {
+                    if let (false, false, Some(c)) =
+                        (r.held, r.name.starts_with("approx"), rec.as_mut())
+                    {
                         c.failed.push(r.name.clone());
                     }
                     if !r.held {
-                        let kind = if r.name.starts_with("approx") { "approx_relation" } else { "relation_failed" };
-                        res.findings.push(finding(kind, m, k, case, format!("{}: {}", r.name, r.detail), 1.0));
+                        let kind = if r.name.starts_with("approx") {
+                            "approx_relation"
+                        } else {
+                            "relation_failed"
+                        };
+                        res.findings.push(finding(
+                            kind,
+                            m,
+                            k,
+                            case,
+                            format!("{}: {}", r.name, r.detail),
+                            1.0,
+                        ));
                     }
                 }
             }
@@ -331,17 +384,26 @@ fn run_unit(pm: &PreparedMap, range: std::ops::Range<usize>, opts: &CampaignOpti
 }
 
 /// Run the campaign over prepared maps.
-pub fn run_prepared(suite_label: &str, maps: &[PreparedMap], opts: &CampaignOptions) -> Result<Report, CampaignError> {
+pub fn run_prepared(
+    suite_label: &str,
+    maps: &[PreparedMap],
+    opts: &CampaignOptions,
+) -> Result<Report, CampaignError> {
     let began = Instant::now();
     let owned: u64 = maps
         .iter()
-        .map(|pm| (0..pm.map.cases.len() as u64).filter(|&k| opts.shard.owns(pm.first_global + k)).count() as u64)
+        .map(|pm| {
+            (0..pm.map.cases.len() as u64).filter(|&k| opts.shard.owns(pm.first_global + k)).count()
+                as u64
+        })
         .sum();
     let bar = if opts.progress {
         let b = indicatif::ProgressBar::new(owned);
         b.set_style(
-            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} cases ({per_sec}, eta {eta})")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {pos}/{len} cases ({per_sec}, eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         b
     } else {
@@ -356,8 +418,10 @@ pub fn run_prepared(suite_label: &str, maps: &[PreparedMap], opts: &CampaignOpti
             (0..n).step_by(step).map(move |s| (i, s..(s + step).min(n)))
         })
         .collect();
-    let results: Vec<UnitResult> =
-        units.par_iter().map(|(i, r)| run_unit(&maps[*i], r.clone(), opts, &bar)).collect::<Result<_, _>>()?;
+    let results: Vec<UnitResult> = units
+        .par_iter()
+        .map(|(i, r)| run_unit(&maps[*i], r.clone(), opts, &bar))
+        .collect::<Result<_, _>>()?;
     bar.finish_and_clear();
 
     let mut report = Report {
@@ -386,7 +450,10 @@ pub fn run_prepared(suite_label: &str, maps: &[PreparedMap], opts: &CampaignOpti
 }
 
 /// Load and run a suite directory.
-pub fn run_campaign(dir: &Path, opts: &CampaignOptions) -> Result<(Report, Vec<PreparedMap>), CampaignError> {
+pub fn run_campaign(
+    dir: &Path,
+    opts: &CampaignOptions,
+) -> Result<(Report, Vec<PreparedMap>), CampaignError> {
     let began = Instant::now();
     let maps = load_suite(dir, opts.metamorphic)?;
     let mut report = run_prepared(&dir.display().to_string(), &maps, opts)?;
@@ -398,7 +465,11 @@ pub fn run_campaign(dir: &Path, opts: &CampaignOptions) -> Result<(Report, Vec<P
 }
 
 /// Find a prepared map by category and name.
-pub fn find_map<'a>(maps: &'a [PreparedMap], category: &str, name: &str) -> Option<&'a PreparedMap> {
+pub fn find_map<'a>(
+    maps: &'a [PreparedMap],
+    category: &str,
+    name: &str,
+) -> Option<&'a PreparedMap> {
     maps.iter().find(|pm| pm.map.category == category && pm.map.name == name)
 }
 

@@ -25,16 +25,21 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> SuiteIoError + '_ {
 }
 
 /// Convert the core reader's result into the campaign IR (cells truncated like the harness).
-pub fn from_suite_file(f: &SuiteFile, category: &str, name: &str) -> Result<SuiteMap, SuiteIoError> {
+pub fn from_suite_file(
+    f: &SuiteFile,
+    category: &str,
+    name: &str,
+) -> Result<SuiteMap, SuiteIoError> {
     let mut cases = Vec::with_capacity(f.cases.len());
     for c in &f.cases {
-        let ([x0, y0], [x1, y1]) = c.cells(f.width, f.height).ok_or_else(|| SuiteIoError::Outside {
-            path: f.test_path.clone(),
-            line: c.line,
-            number: c.number,
-            width: f.width,
-            height: f.height,
-        })?;
+        let ([x0, y0], [x1, y1]) =
+            c.cells(f.width, f.height).ok_or_else(|| SuiteIoError::Outside {
+                path: f.test_path.clone(),
+                line: c.line,
+                number: c.number,
+                width: f.width,
+                height: f.height,
+            })?;
         cases.push(Case::new(x0 as u32, y0 as u32, x1 as u32, y1 as u32));
     }
     Ok(SuiteMap {
@@ -49,7 +54,11 @@ pub fn from_suite_file(f: &SuiteFile, category: &str, name: &str) -> Result<Suit
 
 /// Parse one `test.txt` (and load its map) with the core's reader (same comment rule, same
 /// located errors). `category` and `name` label the result.
-pub fn read_test_file(test_txt: &Path, category: &str, name: &str) -> Result<SuiteMap, SuiteIoError> {
+pub fn read_test_file(
+    test_txt: &Path,
+    category: &str,
+    name: &str,
+) -> Result<SuiteMap, SuiteIoError> {
     let f = read_suite_file(test_txt)?;
     from_suite_file(&f, category, name)
 }
@@ -69,12 +78,20 @@ pub fn list_suite(dir: &Path) -> Result<Vec<SuiteEntry>, SuiteIoError> {
     if files.is_empty() {
         return Err(MapError::file(dir, "no test.txt found below this folder").into());
     }
-    let name_of = |p: Option<&Path>| p.and_then(|p| p.file_name()).map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "-".into());
+    let name_of = |p: Option<&Path>| {
+        p.and_then(|p| p.file_name())
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "-".into())
+    };
     Ok(files
         .into_iter()
         .map(|t| {
             let map_dir = t.parent();
-            SuiteEntry { category: name_of(map_dir.and_then(Path::parent)), name: name_of(map_dir), test_txt: t }
+            SuiteEntry {
+                category: name_of(map_dir.and_then(Path::parent)),
+                name: name_of(map_dir),
+                test_txt: t,
+            }
         })
         .collect())
 }

@@ -108,12 +108,19 @@ impl SearchObserver for TraceRecorder {
         self.trace.cycles.push(CycleRecord {
             cycle: v.cycle as u32,
             threshold_bits: v.threshold.to_bits(),
-            bufs: [BufRecord::of(v.current, d), BufRecord::of(v.next, d), BufRecord::of(v.overflow, d)],
+            bufs: [
+                BufRecord::of(v.current, d),
+                BufRecord::of(v.next, d),
+                BufRecord::of(v.overflow, d),
+            ],
         });
     }
     fn on_propagation_end(&mut self, v: &PropagationEndView<'_>) {
-        self.trace.end =
-            Some(EndRecord { cycles: v.cycles as u32, end: end_name(v.end).to_string(), threshold_bits: v.threshold.to_bits() });
+        self.trace.end = Some(EndRecord {
+            cycles: v.cycles as u32,
+            end: end_name(v.end).to_string(),
+            threshold_bits: v.threshold.to_bits(),
+        });
     }
 }
 
@@ -140,7 +147,11 @@ pub fn write_trace(out: &mut String, k: usize, t: &Trace) {
         out.push('\n');
     }
     if let Some(e) = &t.end {
-        let _ = writeln!(out, "PROPEND {k} cycles={} end={} thr={:08x}", e.cycles, e.end, e.threshold_bits);
+        let _ = writeln!(
+            out,
+            "PROPEND {k} cycles={} end={} thr={:08x}",
+            e.cycles, e.end, e.threshold_bits
+        );
     }
 }
 
@@ -158,18 +169,27 @@ fn parse_hex32(s: &str) -> Result<u32, String> {
 }
 
 fn field<'a>(tok: &'a str, key: &str) -> Result<&'a str, String> {
-    tok.strip_prefix(key).and_then(|r| r.strip_prefix('=')).ok_or_else(|| format!("expected `{key}=…`, found `{tok}`"))
+    tok.strip_prefix(key)
+        .and_then(|r| r.strip_prefix('='))
+        .ok_or_else(|| format!("expected `{key}=…`, found `{tok}`"))
 }
 
 fn parse_buf(s: &str) -> Result<BufRecord, String> {
     let mut parts = s.splitn(3, ':');
-    let len = parts.next().unwrap_or("").parse::<u32>().map_err(|_| format!("bad buffer length in `{s}`"))?;
-    let hash = u64::from_str_radix(parts.next().unwrap_or(""), 16).map_err(|_| format!("bad buffer hash in `{s}`"))?;
+    let len = parts
+        .next()
+        .unwrap_or("")
+        .parse::<u32>()
+        .map_err(|_| format!("bad buffer length in `{s}`"))?;
+    let hash = u64::from_str_radix(parts.next().unwrap_or(""), 16)
+        .map_err(|_| format!("bad buffer hash in `{s}`"))?;
     let cells = match parts.next() {
         None => None,
         Some("") => Some(Vec::new()),
         Some(list) => Some(
-            list.split(',').map(|c| c.parse::<i32>().map_err(|_| format!("bad cell `{c}`"))).collect::<Result<Vec<_>, _>>()?,
+            list.split(',')
+                .map(|c| c.parse::<i32>().map_err(|_| format!("bad cell `{c}`")))
+                .collect::<Result<Vec<_>, _>>()?,
         ),
     };
     Ok(BufRecord { len, hash, cells })
@@ -183,7 +203,11 @@ pub fn parse_cycle(rest: &[&str]) -> Result<(usize, CycleRecord), String> {
     let k = k.parse().map_err(|_| format!("bad case number `{k}`"))?;
     let cycle = c.parse().map_err(|_| format!("bad cycle number `{c}`"))?;
     let threshold_bits = parse_hex32(field(thr, "thr")?)?;
-    let bufs = [parse_buf(field(cur, "cur")?)?, parse_buf(field(next, "next")?)?, parse_buf(field(over, "over")?)?];
+    let bufs = [
+        parse_buf(field(cur, "cur")?)?,
+        parse_buf(field(next, "next")?)?,
+        parse_buf(field(over, "over")?)?,
+    ];
     Ok((k, CycleRecord { cycle, threshold_bits, bufs }))
 }
 
@@ -194,7 +218,14 @@ pub fn parse_propend(rest: &[&str]) -> Result<(usize, EndRecord), String> {
     };
     let k = k.parse().map_err(|_| format!("bad case number `{k}`"))?;
     let cycles = field(cycles, "cycles")?.parse().map_err(|_| "bad cycles".to_string())?;
-    Ok((k, EndRecord { cycles, end: field(end, "end")?.to_string(), threshold_bits: parse_hex32(field(thr, "thr")?)? }))
+    Ok((
+        k,
+        EndRecord {
+            cycles,
+            end: field(end, "end")?.to_string(),
+            threshold_bits: parse_hex32(field(thr, "thr")?)?,
+        },
+    ))
 }
 
 /// Parse the fields after `POT`.
@@ -234,16 +265,29 @@ pub fn first_divergence(ours: &Trace, theirs: &Trace) -> Option<TraceDivergence>
         }
         if a.threshold_bits != b.threshold_bits {
             let (x, y) = (f32::from_bits(a.threshold_bits), f32::from_bits(b.threshold_bits));
-            return Some(mk("thr", format!("threshold {x} ({:08x}) vs {y} ({:08x})", a.threshold_bits, b.threshold_bits)));
+            return Some(mk(
+                "thr",
+                format!(
+                    "threshold {x} ({:08x}) vs {y} ({:08x})",
+                    a.threshold_bits, b.threshold_bits
+                ),
+            ));
         }
         for (i, name) in BUFFER_NAMES.iter().enumerate() {
             let (x, y) = (&a.bufs[i], &b.bufs[i]);
             if x.len == y.len && x.hash == y.hash {
                 continue;
             }
-            let mut d = mk(name, format!("{name}: {} cells (hash {:016x}) vs {} cells (hash {:016x})", x.len, x.hash, y.len, y.hash));
+            let mut d = mk(
+                name,
+                format!(
+                    "{name}: {} cells (hash {:016x}) vs {} cells (hash {:016x})",
+                    x.len, x.hash, y.len, y.hash
+                ),
+            );
             if let (Some(cx), Some(cy)) = (&x.cells, &y.cells) {
-                let pos = cx.iter().zip(cy).position(|(p, q)| p != q).unwrap_or(cx.len().min(cy.len()));
+                let pos =
+                    cx.iter().zip(cy).position(|(p, q)| p != q).unwrap_or(cx.len().min(cy.len()));
                 d.position = Some(pos);
                 d.ours = cx.get(pos).copied();
                 d.theirs = cy.get(pos).copied();
@@ -270,7 +314,10 @@ pub fn first_divergence(ours: &Trace, theirs: &Trace) -> Option<TraceDivergence>
                 position: None,
                 ours: None,
                 theirs: None,
-                detail: format!("end {} after {} cycles vs {} after {}", a.end, a.cycles, b.end, b.cycles),
+                detail: format!(
+                    "end {} after {} cycles vs {} after {}",
+                    a.end, a.cycles, b.end, b.cycles
+                ),
             });
         }
     }
@@ -293,7 +340,11 @@ mod tests {
                     BufRecord::of(&[3], TraceDetail::Cells),
                 ],
             }],
-            end: Some(EndRecord { cycles: 1, end: "start_reached".into(), threshold_bits: 254f32.to_bits() }),
+            end: Some(EndRecord {
+                cycles: 1,
+                end: "start_reached".into(),
+                threshold_bits: 254f32.to_bits(),
+            }),
         };
         let mut s = String::new();
         write_trace(&mut s, 4, &t);
@@ -311,11 +362,25 @@ mod tests {
 
     #[test]
     fn divergence_names_the_first_cell() {
-        let a = Trace { cycles: vec![CycleRecord { cycle: 0, threshold_bits: 1, bufs: [BufRecord::of(&[1, 2, 3], TraceDetail::Cells), BufRecord::of(&[], TraceDetail::Cells), BufRecord::of(&[], TraceDetail::Cells)] }], end: None };
+        let a = Trace {
+            cycles: vec![CycleRecord {
+                cycle: 0,
+                threshold_bits: 1,
+                bufs: [
+                    BufRecord::of(&[1, 2, 3], TraceDetail::Cells),
+                    BufRecord::of(&[], TraceDetail::Cells),
+                    BufRecord::of(&[], TraceDetail::Cells),
+                ],
+            }],
+            end: None,
+        };
         let mut b = a.clone();
         b.cycles[0].bufs[0] = BufRecord::of(&[1, 9, 3], TraceDetail::Cells);
         let d = first_divergence(&a, &b).expect("differs");
-        assert_eq!((d.cycle, d.what.as_str(), d.position, d.ours, d.theirs), (0, "cur", Some(1), Some(2), Some(9)));
+        assert_eq!(
+            (d.cycle, d.what.as_str(), d.position, d.ours, d.theirs),
+            (0, "cur", Some(1), Some(2), Some(9))
+        );
         // An empty buffer hashes to the FNV offset basis.
         assert_eq!(buffer_hash(&[]), FNV_OFFSET);
     }

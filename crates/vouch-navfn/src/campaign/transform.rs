@@ -15,7 +15,9 @@ pub enum Transform {
     /// Top–bottom mirror (y → H−1−y).
     MirrorY,
     /// Embed in a frame of `pad` obstacle cells on every side (offset `pad` in x and y).
-    Embed { pad: u32 },
+    Embed {
+        pad: u32,
+    },
 }
 
 impl Transform {
@@ -117,7 +119,8 @@ mod tests {
     #[test]
     fn four_quarter_turns_are_identity() {
         let m = sample();
-        let r = Transform::Rot90.apply(&Transform::Rot90.apply(&Transform::Rot90.apply(&Transform::Rot90.apply(&m))));
+        let r = Transform::Rot90
+            .apply(&Transform::Rot90.apply(&Transform::Rot90.apply(&Transform::Rot90.apply(&m))));
         assert_eq!(r.costs, m.costs);
         assert_eq!(r.cases, m.cases);
         assert_eq!((r.width, r.height), (6, 5));
@@ -128,7 +131,10 @@ mod tests {
         let m = sample();
         assert_eq!(Transform::Rot270.apply(&Transform::Rot90.apply(&m)).costs, m.costs);
         assert_eq!(Transform::MirrorX.apply(&Transform::MirrorX.apply(&m)).costs, m.costs);
-        assert_eq!(Transform::Rot180.apply(&m).costs, Transform::MirrorX.apply(&Transform::MirrorY.apply(&m)).costs);
+        assert_eq!(
+            Transform::Rot180.apply(&m).costs,
+            Transform::MirrorX.apply(&Transform::MirrorY.apply(&m)).costs
+        );
     }
 
     #[test]

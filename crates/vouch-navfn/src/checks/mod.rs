@@ -62,7 +62,11 @@ pub fn check_potential(v: &PlanView) -> CheckReport {
     let mut r = CheckReport::default();
     let (nx, ny) = (v.nx, v.ny);
     if v.potential.len() != nx * ny || v.costs.len() != nx * ny {
-        r.push(Violation::SizeMismatch { potential: v.potential.len(), costs: v.costs.len(), cells: nx * ny });
+        r.push(Violation::SizeMismatch {
+            potential: v.potential.len(),
+            costs: v.costs.len(),
+            cells: nx * ny,
+        });
         return r;
     }
     let goal = v.goal.y * nx + v.goal.x;
@@ -131,7 +135,5 @@ fn belonging_cells(p: [f32; 2], nx: usize, ny: usize) -> impl Iterator<Item = (u
     };
     let xs = axis(p[0], nx);
     let ys = axis(p[1], ny);
-    xs.into_iter()
-        .flatten()
-        .flat_map(move |x| ys.into_iter().flatten().map(move |y| (x, y)))
+    xs.into_iter().flatten().flat_map(move |x| ys.into_iter().flatten().map(move |y| (x, y)))
 }

@@ -64,7 +64,9 @@ impl Cell {
 /// Errors of the core API (all caused by caller input, never by the search itself).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum CoreError {
-    #[error("map size {nx}x{ny} is not usable: NavFn needs at least 1x1 cells and fewer than 2^31")]
+    #[error(
+        "map size {nx}x{ny} is not usable: NavFn needs at least 1x1 cells and fewer than 2^31"
+    )]
     BadSize { nx: usize, ny: usize },
     #[error("{what} cell ({x}, {y}) lies outside the {nx}x{ny} map")]
     CellOutside { what: &'static str, x: usize, y: usize, nx: usize, ny: usize },

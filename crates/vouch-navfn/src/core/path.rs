@@ -118,7 +118,8 @@ impl NavFn {
                 // common case: the 3x3 block is inside the array; read its three rows directly
                 let s0 = (south - 1) as usize;
                 let (n0, m0) = ((north - 1) as usize, (stc - 1) as usize);
-                let (rs, rm, rn) = (&self.pot[s0..s0 + 3], &self.pot[m0..m0 + 3], &self.pot[n0..n0 + 3]);
+                let (rs, rm, rn) =
+                    (&self.pot[s0..s0 + 3], &self.pot[m0..m0 + 3], &self.pot[n0..n0 + 3]);
                 // same nine tests as below, any order (no side effects)
                 rs.iter().chain(rm).chain(rn).any(|&v| v >= POT_HIGH)
             } else {
@@ -137,16 +138,9 @@ impl NavFn {
                 // potential truncated to int (INT_MIN for an unreached cell, x86-64)
                 let mut minc = stc;
                 let mut minp = c_float_to_int(p(stc));
-                for s in [
-                    south - 1,
-                    south,
-                    south + 1,
-                    stc - 1,
-                    stc + 1,
-                    north - 1,
-                    north,
-                    north + 1,
-                ] {
+                for s in
+                    [south - 1, south, south + 1, stc - 1, stc + 1, north - 1, north, north + 1]
+                {
                     let ps = p(s);
                     if ps < minp as f32 {
                         minp = c_float_to_int(ps);

@@ -10,8 +10,8 @@ pub mod suite;
 pub use error::MapError;
 pub use ros_yaml::{load_ros_map, parse_map_yaml, static_layer_value, MapMode, RosMap, RosMapMeta};
 pub use suite::{
-    find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params, SuiteCase,
-    SuiteFile,
+    find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params,
+    SuiteCase, SuiteFile,
 };
 
 /// Largest map we accept (cells). Far above any nav2 map in practice, low enough that a

@@ -24,7 +24,10 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
         "P5" => true,
         "P2" => false,
         other => {
-            return Err(MapError::file(path, format!("not a PGM image (magic `{other}`, expected P5 or P2)")))
+            return Err(MapError::file(
+                path,
+                format!("not a PGM image (magic `{other}`, expected P5 or P2)"),
+            ))
         }
     };
     let width = header_number(path, data, &mut pos, "width")?;
@@ -63,20 +66,26 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
             let v = match next_token(data, &mut pos) {
                 Some(t) => t,
                 None => {
-                    return Err(MapError::file(path, format!("truncated PGM: {cells} samples expected, found {i}")))
+                    return Err(MapError::file(
+                        path,
+                        format!("truncated PGM: {cells} samples expected, found {i}"),
+                    ))
                 }
             };
             let v: usize = v
                 .parse()
                 .map_err(|_| MapError::file(path, format!("sample {i}: `{v}` is not a number")))?;
-            pixels.push(u16::try_from(v).ok().filter(|&v| v as usize <= maxval).ok_or_else(|| {
-                MapError::file(path, format!("sample {i}: value {v} exceeds maxval {maxval}"))
-            })?);
+            pixels.push(u16::try_from(v).ok().filter(|&v| v as usize <= maxval).ok_or_else(
+                || MapError::file(path, format!("sample {i}: value {v} exceeds maxval {maxval}")),
+            )?);
         }
     }
     if binary {
         if let Some(&bad) = pixels.iter().find(|&&p| p as usize > maxval) {
-            return Err(MapError::file(path, format!("sample value {bad} exceeds maxval {maxval}")));
+            return Err(MapError::file(
+                path,
+                format!("sample value {bad} exceeds maxval {maxval}"),
+            ));
         }
     }
     Ok(GreyImage { width, height, maxval: maxval as u16, pixels })

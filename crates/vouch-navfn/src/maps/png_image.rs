@@ -6,7 +6,10 @@ use std::path::Path;
 use super::pgm::GreyImage;
 use super::{MapError, MAX_CELLS};
 
-pub(crate) fn decode_png(path: &Path, data: &[u8]) -> Result<(GreyImage, Option<Vec<bool>>), MapError> {
+pub(crate) fn decode_png(
+    path: &Path,
+    data: &[u8],
+) -> Result<(GreyImage, Option<Vec<bool>>), MapError> {
     let bad = |e: png::DecodingError| MapError::file(path, format!("bad PNG: {e}"));
     let mut decoder = png::Decoder::new(data);
     decoder.set_transformations(png::Transformations::EXPAND);
@@ -33,7 +36,8 @@ pub(crate) fn decode_png(path: &Path, data: &[u8]) -> Result<(GreyImage, Option<
         png::ColorType::Grayscale | png::ColorType::GrayscaleAlpha => 1,
         _ => 3,
     };
-    let has_alpha = matches!(frame.color_type, png::ColorType::GrayscaleAlpha | png::ColorType::Rgba);
+    let has_alpha =
+        matches!(frame.color_type, png::ColorType::GrayscaleAlpha | png::ColorType::Rgba);
     let mut pixels = Vec::with_capacity(w * h);
     let mut alpha = Vec::with_capacity(if has_alpha { w * h } else { 0 });
     for p in 0..w * h {

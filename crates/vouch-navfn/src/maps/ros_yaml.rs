@@ -61,7 +61,10 @@ pub struct RosMap {
 
 impl RosMap {
     pub fn world(&self) -> WorldParams {
-        WorldParams { origin: [self.meta.origin[0], self.meta.origin[1]], resolution: self.meta.resolution }
+        WorldParams {
+            origin: [self.meta.origin[0], self.meta.origin[1]],
+            resolution: self.meta.resolution,
+        }
     }
 }
 
@@ -101,11 +104,9 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
         };
         let value = value.trim().trim_matches(|c| c == '"' || c == '\'');
         let num = |what: &str| -> Result<f64, MapError> {
-            value
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| MapError::line(path, ln, format!("{what} `{value}` is not a number")))
+            value.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
+                MapError::line(path, ln, format!("{what} `{value}` is not a number"))
+            })
         };
         match key.trim() {
             "image" => {
@@ -118,7 +119,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
             "resolution" => {
                 meta.resolution = num("resolution")?;
                 if meta.resolution <= 0.0 {
-                    return Err(MapError::line(path, ln, format!("resolution {value} must be > 0")));
+                    return Err(MapError::line(
+                        path,
+                        ln,
+                        format!("resolution {value} must be > 0"),
+                    ));
                 }
                 seen_res = true;
             }
@@ -130,7 +135,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
                 match nums {
                     Some(v) if v.len() == 3 => meta.origin = [v[0], v[1], v[2]],
                     _ => {
-                        return Err(MapError::line(path, ln, format!("origin must be `[x, y, yaw]`, found `{value}`")))
+                        return Err(MapError::line(
+                            path,
+                            ln,
+                            format!("origin must be `[x, y, yaw]`, found `{value}`"),
+                        ))
                     }
                 }
             }
@@ -138,11 +147,22 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
                 meta.negate = match value {
                     "0" | "false" | "False" => false,
                     "1" | "true" | "True" => true,
-                    _ => return Err(MapError::line(path, ln, format!("negate must be 0 or 1, found `{value}`"))),
+                    _ => {
+                        return Err(MapError::line(
+                            path,
+                            ln,
+                            format!("negate must be 0 or 1, found `{value}`"),
+                        ))
+                    }
                 }
             }
-            "occupied_thresh" => meta.occupied_thresh = threshold(path, ln, "occupied_thresh", num("occupied_thresh")?)?,
-            "free_thresh" => meta.free_thresh = threshold(path, ln, "free_thresh", num("free_thresh")?)?,
+            "occupied_thresh" => {
+                meta.occupied_thresh =
+                    threshold(path, ln, "occupied_thresh", num("occupied_thresh")?)?
+            }
+            "free_thresh" => {
+                meta.free_thresh = threshold(path, ln, "free_thresh", num("free_thresh")?)?
+            }
             "mode" => {
                 meta.mode = match value {
                     "trinary" => MapMode::Trinary,
@@ -169,7 +189,10 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
     if meta.free_thresh > meta.occupied_thresh {
         return Err(MapError::file(
             path,
-            format!("free_thresh {} exceeds occupied_thresh {}", meta.free_thresh, meta.occupied_thresh),
+            format!(
+                "free_thresh {} exceeds occupied_thresh {}",
+                meta.free_thresh, meta.occupied_thresh
+            ),
         ));
     }
     Ok(meta)
@@ -219,8 +242,9 @@ fn to_occupancy(meta: &RosMapMeta, img: &GreyImage, opaque: Option<&[bool]>) -> 
                     } else if occ < meta.free_thresh {
                         0
                     } else {
-                        ((occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh) * 100.0).round_ties_even()
-                            as i8
+                        ((occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh)
+                            * 100.0)
+                            .round_ties_even() as i8
                     }
                 }
                 MapMode::Raw => {

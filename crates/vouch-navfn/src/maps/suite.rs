@@ -30,10 +30,7 @@ impl SuiteCase {
             }
         };
         let [x0, y0, x1, y1] = self.coords;
-        Some((
-            [cell(x0, width)?, cell(y0, height)?],
-            [cell(x1, width)?, cell(y1, height)?],
-        ))
+        Some(([cell(x0, width)?, cell(y0, height)?], [cell(x1, width)?, cell(y1, height)?]))
     }
 }
 
@@ -64,14 +61,14 @@ pub fn parse_suite_text(
     load_map: impl FnOnce(&Path) -> Result<Vec<u8>, MapError>,
 ) -> Result<SuiteFile, MapError> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
-    let (ln, header) =
-        lines.next().ok_or_else(|| MapError::file(test_path, "empty test file (expected `W H`)"))?;
+    let (ln, header) = lines
+        .next()
+        .ok_or_else(|| MapError::file(test_path, "empty test file (expected `W H`)"))?;
     let dims: Vec<&str> = header.split_whitespace().collect();
     let parse_dim = |s: &str| -> Result<usize, MapError> {
-        s.parse::<usize>()
-            .ok()
-            .filter(|&v| v > 0)
-            .ok_or_else(|| MapError::line(test_path, ln, format!("map size `{s}` is not a positive integer")))
+        s.parse::<usize>().ok().filter(|&v| v > 0).ok_or_else(|| {
+            MapError::line(test_path, ln, format!("map size `{s}` is not a positive integer"))
+        })
     };
     if dims.len() != 2 {
         return Err(MapError::line(test_path, ln, format!("expected `W H`, found `{header}`")));
@@ -79,7 +76,11 @@ pub fn parse_suite_text(
     let (width, height) = (parse_dim(dims[0])?, parse_dim(dims[1])?);
     let cells = width.checked_mul(height).filter(|&c| c <= super::MAX_CELLS);
     let cells = cells.ok_or_else(|| {
-        MapError::line(test_path, ln, format!("map size {width}x{height} exceeds {MAX_CELLS} cells"))
+        MapError::line(
+            test_path,
+            ln,
+            format!("map size {width}x{height} exceeds {MAX_CELLS} cells"),
+        )
     })?;
     let (ln, name) = lines
         .next()
@@ -102,7 +103,11 @@ pub fn parse_suite_text(
             continue;
         }
         if fields.len() < 4 {
-            return Err(MapError::line(test_path, ln, format!("expected `x0 y0 x1 y1`, found `{line}`")));
+            return Err(MapError::line(
+                test_path,
+                ln,
+                format!("expected `x0 y0 x1 y1`, found `{line}`"),
+            ));
         }
         let mut coords = [0.0f64; 4];
         for (c, f) in coords.iter_mut().zip(&fields) {
@@ -116,7 +121,11 @@ pub fn parse_suite_text(
     if map.len() != cells {
         return Err(MapError::file(
             &map_path,
-            format!("map has {} bytes, but {} declares {width}x{height} = {cells}", map.len(), test_path.display()),
+            format!(
+                "map has {} bytes, but {} declares {width}x{height} = {cells}",
+                map.len(),
+                test_path.display()
+            ),
         ));
     }
     Ok(SuiteFile { test_path: test_path.to_path_buf(), map_path, width, height, map, cases })
@@ -157,7 +166,10 @@ pub fn read_world_params(path: &Path) -> Result<crate::planner::WorldParams, Map
 }
 
 /// Parse `--origin=X,Y --res=R` (both required, resolution > 0).
-pub fn parse_world_params(path: &Path, text: &str) -> Result<crate::planner::WorldParams, MapError> {
+pub fn parse_world_params(
+    path: &Path,
+    text: &str,
+) -> Result<crate::planner::WorldParams, MapError> {
     let mut origin = None;
     let mut res = None;
     for tok in text.split_whitespace() {

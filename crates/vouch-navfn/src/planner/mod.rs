@@ -23,7 +23,12 @@ pub struct PlannerParams {
 
 impl Default for PlannerParams {
     fn default() -> Self {
-        PlannerParams { tolerance: 0.5, use_astar: false, allow_unknown: true, max_cycles_factor: 4 }
+        PlannerParams {
+            tolerance: 0.5,
+            use_astar: false,
+            allow_unknown: true,
+            max_cycles_factor: 4,
+        }
     }
 }
 
@@ -187,7 +192,12 @@ impl NavfnPlanner {
     }
 
     /// `makePlan`: NavFn set-up with the swap, propagation, tolerance search, extraction.
-    fn make_plan<O: SearchObserver>(&mut self, start: [f64; 2], goal: [f64; 2], obs: &mut O) -> PlannerPlan {
+    fn make_plan<O: SearchObserver>(
+        &mut self,
+        start: [f64; 2],
+        goal: [f64; 2],
+        obs: &mut O,
+    ) -> PlannerPlan {
         let (w, nx, ny) = (self.world, self.nx, self.ny);
         let Some(start_cell) = w.planner_world_to_map(start, nx, ny) else {
             return PlannerPlan::rejected(PlanStatus::UbStartRoundsOutOfMap);
@@ -297,7 +307,9 @@ fn squared_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// second-to-last pose, or when the last pose already (almost) equals it; else append it.
 fn smooth_approach_to_goal(goal: [f64; 2], poses: &mut Vec<[f64; 2]>) {
     if let [.., second, last] = poses.as_mut_slice() {
-        if squared_distance(*last, *second) > squared_distance(goal, *second) || squared_distance(*last, goal) < 1e-6 {
+        if squared_distance(*last, *second) > squared_distance(goal, *second)
+            || squared_distance(*last, goal) < 1e-6
+        {
             *last = goal;
             return;
         }

@@ -34,7 +34,8 @@ pub fn sample_cases(m: &SuiteMap, rng: &mut SplitMix64, want: usize) -> Vec<Case
     if count > 1 {
         let a = cells[rng.index(cells.len())];
         let la = label[m.idx(a.0, a.1)];
-        let others: Vec<_> = cells.iter().copied().filter(|&(x, y)| label[m.idx(x, y)] != la).collect();
+        let others: Vec<_> =
+            cells.iter().copied().filter(|&(x, y)| label[m.idx(x, y)] != la).collect();
         if !others.is_empty() {
             let b = others[rng.index(others.len())];
             push(Case::new(a.0, a.1, b.0, b.1), &mut out);

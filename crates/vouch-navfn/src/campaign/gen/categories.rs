@@ -36,7 +36,12 @@ fn randomise_costs(m: &mut SuiteMap, rng: &mut SplitMix64) {
 
 /// Build one map of `category`. `w`, `h` include the border and are ≥ 5 (circus forces w = 5).
 /// Returns the map and a short suffix describing its variant (for the folder name).
-pub fn build(category: &str, rng: &mut SplitMix64, w: u32, h: u32) -> Option<(SuiteMap, &'static str)> {
+pub fn build(
+    category: &str,
+    rng: &mut SplitMix64,
+    w: u32,
+    h: u32,
+) -> Option<(SuiteMap, &'static str)> {
     let m = match category {
         "circus" => circus(rng, h),
         "columns" => columns(rng, w, h),
@@ -153,7 +158,8 @@ fn spiral(rng: &mut SplitMix64, w: u32, h: u32) -> (SuiteMap, &'static str) {
         // Also refuse to touch a carved cell sideways (keeps the walls one cell thick).
         let (sx, sy) = (nx - dy, ny + dx);
         let (tx, ty) = (nx + dy, ny - dx);
-        let side_ok = |a: i64, b: i64| !inside(a, b) || !m.is_free(a as u32, b as u32) || (a == x && b == y);
+        let side_ok =
+            |a: i64, b: i64| !inside(a, b) || !m.is_free(a as u32, b as u32) || (a == x && b == y);
         if next_ok && far_solid && side_ok(sx, sy) && side_ok(tx, ty) {
             x = nx;
             y = ny;

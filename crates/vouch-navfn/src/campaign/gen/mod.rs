@@ -28,7 +28,14 @@ pub struct GenOptions {
 
 impl Default for GenOptions {
     fn default() -> Self {
-        GenOptions { seed: 1, categories: Vec::new(), maps_per_category: 10, min_size: 5, max_size: 30, cases_per_map: 500 }
+        GenOptions {
+            seed: 1,
+            categories: Vec::new(),
+            maps_per_category: 10,
+            min_size: 5,
+            max_size: 30,
+            cases_per_map: 500,
+        }
     }
 }
 
