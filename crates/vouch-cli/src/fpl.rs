@@ -145,7 +145,11 @@ pub enum FplCmd {
     },
 }
 
-pub fn run(cmd: FplCmd) -> ExitCode {
+pub fn run(cmd: FplCmd, _ctx: &mut crate::contract::Ctx) -> crate::contract::CmdResult {
+    crate::legacy(run_legacy(cmd))
+}
+
+fn run_legacy(cmd: FplCmd) -> ExitCode {
     match cmd {
         FplCmd::Parse { plan, json, include_dirs, no_extensions } => {
             parse_cmd(&plan, json, include_dirs, no_extensions)

@@ -3,16 +3,20 @@
 //! This file only dispatches; each family's subcommands live in their own module
 //! (`fpl.rs`, `mav.rs`, `navfn.rs`) and call into the family's library crate.
 //!
-//! Exit codes shared by all families: 0 success, 1 input rejected (plan/map/protocol error),
-//! 2 usage or I/O error, 3 violations found (checkers).
+//! The command contract (exit codes, pipe-safe output, diagnostics printed once) is in
+//! `contract.rs`.
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod contract;
+mod diagnostics;
 mod fpl;
 mod mav;
 mod navfn;
+
+use contract::{CmdResult, Ctx, Exit, Failure, MessageFormat, Out, Severity, Verbosity};
 
 #[derive(Parser)]
 #[command(
@@ -21,6 +25,16 @@ mod navfn;
     about = "Pair every doer with a checker: flight plans, MAVLink, NavFn"
 )]
 struct Cli {
+    /// How errors and warnings are printed on stderr: boxes with the source excerpt (human),
+    /// `file:line:col: error[CODE]: message` lines (short), or JSON Lines (json)
+    #[arg(long, global = true, value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
+    /// Print errors only (no warnings, summaries or progress)
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Print more detail (progress, per-item notes)
+    #[arg(short, long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     family: Family,
 }
@@ -47,9 +61,38 @@ fn main() -> ExitCode {
             return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
         }
     };
-    match cli.family {
-        Family::Fpl(cmd) => fpl::run(cmd),
-        Family::Mav(cmd) => mav::run(cmd),
-        Family::Navfn(cmd) => navfn::run(cmd),
+    let verbosity = match (cli.quiet, cli.verbose) {
+        (true, _) => Verbosity::Quiet,
+        (_, true) => Verbosity::Verbose,
+        _ => Verbosity::Normal,
+    };
+    let mut ctx = Ctx { out: Out::stdout(), format: cli.message_format, verbosity };
+    let result = match cli.family {
+        Family::Fpl(cmd) => fpl::run(cmd, &mut ctx),
+        Family::Mav(cmd) => mav::run(cmd, &mut ctx),
+        Family::Navfn(cmd) => navfn::run(cmd, &mut ctx),
+    };
+    finish(result, &mut ctx).into()
+}
+
+/// Flushes the main output, prints a failure once and chooses the exit code.
+fn finish(result: CmdResult, ctx: &mut Ctx) -> Exit {
+    let result = result.and_then(|exit| ctx.out.flush().map(|()| exit));
+    match result {
+        Ok(exit) => exit,
+        Err(failure) => {
+            if let Failure::Rejected(report) | Failure::Usage(report) = &failure {
+                diagnostics::print(ctx.format, report.as_ref(), Severity::Error);
+            }
+            failure.exit()
+        }
     }
+}
+
+/// Adapts a command that still prints for itself and returns a bare exit code.
+pub(crate) fn legacy(code: ExitCode) -> CmdResult {
+    Ok([Exit::Ok, Exit::Rejected, Exit::Usage, Exit::Findings]
+        .into_iter()
+        .find(|e| ExitCode::from(*e) == code)
+        .unwrap_or(Exit::Usage))
 }

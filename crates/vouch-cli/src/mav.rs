@@ -72,7 +72,11 @@ pub struct LintArgs {
     pub dialect: Option<PathBuf>,
 }
 
-pub fn run(cmd: MavCmd) -> ExitCode {
+pub fn run(cmd: MavCmd, _ctx: &mut crate::contract::Ctx) -> crate::contract::CmdResult {
+    crate::legacy(run_legacy(cmd))
+}
+
+fn run_legacy(cmd: MavCmd) -> ExitCode {
     match cmd {
         MavCmd::Check(a) => check(a),
         MavCmd::Lint(a) => lint_cmd(a),

@@ -49,7 +49,11 @@ pub enum SuiteCmd {
     Diff(campaign_cmd::SuiteDiffArgs),
 }
 
-pub fn run(cmd: NavfnCmd) -> ExitCode {
+pub fn run(cmd: NavfnCmd, _ctx: &mut crate::contract::Ctx) -> crate::contract::CmdResult {
+    crate::legacy(run_legacy(cmd))
+}
+
+fn run_legacy(cmd: NavfnCmd) -> ExitCode {
     match cmd {
         NavfnCmd::Plan(a) => plan(a),
         NavfnCmd::Suite(SuiteCmd::Run(a)) => suite_run(a),

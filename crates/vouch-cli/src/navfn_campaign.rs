@@ -239,9 +239,6 @@ pub struct CampaignArgs {
     /// A path costing more than RATIO × the optimum is an optimality counterexample
     #[arg(long, default_value_t = 1.10)]
     ratio: f64,
-    /// No progress bar
-    #[arg(long)]
-    quiet: bool,
 }
 
 pub fn campaign(a: CampaignArgs) -> ExitCode {
@@ -251,7 +248,7 @@ pub fn campaign(a: CampaignArgs) -> ExitCode {
         metamorphic: !a.no_metamorphic,
         optimality: !a.no_optimality,
         suboptimal_ratio: a.ratio,
-        progress: !a.quiet,
+        progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
         ..CampaignOptions::default()
     };
     match commands::campaign(

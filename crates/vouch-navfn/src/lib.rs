@@ -7,6 +7,7 @@
 //! `planner` wraps the core like nav2's `NavfnPlanner` (world coordinates, swap, tolerance).
 //! The reference semantics is `shared/navfn/SEMANTICS.md`; the oracle is `shared/navfn/golden`.
 
+#[allow(unsafe_code)] // thread CPU clock through libc
 pub mod bench;
 pub mod campaign;
 pub mod checks;

@@ -5,6 +5,7 @@
 //! check → inspector verdict → forward the original bytes, or in enforce mode drop and answer.
 //! The IR-level protocol checking lives in the monitor; this module knows sockets and bytes.
 
+#[allow(unsafe_code)] // process and thread CPU clocks through libc
 pub mod bench;
 pub mod cli;
 pub mod endpoint;
@@ -13,7 +14,9 @@ mod link;
 pub mod messages;
 mod monitor_inspector;
 mod proxy;
+#[allow(unsafe_code)] // termios through libc
 mod serial;
+#[allow(unsafe_code)] // recvmmsg/sendmmsg through libc
 mod udp_batch;
 
 use serde_json::Value;

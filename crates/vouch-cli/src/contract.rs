@@ -1,0 +1,191 @@
+//! The command contract shared by every family: exit codes, failures, the pipe-safe standard
+#![allow(dead_code)] // parts of the contract are adopted family by family
+//! output and the one place where diagnostics are printed.
+//!
+//! Every subcommand is a function `fn(args, &mut Ctx) -> CmdResult`. It writes its main output
+//! through [`Ctx::out`] (`writeln!(ctx.out, …)?`), warnings through [`Ctx::warn`], and returns
+//! the exit code for its outcome or a [`Failure`]. `main` prints the failure once, in the chosen
+//! `--message-format`, and maps it to the exit code. Libraries never print; they return data and
+//! typed errors that implement [`miette::Diagnostic`].
+
+use std::fmt;
+use std::io::{self, BufWriter, IsTerminal, StdoutLock, Write};
+use std::process::ExitCode;
+
+use clap::ValueEnum;
+use miette::Diagnostic;
+
+/// Exit codes of every `vouch` command.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Exit {
+    /// Success: the input was accepted and nothing was found.
+    Ok = 0,
+    /// The input (plan, map, protocol, recording, configuration) was rejected.
+    Rejected = 1,
+    /// Usage error or an I/O error (a file that cannot be read or written, a socket, …).
+    Usage = 2,
+    /// A checker found violations (or a validation found a disagreement).
+    Findings = 3,
+}
+
+impl From<Exit> for ExitCode {
+    fn from(e: Exit) -> ExitCode {
+        ExitCode::from(e as u8)
+    }
+}
+
+/// Why a command stopped early.
+#[derive(Debug)]
+pub enum Failure {
+    /// The user's input was rejected; the diagnostic says where and why.
+    Rejected(miette::Report),
+    /// A usage or I/O error.
+    Usage(miette::Report),
+    /// The reader of standard output went away (`vouch … | head`): end quietly.
+    ClosedPipe,
+}
+
+impl Failure {
+    /// An input rejected by a library, with its located diagnostic.
+    pub fn rejected(d: impl Diagnostic + Send + Sync + 'static) -> Failure {
+        Failure::Rejected(miette::Report::new(d))
+    }
+
+    /// A usage or I/O error described by a message.
+    pub fn usage(msg: impl fmt::Display) -> Failure {
+        Failure::Usage(miette::miette!("{msg}"))
+    }
+
+    /// An I/O error on a named path.
+    pub fn io(path: &std::path::Path, e: &io::Error) -> Failure {
+        Failure::usage(format_args!("{}: {e}", path.display()))
+    }
+
+    /// The exit code this failure ends the process with.
+    pub fn exit(&self) -> Exit {
+        match self {
+            Failure::Rejected(_) => Exit::Rejected,
+            Failure::Usage(_) => Exit::Usage,
+            Failure::ClosedPipe => Exit::Ok,
+        }
+    }
+}
+
+/// What every subcommand returns.
+pub type CmdResult = Result<Exit, Failure>;
+
+/// How diagnostics are printed on standard error.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum MessageFormat {
+    /// Boxes with the source excerpt (a plain variant when stderr is not a terminal).
+    #[default]
+    Human,
+    /// One line per message: `file:line:col: error[CODE]: message`, for editors and CI.
+    Short,
+    /// One JSON object per message (JSON Lines).
+    Json,
+}
+
+/// How much a command says besides its main output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Verbosity {
+    /// `-q`: errors only.
+    Quiet,
+    /// Errors, warnings and summaries.
+    Normal,
+    /// `-v`: also progress details.
+    Verbose,
+}
+
+/// Standard output that reports a closed pipe as [`Failure::ClosedPipe`] instead of panicking.
+pub struct Out {
+    inner: BufWriter<StdoutLock<'static>>,
+}
+
+impl Out {
+    /// Buffered standard output (flushed by [`Out::flush`] and at the end of the command).
+    pub fn stdout() -> Out {
+        Out { inner: BufWriter::with_capacity(64 * 1024, io::stdout().lock()) }
+    }
+
+    /// Makes `write!(out, …)?` / `writeln!(out, …)?` return a [`Failure`].
+    pub fn write_fmt(&mut self, args: fmt::Arguments<'_>) -> Result<(), Failure> {
+        self.inner.write_fmt(args).map_err(stdout_failure)
+    }
+
+    /// Writes raw bytes (e.g. a generated file sent to standard output).
+    pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), Failure> {
+        self.inner.write_all(bytes).map_err(stdout_failure)
+    }
+
+    /// Writes one pretty-printed JSON document followed by a newline.
+    pub fn json<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
+        serde_json::to_writer_pretty(&mut self.inner, value).map_err(|e| match e.io_error_kind() {
+            Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
+            _ => Failure::usage(format_args!("standard output: {e}")),
+        })?;
+        self.write_all(b"\n")
+    }
+
+    /// Writes one compact JSON value on its own line (JSON Lines streams).
+    pub fn json_line<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
+        serde_json::to_writer(&mut self.inner, value).map_err(|e| match e.io_error_kind() {
+            Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
+            _ => Failure::usage(format_args!("standard output: {e}")),
+        })?;
+        self.write_all(b"\n")
+    }
+
+    /// Flushes what was buffered (before a long wait, or before the process ends).
+    pub fn flush(&mut self) -> Result<(), Failure> {
+        self.inner.flush().map_err(stdout_failure)
+    }
+}
+
+fn stdout_failure(e: io::Error) -> Failure {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        Failure::ClosedPipe
+    } else {
+        Failure::usage(format_args!("standard output: {e}"))
+    }
+}
+
+/// Everything a subcommand needs besides its arguments.
+pub struct Ctx {
+    /// The main output.
+    pub out: Out,
+    /// How diagnostics are printed.
+    pub format: MessageFormat,
+    /// `-q` / `-v`.
+    pub verbosity: Verbosity,
+}
+
+impl Ctx {
+    /// Whether progress bars may be drawn (a terminal on stderr, not `-q`).
+    pub fn progress_allowed(&self) -> bool {
+        self.verbosity > Verbosity::Quiet && io::stderr().is_terminal()
+    }
+
+    /// Prints a warning (a diagnostic of any severity) once, unless `-q`.
+    pub fn warn(&self, d: &dyn Diagnostic) {
+        if self.verbosity > Verbosity::Quiet {
+            crate::diagnostics::print(self.format, d, Severity::Warning);
+        }
+    }
+
+    /// Prints a plain note on stderr (summaries, progress lines), unless `-q`.
+    pub fn note(&self, msg: impl fmt::Display) {
+        if self.verbosity > Verbosity::Quiet {
+            let _ = writeln!(io::stderr(), "{msg}");
+        }
+    }
+}
+
+/// Severity used when a diagnostic does not state its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    /// An error: the command failed.
+    Error,
+    /// A warning: the command went on.
+    Warning,
+}
