@@ -1,5 +1,4 @@
 //! The command contract shared by every family: exit codes, failures, the pipe-safe standard
-#![allow(dead_code)] // parts of the contract are adopted family by family
 //! output and the one place where diagnostics are printed.
 //!
 //! Every subcommand is a function `fn(args, &mut Ctx) -> CmdResult`. It writes its main output
@@ -7,6 +6,8 @@
 //! the exit code for its outcome or a [`Failure`]. `main` prints the failure once, in the chosen
 //! `--message-format`, and maps it to the exit code. Libraries never print; they return data and
 //! typed errors that implement [`miette::Diagnostic`].
+
+#![allow(dead_code)] // parts of the contract are adopted family by family
 
 use std::fmt;
 use std::io::{self, BufWriter, IsTerminal, StdoutLock, Write};
