@@ -13,8 +13,9 @@ use std::fmt;
 use std::io::{self, BufWriter, IsTerminal, StdoutLock, Write};
 use std::process::ExitCode;
 
-use clap::ValueEnum;
 use miette::Diagnostic;
+
+pub use crate::diagnostics::{MessageFormat, Severity};
 
 /// Exit codes of every `vouch` command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,18 +76,6 @@ impl Failure {
 /// What every subcommand returns.
 pub type CmdResult = Result<Exit, Failure>;
 
-/// How diagnostics are printed on standard error.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
-pub enum MessageFormat {
-    /// Boxes with the source excerpt (a plain variant when stderr is not a terminal).
-    #[default]
-    Human,
-    /// One line per message: `file:line:col: error[CODE]: message`, for editors and CI.
-    Short,
-    /// One JSON object per message (JSON Lines).
-    Json,
-}
-
 /// How much a command says besides its main output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Verbosity {
@@ -121,9 +110,11 @@ impl Out {
 
     /// Writes one pretty-printed JSON document followed by a newline.
     pub fn json<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
-        serde_json::to_writer_pretty(&mut self.inner, value).map_err(|e| match e.io_error_kind() {
-            Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
-            _ => Failure::usage(format_args!("standard output: {e}")),
+        serde_json::to_writer_pretty(&mut self.inner, value).map_err(|e| {
+            match e.io_error_kind() {
+                Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
+                _ => Failure::usage(format_args!("standard output: {e}")),
+            }
         })?;
         self.write_all(b"\n")
     }
@@ -180,13 +171,4 @@ impl Ctx {
             let _ = writeln!(io::stderr(), "{msg}");
         }
     }
-}
-
-/// Severity used when a diagnostic does not state its own.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Severity {
-    /// An error: the command failed.
-    Error,
-    /// A warning: the command went on.
-    Warning,
 }

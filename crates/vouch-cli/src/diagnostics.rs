@@ -2,9 +2,29 @@
 
 use std::io::{self, IsTerminal, Write};
 
+use clap::ValueEnum;
 use miette::{Diagnostic, GraphicalReportHandler, GraphicalTheme, SourceSpan};
 
-use crate::contract::{MessageFormat, Severity};
+/// How diagnostics are printed on standard error.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum MessageFormat {
+    /// Boxes with the source excerpt (a plain variant when stderr is not a terminal).
+    #[default]
+    Human,
+    /// One line per message: `file:line:col: error[CODE]: message`, for editors and CI.
+    Short,
+    /// One JSON object per message (JSON Lines).
+    Json,
+}
+
+/// Severity used when a diagnostic does not state its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    /// An error: the command failed.
+    Error,
+    /// A warning: the command went on.
+    Warning,
+}
 
 /// Where a diagnostic points: file name and 1-based line and column.
 struct Location {
