@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use vouch_mav::codec::{MessageView, TlogReader};
 use vouch_mav::dialect::Dialect;
-use vouch_mav::monitor::{Monitor, Origin, Verdict};
+use vouch_mav::monitor::{Monitor, Verdict};
 
 fn main() {
     let file =
@@ -49,7 +49,7 @@ fn main() {
         for rec in TlogReader::new(&data, &dialect) {
             if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
                 if let Verdict::Violation(_) =
-                    m.observe(&v, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us)
+                    m.observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
                 {
                     violations += 1;
                 }

@@ -1,20 +1,30 @@
 //! vouch-mav: MAVLink dialects and codec, a refined multiparty session-type protocol language,
-//! and a runtime monitor that checks traffic (live or recorded) against protocols.
+//! a runtime monitor that checks traffic (live or recorded) against protocols, and a guarding
+//! proxy that runs the monitor between ground station and vehicle.
 //!
-//! Layers, front to back: [`dialect`] (XML → tables) and [`codec`] (frames, views, encoder, tlog)
-//! feed the [`monitor`], which runs protocols compiled by [`protocol`] (text → IR, checked against
-//! the dialect) with the [`vehicle_state`] it tracks from telemetry.
+//! Layers, lowest first (each imports only from its own or lower layers):
+//!
+//! 1. [`dialect`] (XML → tables), [`codec`] (frames, splitting, views, encoder, tlog),
+//!    [`signing`] (MAVLink 2 signatures) and [`side`] (which end of the link);
+//! 2. [`vehicle_state`] (what telemetry says about the vehicle);
+//! 3. [`protocol`] (protocol text → checked IR);
+//! 4. [`monitor`] (runs the IR on messages; reports violations);
+//! 5. [`guard`] (sockets, forwarding, enforce mode, signing checks);
+//! 6. [`bench`](mod@bench) (the benchmark harness behind `vouch mav bench`; nothing else uses it).
+//!
+//! Nothing here prints: results are data, errors are typed [`miette::Diagnostic`]s with codes.
 
+pub mod bench;
 pub mod codec;
 pub mod dialect;
+pub mod guard;
 pub mod monitor;
 pub mod protocol;
+pub mod side;
+pub mod signing;
 pub mod vehicle_state;
 
 pub use codec::{Frame, FrameSplitter, MessageBuilder, MessageView, TlogReader, Value};
 pub use dialect::Dialect;
-pub use monitor::{Monitor, Origin, Verdict, Violation};
-
-// Owned by mav-guard (issue 8): the guarding proxy and MAVLink 2 signing. Please keep.
-pub mod guard;
-pub mod signing;
+pub use monitor::{Monitor, MonitorSpec, Verdict, Violation};
+pub use side::Side;

@@ -5,7 +5,7 @@
 mod common;
 use common::*;
 use vouch_mav::codec::{FrameSplitter, TlogReader};
-use vouch_mav::monitor::{Monitor, Origin};
+use vouch_mav::monitor::Monitor;
 use vouch_mav::protocol::{lint, stdlib};
 
 struct Rng(u64);
@@ -44,10 +44,10 @@ fn mutated_recordings_never_panic() {
         let mut pos = 0;
         while let Some((r, f)) = sp.next(&data, &mut pos, &d, true) {
             assert_eq!(&data[r], f.bytes);
-            let _ = m.on_frame(&f, Origin::Unknown, 0);
+            let _ = m.on_frame(&f, None, 0);
         }
         for rec in TlogReader::new(&data, &d) {
-            let _ = m.on_frame(&rec.frame, Origin::Unknown, rec.time_us);
+            let _ = m.on_frame(&rec.frame, None, rec.time_us);
         }
         m.finish();
     }

@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+use vouch_testkit::Need;
+
 use vouch_mav::dialect::raw::{read_digest, read_xml, write_digest};
 use vouch_mav::dialect::{embedded_origin, load_dialect_file, Dialect, DialectError};
 
@@ -11,8 +13,7 @@ fn embedded() -> Option<Dialect> {
     match Dialect::default_dialect() {
         Ok(d) => Some(d),
         Err(DialectError::NoEmbedded) => {
-            eprintln!("skipping: built without definitions");
-            None
+            vouch_testkit::missing(Need::Shared, "the default dialect (build without it)")
         }
         Err(e) => panic!("{e}"),
     }
@@ -24,8 +25,7 @@ fn origin_xml() -> Option<std::path::PathBuf> {
     if p.is_file() {
         Some(p)
     } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
+        vouch_testkit::missing(Need::Shared, &format!("{} (the digested XML)", p.display()))
     }
 }
 

@@ -2,10 +2,9 @@
 //! stream reassembly is independent of how reads cut the bytes, CRC_EXTRA recovery is exact, and
 //! any single bit flip in a signed frame is rejected.
 
-use vouch_mav::guard::frame::{
-    crc_accumulate, crc_of, recover_crc_extra, split_datagram, Piece, StreamSplitter,
-};
-use vouch_mav::guard::FrameRef;
+use vouch_mav::codec::crc::frame_crc;
+use vouch_mav::codec::split::{split_datagram, Piece, StreamSplitter};
+use vouch_mav::codec::FrameRef;
 use vouch_mav::signing::{Signer, SigningKey, Verifier};
 
 /// xorshift64*: a tiny deterministic generator, so failures reproduce from the seed.
@@ -46,7 +45,7 @@ fn random_frame(r: &mut Rng) -> (Vec<u8>, u8) {
         ]
     };
     f.extend((0..len).map(|_| r.byte()));
-    let crc = crc_accumulate(crc_of(&f[1..]), extra);
+    let crc = frame_crc(&f[1..], extra);
     f.extend_from_slice(&crc.to_le_bytes());
     (f, extra)
 }
@@ -56,7 +55,7 @@ fn crc_extra_recovery_is_exact() {
     let mut r = Rng(0x5EED_0001);
     for _ in 0..5000 {
         let (f, extra) = random_frame(&mut r);
-        assert_eq!(recover_crc_extra(&FrameRef::new(&f).unwrap()), Some(extra));
+        assert_eq!(FrameRef::new(&f).unwrap().recover_crc_extra(), Some(extra));
     }
 }
 

@@ -4,7 +4,7 @@
 //! from a pymavlink GCS while the vehicle is disarmed.
 //!
 //! Needs `VOUCH_PYTHON` (set by scripts/test.sh from `.venv`, made by scripts/install-peers.sh);
-//! without it every test prints why and returns.
+//! without it every test prints why and returns, or fails under `VOUCH_REQUIRE_PEERS=1`.
 
 mod guard_support;
 
@@ -15,20 +15,15 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use guard_support::standard_inspector;
 use serde_json::Value;
-use vouch_mav::guard::{
-    standard_inspector, start, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig,
-};
+use vouch_mav::guard::{start, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig};
 use vouch_mav::signing::SigningKey;
 
+/// The peer venv's interpreter with pymavlink, MAVProxy and MAVSDK (a skip, or a failure under
+/// `VOUCH_REQUIRE_PEERS=1`, without them).
 fn python() -> Option<PathBuf> {
-    match std::env::var_os("VOUCH_PYTHON") {
-        Some(p) if Path::new(&p).exists() => Some(PathBuf::from(p)),
-        _ => {
-            eprintln!("skipping: VOUCH_PYTHON is not set (run scripts/install-peers.sh, then scripts/test.sh)");
-            None
-        }
-    }
+    vouch_testkit::python_with(&["pymavlink", "MAVProxy", "mavsdk"]).map(PathBuf::from)
 }
 
 fn script(name: &str) -> PathBuf {
@@ -107,16 +102,16 @@ fn loopback_guard(
     signing: Option<SigningConfig>,
 ) -> RunningGuard {
     let cfg = GuardConfig {
-        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
-        vehicle: format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
         enforce,
         alert_gcs: true,
-        print_violations: false,
         log_path,
-        tlog_path: None,
         signing,
+        ..GuardConfig::new(
+            "udpin:127.0.0.1:0".parse().unwrap(),
+            format!("udpout:127.0.0.1:{vport}").parse().unwrap(),
+        )
     };
-    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+    let inspector = standard_inspector().expect("standard protocols");
     start(cfg, inspector).expect("guard starts")
 }
 

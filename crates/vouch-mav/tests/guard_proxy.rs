@@ -8,46 +8,46 @@ use std::net::{TcpListener, TcpStream};
 use std::time::Duration;
 
 use guard_support::*;
+use vouch_mav::codec::{FrameRef, InvalidKind};
 use vouch_mav::guard::messages::{command_ack, STATUSTEXT_ID};
-use vouch_mav::guard::{
-    standard_inspector, start, Endpoint, Finding, FrameRef, GuardConfig, Inspector, PassThrough,
-    Side, SigningConfig, Verdict,
-};
+use vouch_mav::guard::{start, Endpoint, GuardConfig, Inspector, PassThrough, SigningConfig};
+use vouch_mav::monitor::{Verdict, Violation, ViolationKind};
 use vouch_mav::signing::SigningKey;
+use vouch_mav::Side;
 
 const WAIT: Duration = Duration::from_millis(600);
 
 fn config(gcs: &str, vehicle: &str) -> GuardConfig {
-    GuardConfig {
-        gcs: gcs.parse().expect("gcs endpoint"),
-        vehicle: vehicle.parse().expect("vehicle endpoint"),
-        enforce: false,
-        alert_gcs: false,
-        print_violations: false,
-        log_path: None,
-        tlog_path: None,
-        signing: None,
-    }
+    GuardConfig::new(gcs.parse().expect("gcs endpoint"), vehicle.parse().expect("vehicle endpoint"))
 }
 
 /// Flags every COMMAND_LONG DO_PARACHUTE and answers it with COMMAND_ACK DENIED from the vehicle.
 struct DenyParachute;
 
 impl Inspector for DenyParachute {
-    fn inspect(&mut self, from: Side, f: FrameRef<'_>) -> Verdict {
+    fn inspect(&mut self, from: Side, f: FrameRef<'_>) -> Result<Verdict, InvalidKind> {
         let p = f.payload();
         if from == Side::Gcs
             && f.msgid() == 76
             && p.len() >= 30
             && u16::from_le_bytes([p[28], p[29]]) == 208
         {
-            return Verdict::Violation(Finding {
-                summary: "DO_PARACHUTE outside its precondition".into(),
-                record: serde_json::json!({"protocol": "test.parachute"}),
-                replies: vec![command_ack(Side::Gcs, 1, 1, (f.sysid(), f.compid()), 208, 2)],
-            });
+            return Ok(Verdict::Violation(Box::new(Violation {
+                kind: ViolationKind::Refinement,
+                protocol: "test.parachute".into(),
+                session: "no session".into(),
+                message: format!("COMMAND_LONG from {}/{}", f.sysid(), f.compid()),
+                step: String::new(),
+                expected: vec![],
+                predicate: Some("DO_PARACHUTE outside its precondition".into()),
+                values: vec![],
+                reason: "parachute release refused by the test inspector".into(),
+                time_us: 0,
+                reply: Some(command_ack(Side::Gcs, 1, 1, (f.sysid(), f.compid()), 208, 2)),
+                others: vec![],
+            })));
         }
-        Verdict::Accept
+        Ok(Verdict::Accept)
     }
 }
 
@@ -271,63 +271,32 @@ fn bad_endpoint_is_an_error_not_a_panic() {
     assert!(err.to_string().contains("gcs endpoint"), "{err}");
 }
 
-#[test]
-fn command_exit_codes() {
-    use vouch_mav::guard::cli::{run_guard, GuardArgs};
-    let base = GuardArgs {
-        gcs: "udpin:127.0.0.1:0".into(),
-        vehicle: "udpout:127.0.0.1:9".into(),
-        duration: Some(0.2),
-        json: true,
-        ..Default::default()
-    };
-    // clean run with the standard library, stopped by --duration
-    assert_eq!(run_guard(base.clone()), 0);
-    assert_eq!(run_guard(GuardArgs { relay_only: true, ..base.clone() }), 0);
-    // usage / I/O errors
-    assert_eq!(run_guard(GuardArgs { gcs: "udpin:nowhere".into(), ..base.clone() }), 2);
-    assert_eq!(run_guard(GuardArgs { sign_to_vehicle: true, ..base.clone() }), 2);
-    assert_eq!(
-        run_guard(GuardArgs { signing_key: Some("/nonexistent/key".into()), ..base.clone() }),
-        2
-    );
-    assert_eq!(run_guard(GuardArgs { set: vec!["NOVALUE".into()], ..base.clone() }), 2);
-    assert_eq!(run_guard(GuardArgs { duration: Some(-1.0), ..base.clone() }), 2);
-    // a protocol file that does not parse is rejected input
-    let bad = std::env::temp_dir().join(format!("vouch-guard-bad-{}.vproto", std::process::id()));
-    std::fs::write(&bad, "protocol broken { nonsense").unwrap();
-    assert_eq!(run_guard(GuardArgs { protocols: vec![bad.clone()], ..base }), 1);
-    let _ = std::fs::remove_file(bad);
-}
-
+/// The guard on one end of a pseudo-terminal pair made by socat (a real peer), the test on the
+/// other end, playing the vehicle's serial link.
 #[test]
 fn serial_endpoint_over_a_pseudo_terminal() {
-    use std::fs::File;
-    use std::os::unix::io::FromRawFd;
-    let (mut master, mut slave) = (0i32, 0i32);
-    // SAFETY: openpty fills two descriptors we own from here on.
-    let rc = unsafe {
-        libc::openpty(
-            &mut master,
-            &mut slave,
-            std::ptr::null_mut(),
-            std::ptr::null(),
-            std::ptr::null(),
-        )
-    };
-    if rc != 0 {
-        eprintln!("skipping: no pseudo-terminal available");
-        return;
+    let Some(socat) = vouch_testkit::program("socat", "-V") else { return };
+    let dir = std::env::temp_dir().join(format!("vouch-guard-pty-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (guard_end, test_end) = (dir.join("guard"), dir.join("test"));
+    let child = std::process::Command::new(socat)
+        .arg(format!("pty,raw,echo=0,link={}", guard_end.display()))
+        .arg(format!("pty,raw,echo=0,link={}", test_end.display()))
+        .spawn()
+        .expect("socat starts");
+    let _socat = KillOnDrop(child);
+    let end = std::time::Instant::now() + Duration::from_secs(5);
+    while !(guard_end.exists() && test_end.exists()) {
+        assert!(std::time::Instant::now() < end, "socat made no pseudo-terminals within 5 s");
+        std::thread::sleep(Duration::from_millis(20));
     }
-    // SAFETY: ttyname on a valid tty descriptor returns a NUL-terminated static buffer.
-    let path =
-        unsafe { std::ffi::CStr::from_ptr(libc::ttyname(slave)) }.to_string_lossy().into_owned();
-    // SAFETY: the descriptors came from openpty and are owned by these Files only.
-    let mut master = unsafe { File::from_raw_fd(master) };
-    let _slave = unsafe { File::from_raw_fd(slave) };
-    let g =
-        start(config("udpin:127.0.0.1:0", &format!("serial:{path}:57600")), Box::new(PassThrough))
-            .expect("guard");
+    let mut master =
+        std::fs::OpenOptions::new().read(true).write(true).open(&test_end).expect("pty opens");
+    let g = start(
+        config("udpin:127.0.0.1:0", &format!("serial:{}:57600", guard_end.display())),
+        Box::new(PassThrough),
+    )
+    .expect("guard");
     let gcs = udp();
     let hb = hex(GCS_HEARTBEAT);
     gcs.send_to(&hb, g.gcs_addr.unwrap()).unwrap();
@@ -364,7 +333,7 @@ fn enforce_mode_resynchronises_after_a_corrupt_frame_in_a_datagram() {
     cfg.enforce = true;
     let tlog = std::env::temp_dir().join(format!("vouch-guard-resync-{}.tlog", std::process::id()));
     cfg.tlog_path = Some(tlog.clone());
-    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+    let Some(inspector) = standard_inspector() else { return };
     let g = start(cfg, inspector).expect("guard");
     let hb = hex(GCS_HEARTBEAT);
     assert_eq!(hb.len(), 21);
@@ -403,7 +372,7 @@ fn tcp_stream_resynchronises_after_a_corrupt_frame() {
     let vehicle = TcpListener::bind("127.0.0.1:0").unwrap();
     let mut cfg = config("tcpin:127.0.0.1:0", &format!("tcpout:{}", vehicle.local_addr().unwrap()));
     cfg.enforce = true;
-    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
+    let Some(inspector) = standard_inspector() else { return };
     let g = start(cfg, inspector).expect("guard");
     let (mut v, _) = vehicle.accept().unwrap();
     v.set_read_timeout(Some(Duration::from_millis(100))).unwrap();

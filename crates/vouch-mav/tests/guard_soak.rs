@@ -13,11 +13,12 @@ mod guard_support;
 use std::net::{SocketAddr, UdpSocket};
 use std::time::{Duration, Instant};
 
-use guard_support::{key_0_to_31, loopback};
+use guard_support::{key_0_to_31, loopback, standard_inspector};
+use vouch_mav::codec::encode::frame_v2_truncated;
+use vouch_mav::codec::FrameRef;
 use vouch_mav::codec::FrameSplitter;
 use vouch_mav::dialect::Dialect;
-use vouch_mav::guard::messages::encode_v2;
-use vouch_mav::guard::{standard_inspector, start, FrameRef, GuardConfig, SigningConfig};
+use vouch_mav::guard::{start, GuardConfig, SigningConfig};
 use vouch_mav::signing::{timestamp_now, Signer, SigningKey, Verifier};
 
 fn rss_kb() -> u64 {
@@ -107,6 +108,11 @@ impl Peer {
 }
 
 // MAVLink 2 messages of the mix (CRC_EXTRA from common.xml; payload layouts per PROTOCOL_FACTS).
+/// Unsigned MAVLink 2 frame, zero-truncated, arguments in the order the frames below read best.
+fn encode_v2(msgid: u32, extra: u8, payload: &[u8], sys: u8, comp: u8, seq: u8) -> Vec<u8> {
+    frame_v2_truncated(msgid, extra, payload, seq, sys, comp)
+}
+
 fn heartbeat(sys: u8, comp: u8, mav_type: u8, seq: u8) -> Vec<u8> {
     encode_v2(0, 50, &[0, 0, 0, 0, mav_type, 3, 0, 0, 3], sys, comp, seq)
 }
@@ -193,23 +199,22 @@ impl Gcs {
 }
 
 fn soak(target_frames: u64) {
+    let Some(inspector) = standard_inspector() else { return };
     let dialect = Dialect::default_dialect().expect("embedded dialect");
     let mut vehicle = Peer::new(true);
     let v_addr = vehicle.sock.local_addr().unwrap();
-    let (inspector, _) = standard_inspector(None, &[], false, &[]).expect("standard protocols");
     let cfg = GuardConfig {
-        gcs: "udpin:127.0.0.1:0".parse().unwrap(),
-        vehicle: format!("udpout:{v_addr}").parse().unwrap(),
         enforce: true,
         alert_gcs: true,
-        print_violations: false,
-        log_path: None,
-        tlog_path: None,
         signing: Some(SigningConfig {
             key: SigningKey(key_0_to_31()),
             sign_to_vehicle: false,
             link_id: 0,
         }),
+        ..GuardConfig::new(
+            "udpin:127.0.0.1:0".parse().unwrap(),
+            format!("udpout:{v_addr}").parse().unwrap(),
+        )
     };
     let guard = start(cfg, inspector).expect("guard");
     let mut gcs = Gcs {

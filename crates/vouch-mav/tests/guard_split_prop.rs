@@ -5,8 +5,9 @@
 //! their byte ranges, and report every other byte as garbage, in order and without overlap.
 
 use proptest::prelude::*;
-use vouch_mav::guard::frame::{crc_accumulate, crc_of, split_datagram_resync, Piece};
-use vouch_mav::guard::FrameRef;
+use vouch_mav::codec::crc::frame_crc;
+use vouch_mav::codec::split::{split_datagram_resync, Piece};
+use vouch_mav::codec::FrameRef;
 
 /// One CRC_EXTRA for all generated frames (the splitter does not care which).
 const EXTRA: u8 = 0x5A;
@@ -23,7 +24,7 @@ fn frame(v2: bool, signed: bool, hdr: &[u8], payload: &[u8], sig: &[u8]) -> Vec<
         f
     };
     f.extend_from_slice(payload);
-    let crc = crc_accumulate(crc_of(&f[1..]), EXTRA);
+    let crc = frame_crc(&f[1..], EXTRA);
     f.extend_from_slice(&crc.to_le_bytes());
     if v2 && signed {
         f.extend_from_slice(sig);
@@ -33,7 +34,7 @@ fn frame(v2: bool, signed: bool, hdr: &[u8], payload: &[u8], sig: &[u8]) -> Vec<
 
 /// The predicate the guard's inspector applies: the checksum holds for the length-cut bytes.
 fn checksum_ok(bytes: &[u8]) -> bool {
-    FrameRef::new(bytes).is_some_and(|f| crc_accumulate(crc_of(f.crc_covered()), EXTRA) == f.crc())
+    FrameRef::new(bytes).is_some_and(|f| f.crc_holds(EXTRA))
 }
 
 fn frames() -> impl Strategy<Value = Vec<Vec<u8>>> {
@@ -93,7 +94,7 @@ proptest! {
         // real frame as far as any splitter can tell: such inputs are outside the property.
         let fake_passes = (0..buf.len()).any(|p| {
             !expected.iter().any(|&(s, _)| s == p)
-                && vouch_mav::guard::frame::frame_len(&buf[p..])
+                && vouch_mav::codec::frame::frame_len(&buf[p..])
                     .is_some_and(|n| p + n <= buf.len() && checksum_ok(&buf[p..p + n]))
         });
         prop_assume!(!fake_passes);

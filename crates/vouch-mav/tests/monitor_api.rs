@@ -3,7 +3,8 @@
 mod common;
 use common::*;
 use vouch_mav::codec::{FrameSplitter, MessageBuilder, MessageView};
-use vouch_mav::monitor::{Monitor, Origin, Verdict};
+use vouch_mav::monitor::{Monitor, Verdict};
+use vouch_mav::Side;
 
 fn frame(c: &Craft, from: (u8, u8), name: &str, fields: &[(&str, f64)]) -> Vec<u8> {
     let mut b = MessageBuilder::new(&c.d, name).unwrap();
@@ -21,49 +22,49 @@ fn verdicts_with_link_sides_and_an_encodable_reply() {
     let gcs = (42, 7);
     let uav = (9, 1);
     let mut t = 1_000_000u64;
-    let mut feed = |m: &mut Monitor, bytes: Vec<u8>, origin: Origin| {
+    let mut feed = |m: &mut Monitor, bytes: Vec<u8>, from: Option<Side>| {
         t += 1000;
         let mut sp = FrameSplitter::new();
         let mut pos = 0;
         let (range, f) = sp.next(&bytes, &mut pos, &c.d, true).expect("frame");
         assert_eq!(range.len(), bytes.len());
-        m.on_frame(&f, origin, t)
+        m.on_frame(&f, from, t)
     };
     let telemetry = frame(&c, uav, "ATTITUDE", &[("roll", 0.1)]);
-    assert!(matches!(feed(&mut m, telemetry, Origin::Vehicle), Verdict::Ignore));
+    assert!(matches!(feed(&mut m, telemetry, Some(Side::Vehicle)), Verdict::Ignore));
     let count = frame(
         &c,
         gcs,
         "MISSION_COUNT",
         &[("count", 2.0), ("target_system", 9.0), ("target_component", 1.0)],
     );
-    assert!(matches!(feed(&mut m, count, Origin::Gcs), Verdict::Accept));
+    assert!(matches!(feed(&mut m, count, Some(Side::Gcs)), Verdict::Accept));
     let req = frame(
         &c,
         uav,
         "MISSION_REQUEST_INT",
         &[("seq", 0.0), ("target_system", 42.0), ("target_component", 7.0)],
     );
-    assert!(matches!(feed(&mut m, req, Origin::Vehicle), Verdict::Accept));
+    assert!(matches!(feed(&mut m, req, Some(Side::Vehicle)), Verdict::Accept));
     let item = frame(
         &c,
         gcs,
         "MISSION_ITEM_INT",
         &[("seq", 0.0), ("target_system", 9.0), ("target_component", 1.0)],
     );
-    assert!(matches!(feed(&mut m, item, Origin::Gcs), Verdict::Accept));
+    assert!(matches!(feed(&mut m, item, Some(Side::Gcs)), Verdict::Accept));
     let early_ack = frame(
         &c,
         uav,
         "MISSION_ACK",
         &[("type", 0.0), ("target_system", 42.0), ("target_component", 7.0)],
     );
-    let Verdict::Violation(v) = feed(&mut m, early_ack, Origin::Vehicle) else {
+    let Verdict::Violation(v) = feed(&mut m, early_ack, Some(Side::Vehicle)) else {
         panic!("early ACK must violate")
     };
     assert_eq!(value(&v, "curr"), "1");
     let reply = v.reply.as_ref().unwrap();
-    let bytes = reply.encode_v2(&c.d, 5);
+    let bytes = reply.encode_v2(5);
     let mut pos = 0;
     let (_, f) = FrameSplitter::new().next(&bytes, &mut pos, &c.d, true).expect("reply decodes");
     assert_eq!((f.sysid, f.compid, f.seq), (9, 1, 5), "reply sent as the vehicle");
@@ -86,7 +87,7 @@ fn expire_abandons_idle_sessions() {
     let d = c.d.clone();
     for rec in vouch_mav::TlogReader::new(&c.bytes, &d) {
         let v = MessageView::of_frame(&rec.frame, &d).unwrap();
-        m.observe(&v, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us);
+        m.observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us);
     }
     assert_eq!(m.summary().open_sessions, 1);
     m.expire(c.t + 60_000_000);
@@ -112,7 +113,7 @@ fn a_flood_of_opening_messages_keeps_a_bounded_number_of_sessions() {
     for rec in vouch_mav::TlogReader::new(&c.bytes, &d) {
         let v = MessageView::of_frame(&rec.frame, &d).unwrap();
         assert!(!m
-            .observe(&v, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us)
+            .observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
             .is_violation());
     }
     let s = m.summary();

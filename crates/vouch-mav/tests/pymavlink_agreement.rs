@@ -1,6 +1,6 @@
 //! Byte-level agreement with pymavlink (PyPI), both directions: vouch and pymavlink encode the
 //! same messages to identical bytes, and each decodes the other's frames to the same values.
-//! Skips when VOUCH_PYTHON is unset or has no pymavlink.
+//! Skips when VOUCH_PYTHON is unset or has no pymavlink (fails then under VOUCH_REQUIRE_PEERS=1).
 
 mod common;
 use common::dialect;
@@ -10,20 +10,7 @@ use std::process::{Command, Stdio};
 use vouch_mav::codec::{FrameSplitter, MessageBuilder, MessageView, Value};
 
 fn python() -> Option<String> {
-    let Ok(py) = std::env::var("VOUCH_PYTHON") else {
-        eprintln!("skipping: VOUCH_PYTHON not set");
-        return None;
-    };
-    let ok = Command::new(&py)
-        .args(["-c", "import pymavlink"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !ok {
-        eprintln!("skipping: {py} cannot import pymavlink");
-        return None;
-    }
-    Some(py)
+    vouch_testkit::python_with(&["pymavlink"])
 }
 
 fn run_py(py: &str, mode: &str, req: &J) -> J {

@@ -9,13 +9,7 @@ use vouch_mav::monitor::offline::{check_tlog, RecordingReport};
 use vouch_mav::monitor::Monitor;
 
 fn shared() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/mavlink");
-    if p.join("tlogs").is_dir() && p.join("definitions/ardupilotmega.xml").is_file() {
-        Some(p)
-    } else {
-        eprintln!("skipping: ../shared/mavlink not found");
-        None
-    }
+    vouch_testkit::shared("mavlink", "definitions/ardupilotmega.xml")
 }
 
 fn run(file: &str) -> Option<RecordingReport> {

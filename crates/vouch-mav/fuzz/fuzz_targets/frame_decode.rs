@@ -7,7 +7,7 @@ use std::sync::{Arc, OnceLock};
 use libfuzzer_sys::fuzz_target;
 use vouch_mav::codec::{FrameSplitter, MessageView, TlogReader};
 use vouch_mav::dialect::Dialect;
-use vouch_mav::monitor::{Monitor, Origin};
+use vouch_mav::monitor::Monitor;
 use vouch_mav::protocol::{load_protocols, stdlib, ProtocolSet};
 
 fn dialect() -> &'static Arc<Dialect> {
@@ -33,12 +33,12 @@ fuzz_target!(|data: &[u8]| {
             let _ = v.render_fields();
         }
         t += 1000;
-        let _ = monitor.on_frame(&f, Origin::Unknown, t);
+        let _ = monitor.on_frame(&f, None, t);
     }
     assert_eq!(pos, data.len());
     let mut r = TlogReader::new(data, d);
     for rec in r.by_ref() {
-        let _ = monitor.on_frame(&rec.frame, Origin::Unknown, rec.time_us);
+        let _ = monitor.on_frame(&rec.frame, None, rec.time_us);
     }
     let _ = r.stats();
     monitor.finish();

@@ -148,6 +148,19 @@ pub fn zero_truncated_len(payload: &[u8]) -> usize {
     len
 }
 
+/// Unsigned MAVLink 2 frame of `payload` with its trailing zero bytes truncated (first byte kept),
+/// as senders put it on the wire; the id and CRC_EXTRA come from the caller (no dialect needed).
+pub fn frame_v2_truncated(
+    msgid: u32,
+    crc_extra: u8,
+    payload: &[u8],
+    seq: u8,
+    sysid: u8,
+    compid: u8,
+) -> Vec<u8> {
+    frame_v2_raw(msgid, crc_extra, &payload[..zero_truncated_len(payload)], seq, sysid, compid)
+}
+
 /// Unsigned MAVLink 2 frame of `payload` exactly as given (the caller truncates). Needs no
 /// dialect: the id and CRC_EXTRA come from the caller, which lets the guard frame its own
 /// alerts and acknowledgements without loading one.

@@ -1,12 +1,15 @@
-//! MAVLink wire format: checksum, frame recognition, payload views, encoder, tlog reader.
+//! MAVLink wire format: checksum, frame headers, splitting received bytes into frames, payload
+//! views, encoder, tlog reader.
 
 pub mod crc;
 pub mod encode;
 pub mod frame;
+pub mod split;
 pub mod tlog;
 pub mod view;
 
 pub use encode::{EncodeError, MessageBuilder};
-pub use frame::{parse_frame, CodecStats, Frame, FrameSplitter, Parse, Version};
+pub use frame::{parse_frame, CodecStats, Frame, FrameRef, InvalidKind, Parse, Version};
+pub use split::{FrameSplitter, Piece, StreamSplitter};
 pub use tlog::{TlogReader, TlogRecord};
 pub use view::{MessageView, Value};

@@ -3,7 +3,7 @@
 //! There is no record length, so after a broken record the reader resynchronises: it moves one
 //! byte on and accepts a record again only where a plausible timestamp precedes a valid frame.
 
-use super::frame::{parse_frame, CodecStats, Frame, FrameSplitter, Parse};
+use super::frame::{is_magic, parse_frame, CodecStats, Frame, Parse};
 use crate::dialect::Dialect;
 
 /// One record of a tlog.
@@ -21,7 +21,7 @@ pub struct TlogReader<'a> {
     pos: usize,
     dialect: &'a Dialect,
     last_time: Option<u64>,
-    counter: FrameSplitter,
+    stats: CodecStats,
     /// Records whose timestamp was implausible or whose frame was broken, skipped by resync.
     pub skipped_records: u64,
 }
@@ -39,13 +39,14 @@ impl<'a> TlogReader<'a> {
             pos: 0,
             dialect,
             last_time: None,
-            counter: FrameSplitter::new(),
+            stats: CodecStats::default(),
             skipped_records: 0,
         }
     }
 
+    /// What was counted so far.
     pub fn stats(&self) -> CodecStats {
-        self.counter.stats
+        self.stats
     }
 
     fn plausible(&self, t: u64) -> bool {
@@ -71,7 +72,7 @@ impl<'a> TlogReader<'a> {
             return true;
         }
         match (self.time_at(at), self.data.get(at + 8)) {
-            (Some(t), Some(&m)) => self.plausible(t) && (m == 0xFD || m == 0xFE),
+            (Some(t), Some(&m)) => self.plausible(t) && is_magic(m),
             _ => false,
         }
     }
@@ -81,7 +82,7 @@ impl<'a> TlogReader<'a> {
             self.skipped_records += 1;
             *resyncing = true;
         }
-        self.counter.stats.garbage_bytes += 1;
+        self.stats.garbage_bytes += 1;
         self.pos += 1;
     }
 }
@@ -98,8 +99,8 @@ impl<'a> Iterator for TlogReader<'a> {
             }
             if rest < 9 {
                 // A few trailing bytes cannot hold a record: a truncated tail.
-                self.counter.stats.truncated += 1;
-                self.counter.stats.garbage_bytes += rest as u64;
+                self.stats.truncated += 1;
+                self.stats.garbage_bytes += rest as u64;
                 self.pos = self.data.len();
                 return None;
             }
@@ -113,34 +114,27 @@ impl<'a> Iterator for TlogReader<'a> {
                 Parse::Frame(f) => {
                     let end = frame_at + f.bytes.len();
                     if f.msg.is_none() && !self.record_starts_at(end) {
-                        self.counter.stats.unknown_id += 1;
+                        self.stats.unknown_id += 1;
                         self.skip_byte(&mut resyncing);
                         continue;
                     }
                     let rec = TlogRecord { time_us: time, offset: self.pos, frame: f };
-                    self.counter.count(&f);
+                    self.stats.count(&f);
                     self.last_time = Some(time);
                     self.pos = end;
                     return Some(rec);
                 }
                 Parse::Incomplete if resyncing => self.skip_byte(&mut resyncing),
                 Parse::Incomplete => {
-                    self.counter.stats.truncated += 1;
-                    self.counter.stats.garbage_bytes += (self.data.len() - self.pos) as u64;
+                    self.stats.truncated += 1;
+                    self.stats.garbage_bytes += (self.data.len() - self.pos) as u64;
                     self.pos = self.data.len();
                     return None;
                 }
                 Parse::Invalid(kind) => {
-                    use super::frame::InvalidKind::*;
                     // A plausible timestamp followed by a frame start is a broken frame, also
                     // while resynchronising.
-                    match kind {
-                        BadCrc => self.counter.stats.bad_crc += 1,
-                        BadLength => self.counter.stats.bad_length += 1,
-                        BadIncompat => self.counter.stats.bad_incompat += 1,
-                        UnknownId => self.counter.stats.unknown_id += 1,
-                        NotMagic => {}
-                    }
+                    self.stats.reject(kind);
                     self.skip_byte(&mut resyncing);
                 }
             }

@@ -6,7 +6,9 @@
 pub mod raw;
 mod xml;
 
-pub use xml::{embedded_origin, load_dialect_file, load_dialect_from, DialectError};
+pub use xml::{
+    embedded_origin, load_dialect_file, load_dialect_from, DialectError, MessageError, XmlError,
+};
 
 use std::collections::HashMap;
 

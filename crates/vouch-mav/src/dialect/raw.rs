@@ -46,7 +46,7 @@ pub struct RawDialect {
 pub enum RawError<E> {
     Read(E),
     Xml { file: String, line: u32, col: u32, message: String },
-    Message { file: String, message: String, problem: String },
+    Message { file: String, message: String, problem: String, offset: usize },
 }
 
 /// Reads `root` through `read` (file name → text), following `<include>`s depth-first, once each.
@@ -145,6 +145,7 @@ fn read_message<E>(file: &str, m: roxmltree::Node) -> Result<RawMessage, RawErro
         file: file.to_string(),
         message: name.clone(),
         problem,
+        offset: m.range().start,
     };
     let id: u32 = m
         .attribute("id")

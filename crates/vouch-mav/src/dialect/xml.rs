@@ -4,24 +4,105 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use miette::{NamedSource, SourceSpan};
+
 use super::raw::{read_digest, read_xml, RawDialect, RawError, RawMessage};
 use super::{compute_crc_extra, Dialect, EnumDef, FieldDef, MessageDef, PrimType};
 
 include!(concat!(env!("OUT_DIR"), "/embedded_dialect.rs"));
 
-/// Why a dialect could not be loaded; names the file and, for XML errors, the position.
+/// Why a dialect could not be loaded; names the file and, where the XML has a position, points
+/// at it.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum DialectError {
+    /// A dialect file (or one it includes) cannot be read.
     #[error("cannot read dialect file {path}: {source}")]
-    Io { path: String, source: std::io::Error },
-    #[error("{file}:{line}:{col}: invalid XML: {message}")]
-    Xml { file: String, line: u32, col: u32, message: String },
-    #[error("{file}: message {message}: {problem}")]
-    Message { file: String, message: String, problem: String },
-    #[error("no default dialect was embedded at build time (set VOUCH_MAV_DEFINITIONS when building, or pass --dialect FILE.xml)")]
+    #[diagnostic(code(mav::D001))]
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A file is not well-formed XML.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Xml(Box<XmlError>),
+    /// A message definition that cannot be used.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Message(Box<MessageError>),
+    /// The library was built without the default dialect.
+    #[error("no default dialect was embedded at build time (the build set VOUCH_MAV_NO_DEFAULT_DIALECT); pass a dialect file")]
+    #[diagnostic(code(mav::D004))]
     NoEmbedded,
-    #[error("include {name} (from {from}) not found")]
-    MissingInclude { name: String, from: String },
+    /// The embedded digest does not read back (the build script and the loader disagree).
+    #[error("embedded dialect digest, line {line}: unreadable record")]
+    #[diagnostic(code(mav::D005))]
+    Digest {
+        /// 1-based line of the digest.
+        line: usize,
+    },
+}
+
+/// A dialect file that is not well-formed XML, located.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("invalid XML in {file}: {message}")]
+#[diagnostic(code(mav::D002))]
+pub struct XmlError {
+    /// The file.
+    pub file: String,
+    /// 1-based line.
+    pub line: u32,
+    /// 1-based column.
+    pub col: u32,
+    /// The XML reader's message.
+    pub message: String,
+    /// The file's text, when it could be read again for the report.
+    #[source_code]
+    pub src: Option<NamedSource<String>>,
+    /// Where.
+    #[label("here")]
+    pub span: Option<SourceSpan>,
+}
+
+/// A message definition that cannot be used (no id, a field without name or type, an unknown
+/// type, a payload over 255 bytes), located when the XML position is known.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("{file}: message {message}: {problem}")]
+#[diagnostic(code(mav::D003))]
+pub struct MessageError {
+    /// The file.
+    pub file: String,
+    /// The message's name.
+    pub message: String,
+    /// What is wrong.
+    pub problem: String,
+    /// The file's text, when the position is known.
+    #[source_code]
+    pub src: Option<NamedSource<String>>,
+    /// The message element.
+    #[label("this message")]
+    pub span: Option<SourceSpan>,
+}
+
+impl DialectError {
+    /// Whether the error is about reading files (an I/O problem) rather than their content.
+    pub fn is_io(&self) -> bool {
+        matches!(self, DialectError::Io { .. })
+    }
+}
+
+/// Byte offset of a 1-based line and column in `text`.
+fn offset_of(text: &str, line: u32, col: u32) -> usize {
+    let start: usize =
+        text.split_inclusive('\n').take(line.saturating_sub(1) as usize).map(str::len).sum();
+    let col = text[start.min(text.len())..]
+        .chars()
+        .take(col.saturating_sub(1) as usize)
+        .map(char::len_utf8)
+        .sum::<usize>();
+    (start + col).min(text.len())
 }
 
 /// Folder the embedded default dialect was taken from at build time ("none" if none).
@@ -45,12 +126,7 @@ pub(super) fn load_embedded() -> Result<Dialect, DialectError> {
     if EMBEDDED_DIGEST.is_empty() {
         return Err(DialectError::NoEmbedded);
     }
-    let raw = read_digest(EMBEDDED_DIGEST).map_err(|line| DialectError::Xml {
-        file: "embedded dialect digest".into(),
-        line: line as u32,
-        col: 1,
-        message: "unreadable record (the build script and the loader disagree)".into(),
-    })?;
+    let raw = read_digest(EMBEDDED_DIGEST).map_err(|line| DialectError::Digest { line })?;
     from_raw(EMBEDDED_ROOT, raw)
 }
 
@@ -62,10 +138,17 @@ pub fn load_dialect_from(
     let raw = read_xml(root, read).map_err(|e| match e {
         RawError::Read(e) => e,
         RawError::Xml { file, line, col, message } => {
-            DialectError::Xml { file, line, col, message }
+            // Read again only to show where: the error path is cold.
+            let text = read(&file).ok();
+            let span = text.as_deref().map(|t| SourceSpan::from((offset_of(t, line, col), 0)));
+            let src = text.map(|t| NamedSource::new(&file, t));
+            DialectError::Xml(Box::new(XmlError { file, line, col, message, src, span }))
         }
-        RawError::Message { file, message, problem } => {
-            DialectError::Message { file, message, problem }
+        RawError::Message { file, message, problem, offset } => {
+            let text = read(&file).ok();
+            let span = text.as_ref().map(|_| SourceSpan::from((offset, 0)));
+            let src = text.map(|t| NamedSource::new(&file, t));
+            DialectError::Message(Box::new(MessageError { file, message, problem, src, span }))
         }
     })?;
     from_raw(root, raw)
@@ -88,10 +171,14 @@ fn from_raw(root: &str, raw: RawDialect) -> Result<Dialect, DialectError> {
 
 fn finish_message(m: RawMessage) -> Result<MessageDef, DialectError> {
     let RawMessage { id, name, file, fields: raw_fields } = m;
-    let bad = |problem: String| DialectError::Message {
-        file: file.clone(),
-        message: name.clone(),
-        problem,
+    let bad = |problem: String| {
+        DialectError::Message(Box::new(MessageError {
+            file: file.clone(),
+            message: name.clone(),
+            problem,
+            src: None,
+            span: None,
+        }))
     };
     let mut base = Vec::new();
     let mut ext = Vec::new();

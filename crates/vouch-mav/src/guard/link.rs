@@ -13,9 +13,9 @@ use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
 use super::endpoint::Endpoint;
-use super::frame::StreamSplitter;
-use super::serial;
-use super::udp_batch::{self, RecvBatch};
+use super::sys::serial;
+use super::sys::udp_batch::{self, RecvBatch};
+use crate::codec::split::StreamSplitter;
 
 /// How often blocked readers wake up to look at the stop flag.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
@@ -27,9 +27,12 @@ pub const MAX_TCP_CLIENTS: usize = 8;
 
 /// Who sent a piece of traffic, so that a reply can go back to exactly that peer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Origin {
+pub enum Peer {
+    /// A UDP sender.
     Udp(SocketAddr),
+    /// A TCP connection, by its id.
     Stream(usize),
+    /// The serial port.
     Serial,
 }
 
@@ -44,7 +47,7 @@ pub enum Received<'a> {
 
 /// Called for everything a reader receives. Returns `false` only for a `StreamFrame` that is not
 /// a frame after all (bad checksum): the stream reader then resynchronises after its first byte.
-pub type Handler = Arc<dyn Fn(Origin, Received<'_>) -> bool + Send + Sync>;
+pub type Handler = Arc<dyn Fn(Peer, Received<'_>) -> bool + Send + Sync>;
 
 struct PeerSet {
     peers: Vec<(SocketAddr, Instant)>,
@@ -113,14 +116,14 @@ impl Egress {
         }
     }
 
-    /// Sends `bytes` only to the peer that `origin` names (replies to the sender).
-    pub fn send_to(&self, origin: Origin, bytes: &[u8]) -> bool {
-        match (&self.kind, origin) {
+    /// Sends `bytes` only to the peer that `peer` names (replies to the sender).
+    pub fn send_to(&self, peer: Peer, bytes: &[u8]) -> bool {
+        match (&self.kind, peer) {
             (EgressKind::UdpFixed { sock, peer }, _) => udp_batch::send_to(sock, bytes, peer),
-            (EgressKind::UdpLearned { sock, .. }, Origin::Udp(a)) => {
+            (EgressKind::UdpLearned { sock, .. }, Peer::Udp(a)) => {
                 udp_batch::send_to(sock, bytes, &a)
             }
-            (EgressKind::Streams { conns }, Origin::Stream(id)) => lock(conns)
+            (EgressKind::Streams { conns }, Peer::Stream(id)) => lock(conns)
                 .iter_mut()
                 .find(|(i, _)| *i == id)
                 .is_some_and(|(_, s)| s.write_all(bytes).is_ok()),
@@ -224,7 +227,7 @@ pub fn open(
             let port = serial::open_raw(device, *baud)?;
             let reader = port.try_clone()?;
             let egress = Arc::new(Egress { kind: EgressKind::Serial { port: Mutex::new(port) } });
-            let t = spawn_stream_reader(side, reader, Origin::Serial, false, handler, stop, || {})?;
+            let t = spawn_stream_reader(side, reader, Peer::Serial, false, handler, stop, || {})?;
             Ok(OpenedLink { egress, local_addr: None, threads: vec![t] })
         }
     }
@@ -246,7 +249,7 @@ fn register_stream(
         lock(conns).push((id, s));
     }
     let eg2 = eg.clone();
-    spawn_stream_reader(side, reader, Origin::Stream(id), true, handler, stop, move || {
+    spawn_stream_reader(side, reader, Peer::Stream(id), true, handler, stop, move || {
         if let EgressKind::Streams { conns } = &eg2.kind {
             lock(conns).retain(|(i, _)| *i != id);
         }
@@ -281,9 +284,9 @@ fn spawn_udp_reader(
                             }
                         }
                         if truncated {
-                            let _ = handler(Origin::Udp(from), Received::Oversized(bytes.len()));
+                            let _ = handler(Peer::Udp(from), Received::Oversized(bytes.len()));
                         } else {
-                            let _ = handler(Origin::Udp(from), Received::Datagram(bytes));
+                            let _ = handler(Peer::Udp(from), Received::Datagram(bytes));
                         }
                     }
                     udp_batch::flush();
@@ -306,7 +309,7 @@ fn spawn_udp_reader(
 fn spawn_stream_reader<R: Read + Send + 'static>(
     side: &'static str,
     mut reader: R,
-    origin: Origin,
+    peer: Peer,
     zero_is_eof: bool,
     handler: Handler,
     stop: Arc<AtomicBool>,
@@ -322,7 +325,7 @@ fn spawn_stream_reader<R: Read + Send + 'static>(
                 Ok(0) => {}
                 Ok(n) => splitter.push_resync(&buf[..n], |piece, is_frame| {
                     handler(
-                        origin,
+                        peer,
                         if is_frame {
                             Received::StreamFrame(piece)
                         } else {

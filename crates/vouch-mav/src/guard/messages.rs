@@ -1,50 +1,70 @@
-//! The few messages the guard emits itself, framed as MAVLink 2 (values from common.xml:
-//! STATUSTEXT id 253 CRC_EXTRA 83, MISSION_ACK 47/153, COMMAND_ACK 77/143).
+//! The few messages the guard makes itself, as [`Reply`]s framed without a dialect (values from
+//! common.xml: STATUSTEXT id 253 CRC_EXTRA 83, MISSION_ACK 47/153, COMMAND_ACK 77/143).
 
-use super::{Reply, Side};
-use crate::codec::encode::{frame_v2_raw, zero_truncated_len};
+use crate::monitor::Reply;
+use crate::side::Side;
 
+/// STATUSTEXT message id.
 pub const STATUSTEXT_ID: u32 = 253;
+/// STATUSTEXT CRC_EXTRA.
 pub const STATUSTEXT_CRC_EXTRA: u8 = 83;
+/// MISSION_ACK message id.
 pub const MISSION_ACK_ID: u32 = 47;
+/// MISSION_ACK CRC_EXTRA.
 pub const MISSION_ACK_CRC_EXTRA: u8 = 153;
+/// COMMAND_ACK message id.
 pub const COMMAND_ACK_ID: u32 = 77;
+/// COMMAND_ACK CRC_EXTRA.
 pub const COMMAND_ACK_CRC_EXTRA: u8 = 143;
 /// MAV_SEVERITY_WARNING.
 pub const SEVERITY_WARNING: u8 = 4;
 
-/// Frames `payload` (trailing zeros stripped, at least one byte kept) as MAVLink 2, unsigned, with
-/// the codec's framer; the argument order is the guard's (source ids, then sequence number).
-pub fn encode_v2(
-    msgid: u32,
-    crc_extra: u8,
-    payload: &[u8],
-    sysid: u8,
-    compid: u8,
-    seq: u8,
-) -> Vec<u8> {
-    let len = zero_truncated_len(payload);
-    frame_v2_raw(msgid, crc_extra, &payload[..len], seq, sysid, compid)
+fn reply(
+    message: &str,
+    to: Side,
+    (msgid, crc_extra): (u32, u8),
+    payload: Vec<u8>,
+    from: (u8, u8),
+    target: (u8, u8),
+    fields: Vec<(String, f64)>,
+) -> Reply {
+    Reply {
+        message: message.to_string(),
+        to,
+        msgid,
+        crc_extra,
+        payload,
+        fields,
+        text_fields: Vec::new(),
+        from_sys: from.0,
+        from_comp: from.1,
+        to_sys: target.0,
+        to_comp: target.1,
+    }
 }
 
-/// STATUSTEXT{severity, text} toward the GCS; text is cut to the field's 50 bytes.
+/// STATUSTEXT{severity, text} toward the GCS from `(sysid, compid)`; text is cut to the field's
+/// 50 bytes.
 pub fn statustext(severity: u8, text: &str, sysid: u8, compid: u8) -> Reply {
     let mut payload = vec![0u8; 51];
     payload[0] = severity;
     let t = text.as_bytes();
     let n = t.len().min(50);
     payload[1..1 + n].copy_from_slice(&t[..n]);
-    Reply {
-        to: Side::Gcs,
-        msgid: STATUSTEXT_ID,
-        crc_extra: STATUSTEXT_CRC_EXTRA,
+    let mut r = reply(
+        "STATUSTEXT",
+        Side::Gcs,
+        (STATUSTEXT_ID, STATUSTEXT_CRC_EXTRA),
         payload,
-        sysid,
-        compid,
-    }
+        (sysid, compid),
+        (0, 0),
+        vec![("severity".into(), f64::from(severity))],
+    );
+    r.text_fields.push(("text".into(), String::from_utf8_lossy(&t[..n]).into_owned()));
+    r
 }
 
-/// MISSION_ACK{target, result, mission_type} as an answer from `(sysid, compid)`.
+/// MISSION_ACK{target, result, mission_type} sent to `to` as an answer from `(sysid, compid)`.
 pub fn mission_ack(
     to: Side,
     sysid: u8,
@@ -54,10 +74,13 @@ pub fn mission_ack(
     mission_type: u8,
 ) -> Reply {
     let payload = vec![target.0, target.1, result, mission_type];
-    Reply { to, msgid: MISSION_ACK_ID, crc_extra: MISSION_ACK_CRC_EXTRA, payload, sysid, compid }
+    let fields =
+        vec![("type".into(), f64::from(result)), ("mission_type".into(), f64::from(mission_type))];
+    let id = (MISSION_ACK_ID, MISSION_ACK_CRC_EXTRA);
+    reply("MISSION_ACK", to, id, payload, (sysid, compid), target, fields)
 }
 
-/// COMMAND_ACK{command, result} addressed to `target`.
+/// COMMAND_ACK{command, result} sent to `to` (addressed to `target`) from `(sysid, compid)`.
 pub fn command_ack(
     to: Side,
     sysid: u8,
@@ -69,7 +92,9 @@ pub fn command_ack(
     let c = command.to_le_bytes();
     // wire order: command u16, result u8, progress u8, result_param2 i32, target_system, target_component
     let payload = vec![c[0], c[1], result, 0, 0, 0, 0, 0, target.0, target.1];
-    Reply { to, msgid: COMMAND_ACK_ID, crc_extra: COMMAND_ACK_CRC_EXTRA, payload, sysid, compid }
+    let fields = vec![("command".into(), f64::from(command)), ("result".into(), f64::from(result))];
+    let id = (COMMAND_ACK_ID, COMMAND_ACK_CRC_EXTRA);
+    reply("COMMAND_ACK", to, id, payload, (sysid, compid), target, fields)
 }
 
 #[cfg(test)]
@@ -85,14 +110,8 @@ mod tests {
     #[test]
     fn matches_pymavlink_encoding() {
         let st = statustext(4, "vouch: hi", 1, 191);
-        assert_eq!(
-            hex(&encode_v2(st.msgid, st.crc_extra, &st.payload, 1, 191, 0)),
-            "fd0a00000001bffd000004766f7563683a20686985e7"
-        );
+        assert_eq!(hex(&st.encode_v2(0)), "fd0a00000001bffd000004766f7563683a20686985e7");
         let ack = mission_ack(Side::Gcs, 1, 191, (255, 230), 13, 0);
-        assert_eq!(
-            hex(&encode_v2(ack.msgid, ack.crc_extra, &ack.payload, 1, 191, 0)),
-            "fd0300000001bf2f0000ffe60d2b3d"
-        );
+        assert_eq!(hex(&ack.encode_v2(0)), "fd0300000001bf2f0000ffe60d2b3d");
     }
 }

@@ -1,5 +1,5 @@
 //! The proxy core: per-frame admission (signing, inspector), byte-exact forwarding, enforce-mode
-//! answers, STATUSTEXT alerts, violations log, tlog recording and counters.
+//! answers, STATUSTEXT alerts, violations log, tlog recording, counters and events.
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -10,104 +10,24 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
-use serde::Serialize;
 use serde_json::json;
 
-use super::frame::{split_datagram, split_datagram_resync, FrameRef, Piece};
-use super::link::{self, Egress, Origin, Received};
-use super::messages::{encode_v2, statustext, SEVERITY_WARNING};
-use super::{Endpoint, Inspector, Reply, Side, Verdict};
-use crate::signing::{timestamp_now, Signer, SigningKey, Verifier, SETUP_SIGNING_ID};
-
-/// Everything `vouch mav guard` is told on its command line.
-pub struct GuardConfig {
-    pub gcs: Endpoint,
-    pub vehicle: Endpoint,
-    /// Drop violating frames and answer instead of only reporting.
-    pub enforce: bool,
-    /// Send a STATUSTEXT to the GCS for each violation.
-    pub alert_gcs: bool,
-    /// Print one line per violation on stderr (at most 20 per second; the CLI turns it on).
-    pub print_violations: bool,
-    /// Violations log, one JSON object per line.
-    pub log_path: Option<PathBuf>,
-    /// Recording of every received frame (8-byte big-endian µs timestamp + frame), both ways.
-    pub tlog_path: Option<PathBuf>,
-    pub signing: Option<SigningConfig>,
-}
-
-/// MAVLink 2 signing: frames from the GCS side must carry a valid signature; optionally the
-/// guard (re)signs what it forwards to the vehicle.
-pub struct SigningConfig {
-    pub key: SigningKey,
-    pub sign_to_vehicle: bool,
-    /// Link id the guard signs with toward the vehicle.
-    pub link_id: u8,
-}
+use super::config::GuardConfig;
+use super::counters::{CounterSnapshot, Counters};
+use super::events::{within_rate, Events, GuardEvent};
+use super::link::{self, Egress, Peer, Received};
+use super::messages::{statustext, SEVERITY_WARNING};
+use super::Inspector;
+use crate::codec::split::{split_datagram, split_datagram_resync, Piece};
+use crate::codec::FrameRef;
+use crate::monitor::{Reply, Verdict, Violation};
+use crate::side::Side;
+use crate::signing::{timestamp_now, Signer, Verifier, SETUP_SIGNING_ID};
 
 /// Most STATUSTEXT alerts per second: a violation flood must not flood the pilot's link too.
 const MAX_ALERTS_PER_SECOND: u64 = 5;
-/// Most violation lines printed on stderr per second (all go to the log and the counters).
-const MAX_PRINTS_PER_SECOND: u64 = 20;
 /// Most signing rejections written to the violations log (all are counted).
 const MAX_LOGGED_SIG_REJECTS: u64 = 100;
-
-#[derive(Default)]
-struct Counters {
-    rx: [AtomicU64; 2],
-    forwarded: [AtomicU64; 2],
-    violations: AtomicU64,
-    dropped_violations: AtomicU64,
-    malformed: AtomicU64,
-    dropped_malformed: AtomicU64,
-    junk_bytes: AtomicU64,
-    signing_rejected: AtomicU64,
-    setup_signing_dropped: AtomicU64,
-    replies_sent: AtomicU64,
-    alerts_sent: AtomicU64,
-    alerts_suppressed: AtomicU64,
-}
-
-/// Counters at one moment, printed at shutdown.
-#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
-pub struct CounterSnapshot {
-    pub frames_from_gcs: u64,
-    pub frames_from_vehicle: u64,
-    pub forwarded_to_vehicle: u64,
-    pub forwarded_to_gcs: u64,
-    pub violations: u64,
-    pub dropped_violations: u64,
-    pub malformed: u64,
-    pub dropped_malformed: u64,
-    pub junk_bytes: u64,
-    pub signing_rejected: u64,
-    pub setup_signing_dropped: u64,
-    pub replies_sent: u64,
-    pub alerts_sent: u64,
-    pub alerts_suppressed: u64,
-}
-
-impl CounterSnapshot {
-    /// (name, value) in the order they are printed at shutdown.
-    pub fn rows(&self) -> [(&'static str, u64); 14] {
-        [
-            ("frames from gcs", self.frames_from_gcs),
-            ("forwarded to vehicle", self.forwarded_to_vehicle),
-            ("frames from vehicle", self.frames_from_vehicle),
-            ("forwarded to gcs", self.forwarded_to_gcs),
-            ("violations", self.violations),
-            ("dropped violations", self.dropped_violations),
-            ("malformed frames", self.malformed),
-            ("dropped malformed", self.dropped_malformed),
-            ("junk bytes", self.junk_bytes),
-            ("signing rejected", self.signing_rejected),
-            ("SETUP_SIGNING dropped", self.setup_signing_dropped),
-            ("replies sent", self.replies_sent),
-            ("alerts sent", self.alerts_sent),
-            ("alerts rate-limited", self.alerts_suppressed),
-        ]
-    }
-}
 
 struct Core {
     enforce: bool,
@@ -124,8 +44,7 @@ struct Core {
     /// (0 = not seen yet); alerts are sent in the vehicle's name so GCSs display them.
     vehicle_ids: AtomicU64,
     alert_window: Mutex<(Instant, u64)>,
-    print_violations: bool,
-    print_window: Mutex<(Instant, u64)>,
+    events: Events,
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -176,10 +95,10 @@ impl Core {
     }
 
     /// Handles one received piece; `false` = a stream candidate was no frame (resynchronise).
-    fn on_received(&self, side: Side, origin: Origin, rx: Received<'_>) -> bool {
+    fn on_received(&self, side: Side, peer: Peer, rx: Received<'_>) -> bool {
         match rx {
-            Received::Datagram(d) => self.on_datagram(side, origin, d),
-            Received::StreamFrame(f) => match self.admit(side, origin, f) {
+            Received::Datagram(d) => self.on_datagram(side, peer, d),
+            Received::StreamFrame(f) => match self.admit(side, peer, f) {
                 Admission::Forward => self.forward(side, f, true),
                 Admission::Drop => {}
                 // its bytes come back as junk (or inside later frames) from the stream splitter
@@ -204,12 +123,12 @@ impl Core {
         !self.enforce && (self.verifier.is_none() || side == Side::Vehicle)
     }
 
-    fn on_datagram(&self, side: Side, origin: Origin, d: &[u8]) {
+    fn on_datagram(&self, side: Side, peer: Peer, d: &[u8]) {
         let mut keep = Ranges::default();
         // A candidate the inspector finds corrupt is bytes, not a frame: the splitter rescans
         // from the byte after its start marker, so it cannot swallow the frames behind it.
         split_datagram_resync(d, |p| match p {
-            Piece::Frame(a, b) => match self.admit(side, origin, &d[a..b]) {
+            Piece::Frame(a, b) => match self.admit(side, peer, &d[a..b]) {
                 Admission::Forward => {
                     keep.push(a, b);
                     true
@@ -262,7 +181,7 @@ impl Core {
     /// Decides whether one length-cut candidate frame goes on. Side effects: counters, log, tlog,
     /// alerts, enforce-mode answers. `NotAFrame` (bad checksum, unknown incompatibility flag) is
     /// counted as malformed and leaves the forwarding of its bytes to the caller (as garbage).
-    fn admit(&self, side: Side, origin: Origin, bytes: &[u8]) -> Admission {
+    fn admit(&self, side: Side, peer: Peer, bytes: &[u8]) -> Admission {
         let c = &self.counters;
         let Some(fr) = FrameRef::new(bytes) else { return Admission::NotAFrame };
         let verify = if side == Side::Gcs { self.verifier.as_ref() } else { None };
@@ -298,10 +217,9 @@ impl Core {
             }
             return Admission::Drop;
         }
-        let verdict = lock(&self.inspector).inspect(side, fr);
-        if matches!(verdict, Verdict::Malformed(_)) {
+        let Ok(verdict) = lock(&self.inspector).inspect(side, fr) else {
             return self.not_a_frame();
-        }
+        };
         if !recorded {
             self.record(side, bytes);
         }
@@ -311,38 +229,37 @@ impl Core {
             self.vehicle_ids.store(packed, Ordering::Relaxed);
         }
         match verdict {
-            Verdict::Accept => {
+            Verdict::Accept | Verdict::Ignore => {
                 c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
                 Admission::Forward
             }
-            Verdict::Malformed(_) => self.not_a_frame(), // handled above
-            Verdict::Violation(f) => {
-                c.violations.fetch_add(1, Ordering::Relaxed);
-                let action = if self.enforce { "dropped" } else { "forwarded" };
-                self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(), "action": action,
-                    "kind": "violation", "summary": f.summary, "sysid": fr.sysid(), "compid": fr.compid(),
-                    "msgid": fr.msgid(), "frame": hex(bytes), "violation": f.record}));
-                if self.print_violations && within_rate(&self.print_window, MAX_PRINTS_PER_SECOND) {
-                    eprintln!(
-                        "vouch mav guard: violation from {} ({action}): {}",
-                        side.as_str(),
-                        f.summary
-                    );
-                }
-                if self.alert_gcs {
-                    self.alert(&f.summary);
-                }
-                if self.enforce {
-                    c.dropped_violations.fetch_add(1, Ordering::Relaxed);
-                    for r in &f.replies {
-                        self.send_reply(r, side, origin);
-                    }
-                    Admission::Drop
-                } else {
-                    c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
-                    Admission::Forward
-                }
+            Verdict::Violation(v) => self.on_violation(side, peer, fr, &v),
+        }
+    }
+
+    /// Counts, logs, reports and (in enforce mode) answers a violation.
+    fn on_violation(&self, side: Side, peer: Peer, fr: FrameRef<'_>, v: &Violation) -> Admission {
+        let c = &self.counters;
+        c.violations.fetch_add(1, Ordering::Relaxed);
+        let summary = v.summary();
+        let action = if self.enforce { "dropped" } else { "forwarded" };
+        self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(), "action": action,
+            "kind": "violation", "summary": summary, "sysid": fr.sysid(), "compid": fr.compid(),
+            "msgid": fr.msgid(), "frame": hex(fr.bytes), "violation": v}));
+        if self.alert_gcs {
+            self.alert(&summary);
+        }
+        let dropped = self.enforce;
+        self.events.emit(|| GuardEvent::Violation { from: side, dropped, summary });
+        if self.enforce {
+            c.dropped_violations.fetch_add(1, Ordering::Relaxed);
+            if let Some(r) = &v.reply {
+                self.send_reply(r, side, peer);
             }
+            Admission::Drop
+        } else {
+            c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
+            Admission::Forward
         }
     }
 
@@ -365,10 +282,10 @@ impl Core {
 
     /// Sends a guard-made message. An answer to the side the violating frame came from goes back
     /// to exactly that peer; one to the other side goes to all its peers.
-    fn send_reply(&self, r: &Reply, from: Side, origin: Origin) {
+    fn send_reply(&self, r: &Reply, from: Side, peer: Peer) {
         let Some(out) = self.out(r.to) else { return };
         let seq = self.own_seq.fetch_add(1, Ordering::Relaxed);
-        let mut frame = encode_v2(r.msgid, r.crc_extra, &r.payload, r.sysid, r.compid, seq);
+        let mut frame = r.encode_v2(seq);
         if r.to == Side::Vehicle {
             if let Some(signer) = &self.signer {
                 let mut signed = Vec::with_capacity(frame.len() + 13);
@@ -379,7 +296,7 @@ impl Core {
                 }
             }
         }
-        let ok = if r.to == from { out.send_to(origin, &frame) } else { out.send_all(&frame) > 0 };
+        let ok = if r.to == from { out.send_to(peer, &frame) } else { out.send_all(&frame) > 0 };
         if ok {
             self.counters.replies_sent.fetch_add(1, Ordering::Relaxed);
         }
@@ -396,7 +313,7 @@ impl Core {
         let r = statustext(SEVERITY_WARNING, &format!("vouch: {summary}"), sysid, compid);
         let Some(out) = self.out(Side::Gcs) else { return };
         let seq = self.own_seq.fetch_add(1, Ordering::Relaxed);
-        if out.send_all(&encode_v2(r.msgid, r.crc_extra, &r.payload, sysid, compid, seq)) > 0 {
+        if out.send_all(&r.encode_v2(seq)) > 0 {
             self.counters.alerts_sent.fetch_add(1, Ordering::Relaxed);
         }
     }
@@ -410,37 +327,6 @@ impl Core {
             let _ = l.write_all(line.as_bytes()).and_then(|_| l.flush());
         }
     }
-
-    fn snapshot(&self) -> CounterSnapshot {
-        let c = &self.counters;
-        let g = |a: &AtomicU64| a.load(Ordering::Relaxed);
-        CounterSnapshot {
-            frames_from_gcs: g(&c.rx[0]),
-            frames_from_vehicle: g(&c.rx[1]),
-            forwarded_to_vehicle: g(&c.forwarded[1]),
-            forwarded_to_gcs: g(&c.forwarded[0]),
-            violations: g(&c.violations),
-            dropped_violations: g(&c.dropped_violations),
-            malformed: g(&c.malformed),
-            dropped_malformed: g(&c.dropped_malformed),
-            junk_bytes: g(&c.junk_bytes),
-            signing_rejected: g(&c.signing_rejected),
-            setup_signing_dropped: g(&c.setup_signing_dropped),
-            replies_sent: g(&c.replies_sent),
-            alerts_sent: g(&c.alerts_sent),
-            alerts_suppressed: g(&c.alerts_suppressed),
-        }
-    }
-}
-
-/// Fixed one-second window rate limiter: true while fewer than `max` events happened in it.
-fn within_rate(window: &Mutex<(Instant, u64)>, max: u64) -> bool {
-    let mut w = lock(window);
-    if w.0.elapsed().as_secs() >= 1 {
-        *w = (Instant::now(), 0);
-    }
-    w.1 += 1;
-    w.1 <= max
 }
 
 fn hex(b: &[u8]) -> String {
@@ -455,12 +341,14 @@ pub struct RunningGuard {
     threads: Vec<JoinHandle<()>>,
     /// Local address of the GCS endpoint (useful with port 0).
     pub gcs_addr: Option<SocketAddr>,
+    /// Local address of the vehicle endpoint.
     pub vehicle_addr: Option<SocketAddr>,
 }
 
 impl RunningGuard {
+    /// The counters now.
     pub fn counters(&self) -> CounterSnapshot {
-        self.core.snapshot()
+        self.core.counters.snapshot()
     }
 
     /// Stops the readers (within one poll interval), flushes the logs and returns the counters.
@@ -472,7 +360,7 @@ impl RunningGuard {
         for w in [&self.core.tlog, &self.core.log].into_iter().flatten() {
             let _ = lock(w).flush();
         }
-        self.core.snapshot()
+        self.core.counters.snapshot()
     }
 }
 
@@ -498,15 +386,14 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
         own_seq: AtomicU8::new(0),
         vehicle_ids: AtomicU64::new(0),
         alert_window: Mutex::new((Instant::now(), 0)),
-        print_violations: cfg.print_violations,
-        print_window: Mutex::new((Instant::now(), 0)),
+        events: Events::new(cfg.events.clone()),
     });
     let stop = Arc::new(AtomicBool::new(false));
     let mut threads = vec![];
     let mut addrs = [None, None];
     for (side, ep) in [(Side::Gcs, &cfg.gcs), (Side::Vehicle, &cfg.vehicle)] {
         let c = core.clone();
-        let handler: link::Handler = Arc::new(move |origin, rx| c.on_received(side, origin, rx));
+        let handler: link::Handler = Arc::new(move |peer, rx| c.on_received(side, peer, rx));
         let opened = match link::open(ep, side.as_str(), handler, stop.clone()) {
             Ok(o) => o,
             Err(e) => {

@@ -206,16 +206,14 @@ impl Monitor {
                 fields.push((f.to_string(), f64::from(v)));
             }
         }
-        Some(Reply {
-            message: def.name.clone(),
-            msg: r.msg,
+        Some(Reply::build(
+            def,
+            p.roles[r.to].1,
+            (from_sys, from_comp),
+            (to_sys, to_comp),
             fields,
             text_fields,
-            from_sys,
-            from_comp,
-            to_sys,
-            to_comp,
-        })
+        ))
     }
 }
 

@@ -13,29 +13,23 @@ mod explain;
 pub mod offline;
 mod report;
 mod session;
+mod spec;
 pub mod step;
 
 pub use report::{Reply, Violation, ViolationKind};
 pub use session::{ProtocolStats, Summary, MAX_SESSIONS_PER_PROTOCOL};
+pub use spec::{LoadError, MonitorSpec};
 
 use std::sync::Arc;
 
 use crate::codec::{Frame, MessageView};
 use crate::dialect::Dialect;
-use crate::protocol::ir::{FieldLoc, ProtocolSet, RoleKind};
+use crate::protocol::ir::{FieldLoc, ProtocolSet};
 use crate::protocol::{load_protocols, stdlib, ProtocolError};
+use crate::side::Side;
 use crate::vehicle_state::VehicleTracker;
 use eval::Val;
 use session::Session;
-
-/// Which side of the link a frame was read from. Offline (tlogs) use `Unknown`: the monitor then
-/// infers roles from HEARTBEAT types.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Origin {
-    Gcs,
-    Vehicle,
-    Unknown,
-}
 
 /// The monitor's answer for one message.
 #[derive(Debug, Clone)]
@@ -63,7 +57,7 @@ pub struct Monitor {
     targets: Vec<Option<(FieldLoc, FieldLoc)>>,
     tracker: VehicleTracker,
     sessions: Vec<Session>,
-    roles: Vec<((u8, u8), RoleKind)>,
+    roles: Vec<((u8, u8), Side)>,
     stats: Vec<ProtocolStats>,
     messages: u64,
     relevant: u64,
@@ -138,6 +132,12 @@ impl Monitor {
         Self::from_sources(dialect, &stdlib::sources(), overrides)
     }
 
+    /// A monitor with the same dialect and protocols and no state (a new recording, a new link).
+    pub fn fresh(&self) -> Monitor {
+        Monitor::new(Arc::clone(&self.dialect), self.set.clone())
+    }
+
+    /// The dialect the protocols were compiled against.
     pub fn dialect(&self) -> &Arc<Dialect> {
         &self.dialect
     }
@@ -150,11 +150,13 @@ impl Monitor {
         &self.tracker
     }
 
-    /// Checks one frame. Frames of unknown messages are ignored.
-    pub fn on_frame(&mut self, frame: &Frame, origin: Origin, time_us: u64) -> Verdict {
+    /// Checks one frame that arrived from side `from` of the link (`None` when unknown, as in
+    /// recordings: roles are then inferred from HEARTBEAT types). Frames of unknown messages are
+    /// ignored.
+    pub fn on_frame(&mut self, frame: &Frame, from: Option<Side>, time_us: u64) -> Verdict {
         let dialect = Arc::clone(&self.dialect);
         match MessageView::of_frame(frame, &dialect) {
-            Some(view) => self.observe(&view, frame.sysid, frame.compid, origin, time_us),
+            Some(view) => self.observe(&view, frame.sysid, frame.compid, from, time_us),
             None => {
                 self.messages += 1;
                 Verdict::Ignore
@@ -162,19 +164,19 @@ impl Monitor {
         }
     }
 
-    /// Checks one decoded message sent by `sysid/compid` at `time_us`.
+    /// Checks one decoded message sent by `sysid/compid` from side `from` at `time_us`.
     pub fn observe(
         &mut self,
         msg: &MessageView,
         sysid: u8,
         compid: u8,
-        origin: Origin,
+        from: Option<Side>,
         time_us: u64,
     ) -> Verdict {
         self.messages += 1;
         self.tracker.observe(sysid, compid, msg);
         if let Some(is_gcs) = self.tracker.heartbeat_is_gcs(msg) {
-            self.learn_role(sysid, compid, if is_gcs { RoleKind::Gcs } else { RoleKind::Vehicle });
+            self.learn_role(sysid, compid, if is_gcs { Side::Gcs } else { Side::Vehicle });
         }
         if time_us >= self.last_sweep_us + SWEEP_US {
             self.last_sweep_us = time_us;
@@ -187,7 +189,7 @@ impl Monitor {
             return Verdict::Ignore;
         }
         self.relevant += 1;
-        let kind = self.kind_of(sysid, compid, origin);
+        let kind = self.kind_of(sysid, compid, from);
         let target = self.targets[idx].as_ref().map(|(s, c)| {
             let s = eval::read_loc(msg.payload, s);
             let c = eval::read_loc(msg.payload, c);
@@ -204,7 +206,7 @@ impl Monitor {
         verdict
     }
 
-    fn learn_role(&mut self, sysid: u8, compid: u8, kind: RoleKind) {
+    fn learn_role(&mut self, sysid: u8, compid: u8, kind: Side) {
         match self.roles.iter_mut().find(|(ids, _)| *ids == (sysid, compid)) {
             Some(r) => r.1 = kind,
             None => self.roles.push(((sysid, compid), kind)),
@@ -213,11 +215,9 @@ impl Monitor {
 
     /// Role kind of a sender: the link side if known, else its heartbeat, else a convention
     /// (ground stations use high system ids or the mission-planner component 190).
-    fn kind_of(&self, sysid: u8, compid: u8, origin: Origin) -> RoleKind {
-        match origin {
-            Origin::Gcs => return RoleKind::Gcs,
-            Origin::Vehicle => return RoleKind::Vehicle,
-            Origin::Unknown => {}
+    fn kind_of(&self, sysid: u8, compid: u8, from: Option<Side>) -> Side {
+        if let Some(side) = from {
+            return side;
         }
         if let Some((_, k)) = self.roles.iter().find(|(ids, _)| *ids == (sysid, compid)) {
             return *k;
@@ -226,9 +226,9 @@ impl Monitor {
             return *k;
         }
         if sysid >= 200 || compid == 190 {
-            RoleKind::Gcs
+            Side::Gcs
         } else {
-            RoleKind::Vehicle
+            Side::Vehicle
         }
     }
 

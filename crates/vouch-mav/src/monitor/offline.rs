@@ -1,6 +1,6 @@
 //! Offline checking of a recording: tlog → frames → monitor, with a summary.
 
-use super::{Monitor, Origin, Summary, Verdict, Violation};
+use super::{Monitor, Summary, Verdict, Violation};
 use crate::codec::{CodecStats, MessageView, TlogReader};
 
 /// Result of checking one recording.
@@ -28,7 +28,7 @@ pub fn check_tlog(data: &[u8], monitor: &mut Monitor) -> RecordingReport {
             continue;
         };
         if let Verdict::Violation(v) =
-            monitor.observe(&view, rec.frame.sysid, rec.frame.compid, Origin::Unknown, rec.time_us)
+            monitor.observe(&view, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
         {
             violations.push(*v);
         }

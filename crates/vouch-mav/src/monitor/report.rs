@@ -2,42 +2,86 @@
 
 use std::fmt;
 
+use crate::codec::encode::frame_v2_truncated;
 use crate::codec::{MessageBuilder, Value};
-use crate::dialect::{Dialect, MsgIndex};
+use crate::dialect::MessageDef;
+use crate::side::Side;
 
-/// A message the protocol file asks to send back when it is violated (`on violation reply …`).
-#[derive(Debug, Clone, serde::Serialize)]
+/// A message sent in answer to a violation: the one a protocol asks for (`on violation reply …`),
+/// or one the guard makes itself (alerts, acknowledgements). It carries its encoded payload, so
+/// framing it needs no dialect.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Reply {
+    /// Message name, e.g. `MISSION_ACK`.
     pub message: String,
+    /// The side of the link it is sent to.
+    pub to: Side,
+    /// Message id.
+    pub msgid: u32,
+    /// CRC_EXTRA of the message.
     #[serde(skip)]
-    pub msg: MsgIndex,
-    /// Numeric fields; text fields are in `text_fields`.
+    pub crc_extra: u8,
+    /// Encoded payload, possibly untruncated (framing truncates trailing zeros).
+    #[serde(skip)]
+    pub payload: Vec<u8>,
+    /// Numeric fields as set (for reports).
     pub fields: Vec<(String, f64)>,
+    /// Text fields as set (for reports).
     pub text_fields: Vec<(String, String)>,
-    /// Ids to send from (the peer the reply impersonates) and to (the addressed role).
+    /// Ids to send from (the peer the reply stands in for, so that the addressee accepts it).
     pub from_sys: u8,
+    /// Component id to send from.
     pub from_comp: u8,
+    /// System id of the addressee.
     pub to_sys: u8,
+    /// Component id of the addressee.
     pub to_comp: u8,
 }
 
 impl Reply {
-    fn builder<'d>(&self, dialect: &'d Dialect) -> MessageBuilder<'d> {
-        let mut b = MessageBuilder::for_def(dialect.message(self.msg));
-        for (f, v) in &self.fields {
+    /// A reply whose fields are set by name through the dialect's definition of `def`.
+    pub(super) fn build(
+        def: &MessageDef,
+        to: Side,
+        from: (u8, u8),
+        addressee: (u8, u8),
+        fields: Vec<(String, f64)>,
+        text_fields: Vec<(String, String)>,
+    ) -> Reply {
+        let mut b = MessageBuilder::for_def(def);
+        for (f, v) in &fields {
             let _ = b.set_value(f, 0, Value::F(*v));
         }
-        for (f, t) in &self.text_fields {
+        for (f, t) in &text_fields {
             if let Ok(nb) = b.clone().set_str(f, t) {
                 b = nb;
             }
         }
-        b
+        Reply {
+            message: def.name.clone(),
+            to,
+            msgid: def.id,
+            crc_extra: def.crc_extra,
+            payload: b.payload().to_vec(),
+            fields,
+            text_fields,
+            from_sys: from.0,
+            from_comp: from.1,
+            to_sys: addressee.0,
+            to_comp: addressee.1,
+        }
     }
 
-    /// The reply as a MAVLink 2 frame (unsigned), sent as `from_sys/from_comp`.
-    pub fn encode_v2(&self, dialect: &Dialect, seq: u8) -> Vec<u8> {
-        self.builder(dialect).frame_v2(seq, self.from_sys, self.from_comp)
+    /// The reply as an unsigned MAVLink 2 frame (zero-truncated), sent as `from_sys/from_comp`.
+    pub fn encode_v2(&self, seq: u8) -> Vec<u8> {
+        frame_v2_truncated(
+            self.msgid,
+            self.crc_extra,
+            &self.payload,
+            seq,
+            self.from_sys,
+            self.from_comp,
+        )
     }
 }
 
@@ -75,6 +119,21 @@ pub struct Violation {
     pub reply: Option<Reply>,
     /// Further violations caused by the same message (other protocols).
     pub others: Vec<Violation>,
+}
+
+impl Violation {
+    /// One short line, e.g. `MISSION_ACK: curr == n (curr=60, n=100)`: short enough for a
+    /// STATUSTEXT's 50 bytes in the common cases (the full report is the `Display` text).
+    pub fn summary(&self) -> String {
+        let msg = self.message.split_whitespace().next().unwrap_or("message");
+        let why = self.predicate.as_deref().unwrap_or(&self.reason);
+        if self.values.is_empty() {
+            format!("{msg}: {why}")
+        } else {
+            let vals: Vec<String> = self.values.iter().map(|(n, x)| format!("{n}={x}")).collect();
+            format!("{msg}: {why} ({})", vals.join(", "))
+        }
+    }
 }
 
 impl fmt::Display for Violation {

@@ -6,7 +6,8 @@ use super::report::Violation;
 use super::step::{step, StepInput, StepResult};
 use super::{Monitor, Verdict};
 use crate::codec::MessageView;
-use crate::protocol::ir::{Protocol, RoleKind, StateId};
+use crate::protocol::ir::{Protocol, StateId};
+use crate::side::Side;
 
 /// An open session of one protocol.
 #[derive(Debug, Clone)]
@@ -59,7 +60,7 @@ impl Summary {
 /// Open sessions kept per protocol (see `make_room`).
 pub const MAX_SESSIONS_PER_PROTOCOL: usize = 64;
 
-fn role_of_kind(p: &Protocol, k: RoleKind) -> usize {
+fn role_of_kind(p: &Protocol, k: Side) -> usize {
     if p.roles[0].1 == k {
         0
     } else {
@@ -68,7 +69,7 @@ fn role_of_kind(p: &Protocol, k: RoleKind) -> usize {
 }
 
 pub(super) fn vehicle_sys(p: &Protocol, ids: &[(u8, u8); 2]) -> u8 {
-    ids[role_of_kind(p, RoleKind::Vehicle)].0
+    ids[role_of_kind(p, Side::Vehicle)].0
 }
 
 /// Ids of both roles of a session that `from` opens in role `role`; the other role's ids are the
@@ -103,7 +104,7 @@ pub(super) fn key_values(proto: &Protocol, msg: &MessageView) -> Vec<Val> {
 pub(super) struct Arrival<'m, 'd> {
     pub msg: &'m MessageView<'d>,
     pub from: (u8, u8),
-    pub kind: RoleKind,
+    pub kind: Side,
     pub target: Option<(u8, u8)>,
     pub time_us: u64,
 }
@@ -250,7 +251,7 @@ impl Monitor {
         sysid: u8,
         compid: u8,
         target: Option<(u8, u8)>,
-        kind: RoleKind,
+        kind: Side,
     ) -> Option<usize> {
         let s = &self.sessions[i];
         let p = &self.set.protocols[s.proto];

@@ -3,8 +3,7 @@
 
 use super::eval::{eval, first_failing, holds, read_loc, Env, Val};
 use crate::codec::MessageView;
-use crate::protocol::check::MAX_CONTINUE_ASSIGNS;
-use crate::protocol::ir::{Cont, Protocol, StateId};
+use crate::protocol::ir::{Cont, Protocol, StateId, MAX_CONTINUE_ASSIGNS};
 use crate::vehicle_state::VehicleState;
 
 /// What a message did to a session (or to a would-be session, in the start state).

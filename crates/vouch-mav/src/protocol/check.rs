@@ -7,70 +7,13 @@
 //! predicates are typed in [`typing`](super::typing).
 
 use super::ast::{self, BinOp, ExprKind, Stmt, UnOp};
-use super::error::{ProtocolError, Span};
+use super::compile::{loc_of, ty_of_loc, CResult, Compiler, Scope};
+use super::error::ErrorKind;
 use super::ir::*;
-pub(crate) use super::typing::Ty;
-use crate::dialect::{Dialect, MessageDef, MsgIndex, PrimType};
-
-/// Field context of the step being compiled: which messages, which field slots.
-pub(super) struct StepCx {
-    pub(super) msgs: Vec<MsgIndex>,
-    pub(super) names: Vec<String>,
-    pub(super) locs: Vec<Vec<FieldLoc>>,
-    pub(super) label_text: String,
-}
-
-pub(super) type RecScope = (String, usize, Vec<(String, Slot)>);
-
-#[derive(Default)]
-pub(super) struct Scope {
-    pub(super) vars: Vec<(String, Slot, Ty)>,
-    /// Recursions in scope: name, rec id, its variables (name, slot).
-    pub(super) recs: Vec<RecScope>,
-}
-
-pub(crate) struct Compiler<'a> {
-    pub dialect: &'a Dialect,
-    pub src: &'a str,
-    pub set: &'a mut ProtocolSet,
-    pub(super) proto: Option<Protocol>,
-    /// Key names of the protocol being compiled (usable in reply expressions).
-    pub(super) keys: Vec<String>,
-    pub(super) in_reply: bool,
-}
-
-/// The monitor updates recursion variables through a fixed-size buffer (no allocation).
-pub const MAX_CONTINUE_ASSIGNS: usize = 8;
-
-pub(super) type CResult<T> = Result<T, ProtocolError>;
-
-pub(super) fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
-    let f = def.field(name)?;
-    Some(FieldLoc {
-        ty: f.ty,
-        offset: f.offset,
-        text_len: if f.ty == PrimType::Char && f.array_len > 0 { f.array_len } else { 0 },
-        enum_name: f.enum_name.clone(),
-    })
-}
-
-pub(super) fn ty_of_loc(l: &FieldLoc) -> Ty {
-    if l.text_len > 0 {
-        Ty::Str
-    } else {
-        Ty::Num { enum_: l.enum_name.clone() }
-    }
-}
+use crate::dialect::MsgIndex;
+use crate::side::Side;
 
 impl<'a> Compiler<'a> {
-    pub fn new(dialect: &'a Dialect, src: &'a str, set: &'a mut ProtocolSet) -> Self {
-        Compiler { dialect, src, set, proto: None, keys: vec![], in_reply: false }
-    }
-
-    pub(super) fn err<T>(&self, span: Span, msg: impl Into<String>) -> CResult<T> {
-        Err(ProtocolError::at(self.src, span, msg))
-    }
-
     pub fn file(&mut self, file: &ast::FileAst) -> CResult<()> {
         for c in &file.consts {
             self.const_decl(c)?;
@@ -80,8 +23,11 @@ impl<'a> Compiler<'a> {
                 self.const_decl(c)?;
             }
             if self.set.protocols.iter().any(|q| q.name == p.name.name) {
-                return self
-                    .err(p.name.span, format!("protocol `{}` is defined twice", p.name.name));
+                return self.err(
+                    ErrorKind::Duplicate,
+                    p.name.span,
+                    format!("protocol `{}` is defined twice", p.name.name),
+                );
             }
             let proto = self.protocol(p)?;
             self.set.protocols.push(proto);
@@ -91,7 +37,11 @@ impl<'a> Compiler<'a> {
 
     fn const_decl(&mut self, c: &ast::ConstDecl) -> CResult<()> {
         if self.set.consts.iter().any(|k| k.name == c.name.name) {
-            return self.err(c.name.span, format!("constant `{}` is defined twice", c.name.name));
+            return self.err(
+                ErrorKind::Duplicate,
+                c.name.span,
+                format!("constant `{}` is defined twice", c.name.name),
+            );
         }
         let value = self.const_value(&c.value)?;
         self.set.consts.push(ConstIR { name: c.name.name.clone(), value });
@@ -108,7 +58,11 @@ impl<'a> Compiler<'a> {
                 } else if let Some((_, v)) = self.dialect.enum_entry(n) {
                     v as f64
                 } else {
-                    return self.err(e.span, format!("`{n}` is not a constant or enum entry"));
+                    return self.err(
+                        ErrorKind::UnknownName,
+                        e.span,
+                        format!("`{n}` is not a constant or enum entry"),
+                    );
                 }
             }
             ExprKind::Unary(UnOp::Neg, x) => -self.const_value(x)?,
@@ -119,32 +73,38 @@ impl<'a> Compiler<'a> {
                     BinOp::Sub => a - b,
                     BinOp::Mul => a * b,
                     BinOp::Div => a / b,
-                    _ => return self.err(e.span, "a constant must be a number"),
+                    _ => return self.err(ErrorKind::Type, e.span, "a constant must be a number"),
                 }
             }
-            _ => return self.err(e.span, "a constant must be a number"),
+            _ => return self.err(ErrorKind::Type, e.span, "a constant must be a number"),
         })
     }
 
     fn protocol(&mut self, p: &ast::ProtocolDecl) -> CResult<Protocol> {
         if p.roles.len() != 2 {
-            return self
-                .err(p.name.span, "a protocol declares exactly two roles: `roles gcs, uav;`");
+            return self.err(
+                ErrorKind::Structure,
+                p.name.span,
+                "a protocol declares exactly two roles: `roles gcs, uav;`",
+            );
         }
         let mut roles = vec![];
         for r in &p.roles {
             let kind = match r.name.as_str() {
-                "gcs" | "ground" => RoleKind::Gcs,
-                "uav" | "vehicle" | "autopilot" => RoleKind::Vehicle,
-                _ => return self.err(r.span, format!("unknown role `{}`", r.name)).map_err(|e| {
+                "gcs" | "ground" => Side::Gcs,
+                "uav" | "vehicle" | "autopilot" => Side::Vehicle,
+                _ => return self.err(ErrorKind::UnknownName, r.span, format!("unknown role `{}`", r.name)).map_err(|e| {
                     e.with_help("roles are `gcs` (ground station) and `uav` (vehicle; also `vehicle`, `autopilot`)")
                 }),
             };
             roles.push((r.name.clone(), kind));
         }
         if roles[0].1 == roles[1].1 {
-            return self
-                .err(p.roles[1].span, "the two roles must be a ground station and a vehicle");
+            return self.err(
+                ErrorKind::Structure,
+                p.roles[1].span,
+                "the two roles must be a ground station and a vehicle",
+            );
         }
         self.keys = p.keys.iter().map(|k| k.name.clone()).collect();
         self.proto = Some(Protocol {
@@ -162,11 +122,18 @@ impl<'a> Compiler<'a> {
         match p.body.first() {
             Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
             Some(_) => {
-                return self
-                    .err(p.name.span, "a protocol must start with a message step or a choice")
+                return self.err(
+                    ErrorKind::Structure,
+                    p.name.span,
+                    "a protocol must start with a message step or a choice",
+                )
             }
             None => {
-                return self.err(p.name.span, "empty protocol: it needs at least one message step")
+                return self.err(
+                    ErrorKind::Structure,
+                    p.name.span,
+                    "empty protocol: it needs at least one message step",
+                )
             }
         }
         let mut scope = Scope::default();
@@ -175,7 +142,11 @@ impl<'a> Compiler<'a> {
             let from = self.role(&s.from)?;
             let to = self.role(&s.to)?;
             if from == to {
-                return self.err(s.to.span, "sender and receiver must differ");
+                return self.err(
+                    ErrorKind::Structure,
+                    s.to.span,
+                    "sender and receiver must differ",
+                );
             }
             let msgs = self.messages(&s.labels)?;
             let text = format!(
@@ -202,6 +173,7 @@ impl<'a> Compiler<'a> {
                 .collect();
             if locs.is_empty() {
                 return self.err(
+                    ErrorKind::UnknownName,
                     k.span,
                     format!("key `{}` is a field of none of the protocol's messages", k.name),
                 );
@@ -226,7 +198,11 @@ impl<'a> Compiler<'a> {
         let proto = self.proto.as_ref().expect("protocol under construction");
         match proto.roles.iter().position(|(n, _)| *n == r.name) {
             Some(i) => Ok(i),
-            None => self.err(r.span, format!("`{}` is not a role of this protocol", r.name)),
+            None => self.err(
+                ErrorKind::UnknownName,
+                r.span,
+                format!("`{}` is not a role of this protocol", r.name),
+            ),
         }
     }
 
@@ -236,6 +212,7 @@ impl<'a> Compiler<'a> {
             .map(|l| match self.dialect.index_of_name(&l.name) {
                 Some(i) => Ok(i),
                 None => self.err(
+                    ErrorKind::UnknownName,
                     l.span,
                     format!("unknown message `{}` in dialect {}", l.name, self.dialect.name),
                 ),
@@ -252,7 +229,11 @@ impl<'a> Compiler<'a> {
         for (f, e) in &r.fields {
             let Some(loc) = loc_of(def, &f.name) else {
                 self.in_reply = false;
-                return self.err(f.span, format!("message {} has no field `{}`", def.name, f.name));
+                return self.err(
+                    ErrorKind::UnknownName,
+                    f.span,
+                    format!("message {} has no field `{}`", def.name, f.name),
+                );
             };
             let mut scope = Scope::default();
             let mut shows = vec![];

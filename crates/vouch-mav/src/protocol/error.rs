@@ -1,62 +1,120 @@
-//! Located errors of the protocol language (rendered by miette with the offending source line).
+//! Located errors of the protocol language, rendered by miette with the offending source line.
 
-use miette::{NamedSource, SourceSpan};
+use std::fmt;
 
+use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
+
+/// A byte range of a protocol text.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Span {
+    /// Byte offset of the first byte.
     pub start: usize,
+    /// Length in bytes.
     pub len: usize,
 }
 
 impl Span {
+    /// The range `start..start + len`.
     pub fn new(start: usize, len: usize) -> Span {
         Span { start, len }
     }
 
+    /// The smallest span covering both.
     pub fn to(self, other: Span) -> Span {
         let end = (other.start + other.len).max(self.start + self.len);
         Span { start: self.start, len: end - self.start }
     }
 }
 
-/// An error in a protocol file, with its location.
-#[derive(Debug, thiserror::Error, miette::Diagnostic)]
-#[error("{message}")]
+/// What kind of mistake a protocol error reports; each kind has its own diagnostic code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorKind {
+    /// A character or number the lexer cannot read (`mav::P001`).
+    Lex,
+    /// Text that does not follow the grammar (`mav::P002`).
+    Syntax,
+    /// A name that resolves to nothing: message, field, role, constant, enum entry, variable
+    /// (`mav::P003`).
+    UnknownName,
+    /// Something defined twice: protocol, constant, branch label (`mav::P004`).
+    Duplicate,
+    /// A type mismatch (`mav::P005`).
+    Type,
+    /// A protocol whose shape is wrong: roles, unreachable steps, `continue` outside its `rec`,
+    /// a body that does not start with a step (`mav::P006`).
+    Structure,
+    /// A limit of the monitor's fixed-size buffers (`mav::P007`).
+    Limit,
+    /// A constant override (`--set NAME=VALUE`) naming no declared constant (`mav::P008`).
+    Override,
+}
+
+impl ErrorKind {
+    /// The diagnostic code.
+    pub fn code(self) -> &'static str {
+        match self {
+            ErrorKind::Lex => "mav::P001",
+            ErrorKind::Syntax => "mav::P002",
+            ErrorKind::UnknownName => "mav::P003",
+            ErrorKind::Duplicate => "mav::P004",
+            ErrorKind::Type => "mav::P005",
+            ErrorKind::Structure => "mav::P006",
+            ErrorKind::Limit => "mav::P007",
+            ErrorKind::Override => "mav::P008",
+        }
+    }
+}
+
+/// An error in a protocol file, with its kind and location.
+#[derive(Debug)]
 pub struct ProtocolError {
+    /// What kind of mistake.
+    pub kind: ErrorKind,
+    /// One sentence saying what is wrong.
     pub message: String,
-    #[source_code]
+    /// The protocol text, named after its file.
     pub src: NamedSource<String>,
-    #[label("{label}")]
-    pub span: SourceSpan,
-    pub label: String,
-    #[help]
+    /// Where in the text.
+    pub span: Span,
+    /// How to fix it, when there is something to say.
     pub help: Option<String>,
-    /// 1-based line and column of the span start (for plain-text output and tests).
+    /// 1-based line of the span start (for plain-text output and tests).
     pub line: usize,
+    /// 1-based column (in characters) of the span start.
     pub col: usize,
 }
 
 impl ProtocolError {
-    pub fn at(src: &str, span: Span, message: impl Into<String>) -> ProtocolError {
-        Self::named("<protocol>", src, span, message)
+    /// An error in an unnamed text (the file name is attached later by [`in_file`](Self::in_file)).
+    pub fn at(kind: ErrorKind, src: &str, span: Span, message: impl Into<String>) -> ProtocolError {
+        Self::named(kind, "<protocol>", src, span, message)
     }
 
-    pub fn named(name: &str, src: &str, span: Span, message: impl Into<String>) -> ProtocolError {
+    /// An error at `span` of the text `src` named `name`.
+    pub fn named(
+        kind: ErrorKind,
+        name: &str,
+        src: &str,
+        span: Span,
+        message: impl Into<String>,
+    ) -> ProtocolError {
         let start = span.start.min(src.len());
         let before = &src[..start];
         let line = before.matches('\n').count() + 1;
         let col = before.rsplit('\n').next().map(|l| l.chars().count()).unwrap_or(0) + 1;
         ProtocolError {
+            kind,
             message: message.into(),
             src: NamedSource::new(name, src.to_string()),
-            span: SourceSpan::new(start.into(), span.len),
-            label: "here".into(),
+            span: Span::new(start, span.len.min(src.len() - start)),
             help: None,
             line,
             col,
         }
     }
 
+    /// Adds a hint.
     pub fn with_help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(help.into());
         self
@@ -64,9 +122,8 @@ impl ProtocolError {
 
     /// Re-attaches the error to a named file (errors are built before the name is known).
     pub fn in_file(self, name: &str, src: &str) -> Self {
-        let span = Span::new(self.span.offset(), self.span.len());
         let help = self.help.clone();
-        let mut e = Self::named(name, src, span, self.message);
+        let mut e = Self::named(self.kind, name, src, self.span, self.message);
         e.help = help;
         e
     }
@@ -74,5 +131,32 @@ impl ProtocolError {
     /// `file:line:col: message` for plain output.
     pub fn short(&self) -> String {
         format!("{}:{}:{}: {}", self.src.name(), self.line, self.col, self.message)
+    }
+}
+
+impl fmt::Display for ProtocolError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for ProtocolError {}
+
+impl Diagnostic for ProtocolError {
+    fn code<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        Some(Box::new(self.kind.code()))
+    }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        self.help.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        Some(&self.src)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        let span = LabeledSpan::new(Some("here".into()), self.span.start, self.span.len);
+        Some(Box::new(std::iter::once(span)))
     }
 }

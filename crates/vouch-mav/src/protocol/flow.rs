@@ -3,10 +3,10 @@
 //! field slots resolved per alternative label.
 
 use super::ast::{self, Stmt};
-use super::check::{loc_of, ty_of_loc, CResult, Compiler, Scope, StepCx, MAX_CONTINUE_ASSIGNS};
+use super::compile::{loc_of, ty_of_loc, CResult, Compiler, Scope, StepCx, Ty};
+use super::error::ErrorKind;
 use super::error::Span;
 use super::ir::*;
-use super::typing::Ty;
 
 impl Compiler<'_> {
     fn new_var(&mut self, name: &str) -> Slot {
@@ -27,8 +27,11 @@ impl Compiler<'_> {
         };
         let trailing = |this: &Self, what: &str| -> CResult<()> {
             if let Some(next) = stmts.get(1) {
-                return this
-                    .err(stmt_span(next), format!("unreachable: nothing can follow {what}"));
+                return this.err(
+                    ErrorKind::Structure,
+                    stmt_span(next),
+                    format!("unreachable: nothing can follow {what}"),
+                );
             }
             Ok(())
         };
@@ -43,17 +46,19 @@ impl Compiler<'_> {
                     scope.recs.iter().rev().find(|(n, _, _)| *n == name.name).cloned()
                 else {
                     return self.err(
+                        ErrorKind::Structure,
                         name.span,
                         format!("`continue {}` outside of `rec {}`", name.name, name.name),
                     );
                 };
                 if assigns.len() > MAX_CONTINUE_ASSIGNS {
-                    return self.err(name.span, format!("at most {MAX_CONTINUE_ASSIGNS} variables can be updated by one `continue`"));
+                    return self.err(ErrorKind::Limit, name.span, format!("at most {MAX_CONTINUE_ASSIGNS} variables can be updated by one `continue`"));
                 }
                 let mut out = vec![];
                 for (v, e) in assigns {
                     let Some((_, slot)) = vars.iter().find(|(n, _)| *n == v.name) else {
                         return self.err(
+                            ErrorKind::UnknownName,
                             v.span,
                             format!("`{}` is not a variable of `rec {}`", v.name, name.name),
                         );
@@ -119,6 +124,7 @@ impl Compiler<'_> {
                     Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
                     _ => {
                         return self.err(
+                            ErrorKind::Structure,
                             name.span,
                             "the body of a `rec` must start with a message step or a choice",
                         )
@@ -148,6 +154,7 @@ impl Compiler<'_> {
                     Some(b) => {
                         if let Some(next) = stmts.get(1) {
                             return self.err(
+                                ErrorKind::Structure,
                                 stmt_span(next),
                                 "unreachable: a step with a block is followed by its block only",
                             );
@@ -162,6 +169,7 @@ impl Compiler<'_> {
             Stmt::Choice { branches, complete_when, .. } => {
                 if let Some(next) = stmts.get(1) {
                     return self.err(
+                        ErrorKind::Structure,
                         stmt_span(next),
                         "unreachable: put what follows a choice into its branches",
                     );
@@ -169,6 +177,7 @@ impl Compiler<'_> {
                 for b in branches {
                     if transitions.iter().any(|t: &Transition| t.label == b.label.name) {
                         return self.err(
+                            ErrorKind::Duplicate,
                             b.label.span,
                             format!("branch label `{}` used twice", b.label.name),
                         );
@@ -184,7 +193,13 @@ impl Compiler<'_> {
                     complete = Some(self.pred(c, scope, None)?);
                 }
             }
-            other => return self.err(stmt_span(other), "expected a message step or a choice here"),
+            other => {
+                return self.err(
+                    ErrorKind::Structure,
+                    stmt_span(other),
+                    "expected a message step or a choice here",
+                )
+            }
         }
         let st = &mut self.proto_mut().states[id];
         st.transitions = transitions;
@@ -202,7 +217,7 @@ impl Compiler<'_> {
         let from = self.role(&head.from)?;
         let to = self.role(&head.to)?;
         if from == to {
-            return self.err(head.to.span, "sender and receiver must differ");
+            return self.err(ErrorKind::Structure, head.to.span, "sender and receiver must differ");
         }
         let msgs = self.messages(&head.labels)?;
         let label_text =
@@ -263,14 +278,21 @@ impl Compiler<'_> {
             match loc_of(def, name) {
                 Some(l) => locs.push(l),
                 None => {
-                    return self.err(span, format!("message {} has no field `{name}`", def.name))
+                    return self.err(
+                        ErrorKind::UnknownName,
+                        span,
+                        format!("message {} has no field `{name}`", def.name),
+                    )
                 }
             }
         }
         let ty = ty_of_loc(&locs[0]);
         if locs.iter().any(|l| ty_of_loc(l) != ty) {
-            return self
-                .err(span, format!("field `{name}` has different types in {}", step.label_text));
+            return self.err(
+                ErrorKind::Type,
+                span,
+                format!("field `{name}` has different types in {}", step.label_text),
+            );
         }
         step.names.push(name.to_string());
         for (i, l) in locs.into_iter().enumerate() {

@@ -2,7 +2,12 @@
 //! This is what the monitor executes; it knows nothing of the source text except report strings.
 
 use crate::dialect::{MsgIndex, PrimType};
+use crate::side::Side;
 use crate::vehicle_state::ParamTable;
+
+/// The monitor updates recursion variables through a fixed-size buffer (no allocation), so one
+/// `continue` updates at most this many.
+pub const MAX_CONTINUE_ASSIGNS: usize = 8;
 
 pub type StateId = usize;
 pub type Slot = usize;
@@ -32,7 +37,7 @@ pub enum Expr {
     Str(Box<[u8]>),
     Bool(bool),
     Var(Slot),
-    /// Field slot of the transition being taken (see [`Transition::fields`]).
+    /// Field slot of the transition being taken (see [`LabelFields::fields`]).
     Field(usize),
     Const(usize),
     Vehicle(VehicleAttr),
@@ -112,12 +117,6 @@ pub struct Rec {
     pub entry: StateId,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum RoleKind {
-    Gcs,
-    Vehicle,
-}
-
 #[derive(Debug, Clone)]
 pub struct KeyIR {
     pub name: String,
@@ -142,7 +141,7 @@ pub struct ReplyIR {
 #[derive(Debug, Clone)]
 pub struct Protocol {
     pub name: String,
-    pub roles: Vec<(String, RoleKind)>,
+    pub roles: Vec<(String, Side)>,
     pub keys: Vec<KeyIR>,
     pub timeout_us: Option<u64>,
     pub strict: Vec<StrictIR>,

@@ -1,6 +1,6 @@
 //! Tokens of the protocol language, each with its byte span for located errors.
 
-use super::error::{ProtocolError, Span};
+use super::error::{ErrorKind, ProtocolError, Span};
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Tok {
@@ -59,6 +59,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
                 }
                 let v = u64::from_str_radix(&src[start + 2..i], 16).map_err(|_| {
                     ProtocolError::at(
+                        ErrorKind::Lex,
                         src,
                         Span::new(start, i - start),
                         "invalid hexadecimal number",
@@ -76,7 +77,12 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
                 i += 1;
             }
             let v: f64 = src[start..i].parse().map_err(|_| {
-                ProtocolError::at(src, Span::new(start, i - start), "invalid number")
+                ProtocolError::at(
+                    ErrorKind::Lex,
+                    src,
+                    Span::new(start, i - start),
+                    "invalid number",
+                )
             })?;
             out.push(Token { tok: Tok::Num(v), span: Span::new(start, i - start) });
             continue;
@@ -88,6 +94,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             }
             if i >= b.len() || b[i] != b'"' {
                 return Err(ProtocolError::at(
+                    ErrorKind::Lex,
                     src,
                     Span::new(start, i - start),
                     "unterminated string",
@@ -109,6 +116,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             None => {
                 let ch = rest.chars().next().unwrap_or('?');
                 return Err(ProtocolError::at(
+                    ErrorKind::Lex,
                     src,
                     Span::new(start, ch.len_utf8()),
                     format!("unexpected character `{ch}`"),

@@ -1,13 +1,16 @@
 //! The protocol language: refined multiparty session types over MAVLink messages.
 //!
-//! Front: [`lexer`] and [`parser`] build an [`ast`]; [`check`] resolves it against a dialect and
-//! compiles it into the [`ir`] that the monitor runs. Errors are located ([`ProtocolError`]).
+//! Front: [`lexer`] and [`parser`] build an [`ast`]. The compiler resolves it against a dialect
+//! and produces the [`ir`] that the monitor runs; its parts are `compile` (its state), `check`
+//! (declarations), `flow` (statements) and `typing` (expressions). Errors are located and typed
+//! ([`ProtocolError`], [`ErrorKind`]).
 
 // Protocol errors carry their source text for miette; they are cold, so their size is fine.
 #![allow(clippy::result_large_err)]
 
 pub mod ast;
-pub(crate) mod check;
+mod check;
+mod compile;
 pub mod error;
 mod flow;
 pub mod ir;
@@ -16,7 +19,7 @@ pub mod parser;
 pub mod stdlib;
 mod typing;
 
-pub use error::{ProtocolError, Span};
+pub use error::{ErrorKind, ProtocolError, Span};
 pub use ir::ProtocolSet;
 
 use crate::dialect::Dialect;
@@ -31,7 +34,7 @@ pub fn load_protocols(
     let mut set = ProtocolSet::default();
     for (name, text) in sources {
         let ast = parser::parse(text).map_err(|e| e.in_file(name, text))?;
-        let mut c = check::Compiler::new(dialect, text, &mut set);
+        let mut c = compile::Compiler::new(dialect, text, &mut set);
         c.file(&ast).map_err(|e| e.in_file(name, text))?;
     }
     for (name, value) in overrides {
@@ -40,6 +43,7 @@ pub fn load_protocols(
             None => {
                 let known: Vec<&str> = set.consts.iter().map(|k| k.name.as_str()).collect();
                 return Err(ProtocolError::named(
+                    ErrorKind::Override,
                     "--set",
                     name,
                     Span::new(0, name.len()),

@@ -1,7 +1,7 @@
 //! Recursive-descent parser of the protocol language (grammar in docs/mav-monitor.md).
 
 use super::ast::*;
-use super::error::{ProtocolError, Span};
+use super::error::{ErrorKind, ProtocolError, Span};
 use super::lexer::{lex, Tok, Token};
 
 pub fn parse(src: &str) -> Result<FileAst, ProtocolError> {
@@ -44,7 +44,7 @@ impl<'s> Parser<'s> {
     }
 
     fn err<T>(&self, msg: impl Into<String>) -> PResult<T> {
-        Err(ProtocolError::at(self.src, self.span(), msg))
+        Err(ProtocolError::at(ErrorKind::Syntax, self.src, self.span(), msg))
     }
 
     fn describe(&self) -> String {
@@ -174,6 +174,7 @@ impl<'s> Parser<'s> {
                     "ms" => n,
                     _ => {
                         return Err(ProtocolError::at(
+                            ErrorKind::Syntax,
                             self.src,
                             unit.span,
                             "time unit must be `s` or `ms`",
@@ -311,7 +312,12 @@ impl<'s> Parser<'s> {
             }
             let end = self.expect_sym("}")?;
             if branches.is_empty() {
-                return Err(ProtocolError::at(self.src, sp, "a choice needs at least one branch"));
+                return Err(ProtocolError::at(
+                    ErrorKind::Syntax,
+                    self.src,
+                    sp,
+                    "a choice needs at least one branch",
+                ));
             }
             return Ok(Stmt::Choice { branches, complete_when, span: sp.to(end) });
         }
@@ -339,6 +345,7 @@ impl<'s> Parser<'s> {
             "str" => TypeName::Str,
             _ => {
                 return Err(ProtocolError::at(
+                    ErrorKind::Syntax,
                     self.src,
                     t.span,
                     "unknown type: expected int, float, bool or str",

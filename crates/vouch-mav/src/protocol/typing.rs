@@ -1,35 +1,9 @@
-//! Typing and compilation of expressions and predicates (part of the checker, see `check`).
+//! Typing and compilation of expressions and predicates (part of the compiler, see `compile`).
 
 use super::ast::{self, BinOp, ExprKind, UnOp};
-use super::check::{CResult, Compiler, Scope, StepCx};
-use super::error::{ProtocolError, Span};
+use super::compile::{CResult, Compiler, Scope, StepCx, Ty};
+use super::error::{ErrorKind, ProtocolError, Span};
 use super::ir::*;
-
-/// Static type of an expression.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Ty {
-    /// A number; `enum_` names the MAVLink enum its values come from, when known.
-    Num {
-        enum_: Option<String>,
-    },
-    Str,
-    Bool,
-}
-
-impl Ty {
-    pub(super) fn num() -> Ty {
-        Ty::Num { enum_: None }
-    }
-
-    pub(super) fn describe(&self) -> String {
-        match self {
-            Ty::Num { enum_: Some(e) } => format!("a value of enum {e}"),
-            Ty::Num { enum_: None } => "a number".into(),
-            Ty::Str => "text".into(),
-            Ty::Bool => "a boolean".into(),
-        }
-    }
-}
 
 impl<'a> Compiler<'a> {
     pub(super) fn expect_compatible(&self, want: &Ty, got: &Ty, span: Span) -> CResult<()> {
@@ -43,6 +17,7 @@ impl<'a> Compiler<'a> {
             Ok(())
         } else {
             self.err(
+                ErrorKind::Type,
                 span,
                 format!("type mismatch: expected {}, found {}", want.describe(), got.describe()),
             )
@@ -63,6 +38,7 @@ impl<'a> Compiler<'a> {
             let (x, ty) = self.expr(p, scope, step.as_deref_mut(), &mut shows)?;
             if ty != Ty::Bool {
                 return self.err(
+                    ErrorKind::Type,
                     p.span,
                     format!("a condition must be a boolean, this is {}", ty.describe()),
                 );
@@ -121,8 +97,12 @@ impl<'a> Compiler<'a> {
                 } else if let Some((en, v)) = self.dialect.enum_entry(n) {
                     return Ok((Expr::Num(v as f64), Ty::Num { enum_: Some(en.to_string()) }));
                 } else {
-                    let mut err =
-                        ProtocolError::at(self.src, e.span, format!("unbound name `{n}`"));
+                    let mut err = ProtocolError::at(
+                        ErrorKind::UnknownName,
+                        self.src,
+                        e.span,
+                        format!("unbound name `{n}`"),
+                    );
                     err = err.with_help(match &step {
                         Some(st) => format!(
                             "not a variable in scope, a field of {}, a constant or an enum entry of the dialect",
@@ -144,6 +124,7 @@ impl<'a> Compiler<'a> {
                     "type" => (VehicleAttr::Type, Ty::Num { enum_: Some("MAV_TYPE".into()) }),
                     _ => {
                         return Err(ProtocolError::at(
+                            ErrorKind::UnknownName,
                             self.src,
                             m.span,
                             format!("unknown vehicle attribute `{}`", m.name),
@@ -157,7 +138,11 @@ impl<'a> Compiler<'a> {
             }
             ExprKind::Param(m) => {
                 if m.name.len() > 16 {
-                    return self.err(m.span, "parameter names have at most 16 characters");
+                    return self.err(
+                        ErrorKind::Limit,
+                        m.span,
+                        "parameter names have at most 16 characters",
+                    );
                 }
                 let x = Expr::Param(self.set.params.intern(&m.name));
                 show(shows, &format!("param.{}", m.name), &x, &Ty::num());
@@ -188,6 +173,7 @@ impl<'a> Compiler<'a> {
     fn binary_type(&self, op: BinOp, a: &Ty, b: &Ty, span: Span) -> CResult<Ty> {
         let mismatch = || {
             self.err(
+                ErrorKind::Type,
                 span,
                 format!(
                     "type mismatch: `{}` between {} and {}",

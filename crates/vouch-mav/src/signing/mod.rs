@@ -15,9 +15,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use sha2::{Digest, Sha256};
 
-use crate::guard::frame::{
-    crc_accumulate, crc_of, recover_crc_extra, FrameRef, IFLAG_SIGNED, SIGNATURE_LEN,
-};
+use crate::codec::crc::frame_crc;
+use crate::codec::frame::{FrameRef, INCOMPAT_SIGNED, SIGNATURE_LEN};
 
 /// UNIX seconds at 2015-01-01 00:00:00 UTC, the MAVLink signing epoch.
 pub const MAVLINK_EPOCH_UNIX_S: u64 = 1_420_070_400;
@@ -39,32 +38,30 @@ impl fmt::Debug for SigningKey {
 }
 
 impl SigningKey {
-    /// Parses a key given on the command line: 64 hex digits, `passphrase:TEXT` (key =
-    /// SHA-256 of the text, MAVProxy's `signing setup` convention), or a path to a file holding
-    /// either 32 raw bytes or 64 hex digits.
-    pub fn parse(spec: &str) -> Result<Self, String> {
+    /// Parses a key as operators give it: 64 hex digits, `passphrase:TEXT` (key = SHA-256 of
+    /// the text, MAVProxy's `signing setup` convention), or a path to a file holding either 32
+    /// raw bytes or 64 hex digits.
+    pub fn parse(spec: &str) -> Result<Self, KeyError> {
         if let Some(text) = spec.strip_prefix("passphrase:") {
             return Ok(Self::from_passphrase(text));
         }
         if let Some(k) = Self::from_hex(spec) {
             return Ok(k);
         }
-        let bytes = std::fs::read(spec).map_err(|e| {
-            format!("signing key `{spec}` is neither 64 hex digits, `passphrase:…`, nor a readable file: {e}")
-        })?;
+        let bytes = std::fs::read(spec)
+            .map_err(|source| KeyError::Unreadable { spec: spec.to_string(), source })?;
         if bytes.len() == 32 {
             let mut k = [0u8; 32];
             k.copy_from_slice(&bytes);
             return Ok(SigningKey(k));
         }
-        std::str::from_utf8(&bytes).ok().and_then(|s| Self::from_hex(s.trim())).ok_or_else(|| {
-            format!(
-                "signing key file `{spec}`: expected 32 raw bytes or 64 hex digits, found {} bytes",
-                bytes.len()
-            )
-        })
+        std::str::from_utf8(&bytes)
+            .ok()
+            .and_then(|s| Self::from_hex(s.trim()))
+            .ok_or(KeyError::BadFile { path: spec.to_string(), len: bytes.len() })
     }
 
+    /// A key from 64 hex digits.
     pub fn from_hex(s: &str) -> Option<Self> {
         let s = s.trim();
         if s.len() != 64 || !s.is_ascii() {
@@ -77,6 +74,7 @@ impl SigningKey {
         Some(SigningKey(k))
     }
 
+    /// The key MAVProxy derives from a passphrase (SHA-256 of its text).
     pub fn from_passphrase(text: &str) -> Self {
         SigningKey(Sha256::digest(text.as_bytes()).into())
     }
@@ -94,6 +92,31 @@ impl SigningKey {
         s.copy_from_slice(&d[..6]);
         s
     }
+}
+
+/// Why a signing key could not be read.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub enum KeyError {
+    /// Neither hex nor a passphrase, and no file by that name can be read.
+    #[error("signing key `{spec}` is neither 64 hex digits, `passphrase:…`, nor a readable file: {source}")]
+    #[diagnostic(code(mav::K001))]
+    Unreadable {
+        /// What was given.
+        spec: String,
+        /// Why the file cannot be read.
+        source: std::io::Error,
+    },
+    /// A key file that holds neither 32 raw bytes nor 64 hex digits.
+    #[error(
+        "signing key file `{path}`: expected 32 raw bytes or 64 hex digits, found {len} bytes"
+    )]
+    #[diagnostic(code(mav::K002))]
+    BadFile {
+        /// The file.
+        path: String,
+        /// Its length.
+        len: usize,
+    },
 }
 
 /// Current time in signing units (10 µs since 2015-01-01).
@@ -209,10 +232,10 @@ impl Signer {
         }
         out.extend_from_slice(frame.unsigned_part());
         if !frame.is_signed() {
-            let Some(extra) = recover_crc_extra(frame) else { return false };
-            out[2] |= IFLAG_SIGNED;
+            let Some(extra) = frame.recover_crc_extra() else { return false };
+            out[2] |= INCOMPAT_SIGNED;
             let n = out.len();
-            let crc = crc_accumulate(crc_of(&out[1..n - 2]), extra);
+            let crc = frame_crc(&out[1..n - 2], extra);
             out[n - 2..].copy_from_slice(&crc.to_le_bytes());
         }
         // Strictly increasing even when several frames share one clock tick (spec requirement).

@@ -81,7 +81,7 @@ fn signer_reproduces_pymavlink_bytes() {
     let mut unsigned = golden[..golden.len() - SIGNATURE_LEN].to_vec();
     unsigned[2] = 0;
     let n = unsigned.len();
-    let crc = crc_accumulate(crc_of(&unsigned[1..n - 2]), 221); // MISSION_COUNT CRC_EXTRA
+    let crc = frame_crc(&unsigned[1..n - 2], 221); // MISSION_COUNT CRC_EXTRA
     unsigned[n - 2..].copy_from_slice(&crc.to_le_bytes());
     let mut s = Signer::new(key(), 7);
     let mut out = Vec::new();

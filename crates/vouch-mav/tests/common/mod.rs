@@ -11,13 +11,15 @@ use vouch_mav::monitor::{Monitor, Violation};
 pub const GCS: (u8, u8) = (255, 190);
 pub const UAV: (u8, u8) = (1, 1);
 
+/// The embedded default dialect; a skip (a failure under `VOUCH_REQUIRE_SHARED=1`) when the
+/// build was made without one.
 pub fn dialect() -> Option<Arc<Dialect>> {
     match Dialect::default_dialect() {
         Ok(d) => Some(Arc::new(d)),
-        Err(e) => {
-            eprintln!("skipping: no default dialect ({e})");
-            None
-        }
+        Err(e) => vouch_testkit::missing(
+            vouch_testkit::Need::Shared,
+            &format!("no default dialect ({e})"),
+        ),
     }
 }
 

@@ -3,7 +3,31 @@
 #![allow(dead_code)]
 
 use std::net::{SocketAddr, UdpSocket};
+use std::process::Child;
 use std::time::{Duration, Instant};
+
+use vouch_mav::guard::{Inspector, MonitorInspector};
+use vouch_mav::monitor::MonitorSpec;
+use vouch_testkit::Need;
+
+/// The monitor with the standard library on the embedded dialect, as the guard runs it by
+/// default; a skip (a failure under `VOUCH_REQUIRE_SHARED=1`) when the build has no dialect.
+pub fn standard_inspector() -> Option<Box<dyn Inspector>> {
+    match MonitorSpec::default().build() {
+        Ok(m) => Some(Box::new(MonitorInspector::new(m))),
+        Err(e) => vouch_testkit::missing(Need::Shared, &format!("no standard monitor ({e})")),
+    }
+}
+
+/// Kills a peer process this test started when the test ends, pass or fail.
+pub struct KillOnDrop(pub Child);
+
+impl Drop for KillOnDrop {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
 
 /// HEARTBEAT from 255/230 (type 6 GCS, autopilot 8), unsigned, seq 0: pymavlink
 /// `heartbeat_encode(6, 8, 0, 0, 0)`.

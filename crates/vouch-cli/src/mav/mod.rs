@@ -1,0 +1,95 @@
+//! `vouch mav …`: argument types and printing; the work is in `vouch_mav`.
+
+mod bench;
+mod check;
+mod guard;
+mod lint;
+
+use std::path::PathBuf;
+
+use clap::{Args, Subcommand};
+use vouch_mav::monitor::{LoadError, MonitorSpec};
+
+use crate::contract::{CmdResult, Ctx, Failure};
+
+/// The `vouch mav` subcommands.
+#[derive(Subcommand)]
+pub enum MavCmd {
+    /// Check recordings (.tlog) against session-type protocols (the standard library unless
+    /// --protocol is given). Exit 0 clean, 1 protocol file rejected, 2 usage or I/O error,
+    /// 3 violations found
+    #[command(after_help = "Example:\n  vouch mav check flight.tlog --max-reports 10")]
+    Check(check::CheckArgs),
+    /// Check protocol files against a dialect (the standard library if no file is given).
+    /// Exit 0 when every file is accepted, 1 when one is rejected, 2 on an I/O error
+    #[command(after_help = "Example:\n  vouch mav lint crates/vouch-mav/protocols/mission.vproto")]
+    Lint(lint::LintArgs),
+    /// Proxy between ground station(s) and vehicle that checks every message against the
+    /// protocols, reporting violations (monitor) or dropping and answering them (enforce).
+    /// Runs until SIGINT/SIGTERM or --duration
+    #[command(
+        after_help = "Example:\n  vouch mav guard --gcs udpin:0.0.0.0:14550 --vehicle udpout:127.0.0.1:14555 --enforce --alert-gcs"
+    )]
+    Guard(guard::GuardArgs),
+    /// Latency, throughput and memory of the guard against a direct path and a socat relay,
+    /// side by side on loopback (Linux: CPU pinning and RSS from /proc)
+    #[command(after_help = "Example:\n  vouch mav bench --uploads 5 --pings 1000 --seconds 1")]
+    Bench(bench::BenchArgs),
+}
+
+/// Runs one `vouch mav` subcommand.
+pub fn run(cmd: MavCmd, ctx: &mut Ctx) -> CmdResult {
+    match cmd {
+        MavCmd::Check(a) => check::run(a, ctx),
+        MavCmd::Lint(a) => lint::run(a, ctx),
+        MavCmd::Guard(a) => guard::run(a, ctx),
+        MavCmd::Bench(a) => bench::run(a, ctx),
+    }
+}
+
+/// Options of every subcommand that runs the monitor.
+#[derive(Args, Clone, Debug)]
+pub struct MonitorOpts {
+    /// Protocol file (repeatable); replaces the standard library unless --with-stdlib is given
+    #[arg(long = "protocol", value_name = "FILE")]
+    pub protocols: Vec<PathBuf>,
+    /// Also load the standard library when --protocol is given
+    #[arg(long)]
+    pub with_stdlib: bool,
+    /// MAVLink XML dialect, includes relative to it (default: ardupilotmega with its includes,
+    /// built in)
+    #[arg(long, value_name = "FILE.xml")]
+    pub dialect: Option<PathBuf>,
+    /// New value of a declared protocol constant (repeatable), e.g. --set CHUTE_MAX_CLIMB=0.5
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, f64)>,
+}
+
+impl MonitorOpts {
+    /// The library's description of the monitor these options ask for.
+    pub fn spec(&self) -> MonitorSpec {
+        MonitorSpec {
+            dialect: self.dialect.clone(),
+            protocols: self.protocols.clone(),
+            with_stdlib: self.with_stdlib,
+            overrides: self.set.clone(),
+        }
+    }
+}
+
+/// `NAME=VALUE` of `--set`.
+fn parse_set(s: &str) -> Result<(String, f64), String> {
+    let (n, v) = s.split_once('=').ok_or_else(|| format!("`{s}`: expected NAME=VALUE"))?;
+    let v: f64 = v.trim().parse().map_err(|_| format!("`{v}` is not a number"))?;
+    Ok((n.trim().to_string(), v))
+}
+
+/// A monitor that could not be built: unreadable files are usage/I-O errors (exit 2), rejected
+/// dialects and protocols are rejected input (exit 1).
+fn load_failure(e: LoadError) -> Failure {
+    if e.is_io() {
+        Failure::Usage(miette::Report::new(e))
+    } else {
+        Failure::rejected(e)
+    }
+}

@@ -1,0 +1,58 @@
+//! What the running guard reports as it happens, for its caller to print or collect. The
+//! counters count everything; events are rate-limited so that a flood of violations cannot flood
+//! the caller too.
+
+use std::sync::mpsc::SyncSender;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use crate::side::Side;
+
+/// Most events per second (all violations are still counted and logged).
+pub const MAX_EVENTS_PER_SECOND: u64 = 20;
+
+/// One thing the guard did.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum GuardEvent {
+    /// A frame violated a protocol.
+    Violation {
+        /// Where it came from.
+        from: Side,
+        /// Whether it was dropped (enforce mode) or forwarded (monitor mode).
+        dropped: bool,
+        /// One line, e.g. `MISSION_ACK: curr == n (curr=60, n=100)`.
+        summary: String,
+    },
+}
+
+/// Fixed one-second window rate limiter: true while fewer than `max` events happened in it.
+pub(super) fn within_rate(window: &Mutex<(Instant, u64)>, max: u64) -> bool {
+    let mut w = window.lock().unwrap_or_else(|e| e.into_inner());
+    if w.0.elapsed().as_secs() >= 1 {
+        *w = (Instant::now(), 0);
+    }
+    w.1 += 1;
+    w.1 <= max
+}
+
+/// A rate-limited, never-blocking sender of events.
+pub(super) struct Events {
+    sink: Option<SyncSender<GuardEvent>>,
+    window: Mutex<(Instant, u64)>,
+}
+
+impl Events {
+    pub(super) fn new(sink: Option<SyncSender<GuardEvent>>) -> Self {
+        Events { sink, window: Mutex::new((Instant::now(), 0)) }
+    }
+
+    /// Sends `make()` unless there is no sink, the rate is exceeded or the channel is full.
+    pub(super) fn emit(&self, make: impl FnOnce() -> GuardEvent) {
+        if let Some(sink) = &self.sink {
+            if within_rate(&self.window, MAX_EVENTS_PER_SECOND) {
+                let _ = sink.try_send(make());
+            }
+        }
+    }
+}
