@@ -1,13 +1,22 @@
 //! Embeds the default MAVLink dialect (ardupilotmega.xml and its includes) into the library, as a
 //! digest: the XML is read here, at build time, with the same reader the library uses for
 //! `--dialect` (`src/dialect/raw.rs`), and only the records (messages, fields, enums) are embedded.
-//! Start-up then builds no XML DOM, which is what kept the guard's peak RSS above 8 MB.
+//! Start-up then builds no XML DOM, which keeps the guard's peak RSS low.
 //!
-//! The XML is not committed to this repository: it is taken from the `mavlink` crate package that
-//! cargo downloaded as a build-dependency (`mavlink/message_definitions/v1.0/` inside the package).
-//! `VOUCH_MAV_DEFINITIONS` (a folder) overrides the lookup. When nothing is found the build still
-//! succeeds with an empty table; the default dialect then reports a clear error at run time and
-//! `--dialect FILE` must be used.
+//! The XML is not committed to this repository: it is the copy that the `mavlink` crate package
+//! (a build-dependency, pinned to 0.21) carries in `mavlink/message_definitions/v1.0/`. Where
+//! that package is depends on how cargo got it, so these places are searched, in order:
+//!
+//! 1. `VOUCH_MAV_DEFINITIONS`, a folder holding `ardupilotmega.xml` (explicit choice);
+//! 2. beside this package (`../mavlink-0.21.*`): both live in one registry or vendor folder
+//!    when vouch-mav itself comes from a registry or is vendored;
+//! 3. `vendor/` folders of this package's ancestors (`cargo vendor` in a workspace);
+//! 4. the registry sources under `$CARGO_HOME` (default `~/.cargo`).
+//!
+//! When none holds the XML, or it cannot be digested, the build fails and says so. A build that
+//! deliberately goes without a default dialect sets `VOUCH_MAV_NO_DEFAULT_DIALECT=1`; the
+//! library then reports `DialectError::NoEmbedded` at run time and `--dialect FILE.xml` must be
+//! used.
 
 use std::env;
 use std::fs;
@@ -19,41 +28,59 @@ mod raw;
 
 const ROOT: &str = "ardupilotmega.xml";
 const REL: &str = "mavlink/message_definitions/v1.0";
+/// Package folders that may hold the definitions: `mavlink-0.21.x` (registry, versioned vendor)
+/// or `mavlink` (plain vendor).
+fn is_mavlink_package(name: &str) -> bool {
+    name == "mavlink" || name.starts_with("mavlink-0.21.")
+}
 
-fn registry_candidates() -> Vec<PathBuf> {
-    let mut homes = Vec::new();
-    if let Ok(h) = env::var("CARGO_HOME") {
-        homes.push(PathBuf::from(h));
+/// Definition folders inside the mavlink packages directly in `dir`, newest version first.
+fn packages_in(dir: &Path) -> Vec<PathBuf> {
+    let Ok(entries) = fs::read_dir(dir) else { return Vec::new() };
+    let mut found: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|e| e.file_name().to_str().is_some_and(is_mavlink_package))
+        .map(|e| e.path().join(REL))
+        .filter(|p| p.join(ROOT).is_file())
+        .collect();
+    found.sort();
+    found.reverse();
+    found
+}
+
+/// Every folder that may hold the XML, in search order (see the file's documentation), and a
+/// description of the places searched for the error message.
+fn candidates() -> (Vec<PathBuf>, Vec<String>) {
+    let (mut out, mut places) = (Vec::new(), Vec::new());
+    match env::var_os("VOUCH_MAV_DEFINITIONS") {
+        Some(d) => {
+            places.push(format!("VOUCH_MAV_DEFINITIONS={}", Path::new(&d).display()));
+            out.push(PathBuf::from(d));
+        }
+        None => places.push("VOUCH_MAV_DEFINITIONS (not set)".into()),
     }
-    if let Ok(h) = env::var("HOME") {
-        homes.push(Path::new(&h).join(".cargo"));
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
+    if let Some(parent) = manifest.parent() {
+        places.push(format!("{}/mavlink-0.21.*", parent.display()));
+        out.extend(packages_in(parent));
     }
-    let mut out = Vec::new();
-    for home in homes {
+    places.push(format!("vendor/mavlink* in the ancestors of {}", manifest.display()));
+    for ancestor in manifest.ancestors() {
+        out.extend(packages_in(&ancestor.join("vendor")));
+    }
+    let homes = [
+        env::var_os("CARGO_HOME").map(PathBuf::from),
+        env::var_os("HOME").map(|h| Path::new(&h).join(".cargo")),
+    ];
+    for home in homes.into_iter().flatten() {
         let src = home.join("registry").join("src");
-        let Ok(indexes) = fs::read_dir(&src) else {
-            continue;
-        };
+        places.push(format!("{}/*/mavlink-0.21.*", src.display()));
+        let Ok(indexes) = fs::read_dir(&src) else { continue };
         for index in indexes.flatten() {
-            let Ok(pkgs) = fs::read_dir(index.path()) else {
-                continue;
-            };
-            let mut found: Vec<PathBuf> = pkgs
-                .flatten()
-                .map(|p| p.path())
-                .filter(|p| {
-                    p.file_name()
-                        .and_then(|n| n.to_str())
-                        .is_some_and(|n| n.starts_with("mavlink-0.21"))
-                })
-                .map(|p| p.join(REL))
-                .filter(|p| p.join(ROOT).is_file())
-                .collect();
-            found.sort();
-            out.extend(found.into_iter().rev());
+            out.extend(packages_in(&index.path()));
         }
     }
-    out
+    (out, places)
 }
 
 /// Collects `name` and, recursively, every file it `<include>`s (relative names only).
@@ -76,40 +103,59 @@ fn collect(dir: &Path, name: &str, out: &mut Vec<(String, String)>) {
     }
 }
 
+/// The digest of the first folder holding the XML, and that folder.
+fn digest() -> Result<(String, String), String> {
+    let (found, places) = candidates();
+    let Some(dir) = found.iter().find(|d| d.join(ROOT).is_file()) else {
+        return Err(format!(
+            "the MAVLink definitions ({ROOT} in {REL} of the `mavlink` 0.21 package) were not \
+             found. Searched:\n  {}\nSet VOUCH_MAV_DEFINITIONS to a folder holding {ROOT} and \
+             its includes, or set VOUCH_MAV_NO_DEFAULT_DIALECT=1 to build without a default \
+             dialect (every command then needs --dialect FILE.xml).",
+            places.join("\n  ")
+        ));
+    };
+    let mut files = Vec::new();
+    collect(dir, ROOT, &mut files);
+    let read = |name: &str| -> Result<String, String> {
+        files
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, t)| t.clone())
+            .ok_or_else(|| format!("include {name} not found"))
+    };
+    let origin = dir.display().to_string();
+    let raw = raw::read_xml(ROOT, &read).map_err(|e| match e {
+        raw::RawError::Read(e) => format!("{origin}: {e}"),
+        raw::RawError::Xml { file, line, col, message } => {
+            format!("{origin}/{file}:{line}:{col}: {message}")
+        }
+        raw::RawError::Message { file, message, problem, .. } => {
+            format!("{origin}/{file}: message {message}: {problem}")
+        }
+    })?;
+    let digest = raw::write_digest(&raw)
+        .ok_or_else(|| format!("{origin}: a name in the definitions cannot be digested"))?;
+    Ok((digest, origin))
+}
+
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=src/dialect/raw.rs");
     println!("cargo:rerun-if-env-changed=VOUCH_MAV_DEFINITIONS");
-    let mut dirs = Vec::new();
-    if let Ok(d) = env::var("VOUCH_MAV_DEFINITIONS") {
-        dirs.push(PathBuf::from(d));
-    }
-    dirs.extend(registry_candidates());
-    let mut files = Vec::new();
-    let mut origin = String::from("none");
-    for dir in dirs {
-        if dir.join(ROOT).is_file() {
-            collect(&dir, ROOT, &mut files);
-            origin = dir.display().to_string();
-            break;
-        }
-    }
-    let mut digest = String::new();
-    if files.is_empty() {
-        println!("cargo:warning=vouch-mav: no MAVLink definitions found; the default dialect will be unavailable (use --dialect)");
+    println!("cargo:rerun-if-env-changed=VOUCH_MAV_NO_DEFAULT_DIALECT");
+    let (digest, origin) = if env::var("VOUCH_MAV_NO_DEFAULT_DIALECT").is_ok_and(|v| v == "1") {
+        println!("cargo:warning=vouch-mav: built without a default dialect (VOUCH_MAV_NO_DEFAULT_DIALECT=1)");
+        (String::new(), "none".to_string())
     } else {
-        let read = |name: &str| -> Result<String, String> {
-            files
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, t)| t.clone())
-                .ok_or_else(|| format!("include {name} not found"))
-        };
-        match raw::read_xml(ROOT, &read).ok().and_then(|d| raw::write_digest(&d)) {
-            Some(d) => digest = d,
-            None => println!("cargo:warning=vouch-mav: the MAVLink definitions in {origin} could not be digested; the default dialect will be unavailable (use --dialect)"),
+        match digest() {
+            Ok(found) => found,
+            Err(why) => {
+                eprintln!("error: vouch-mav: {why}");
+                std::process::exit(1);
+            }
         }
-    }
+    };
     let out_dir = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let digest_path = out_dir.join("ardupilotmega.digest");
     fs::write(&digest_path, &digest).expect("write dialect digest into OUT_DIR");
