@@ -24,19 +24,33 @@ pub(super) struct Counters {
 /// Counters at one moment (e.g. at shutdown).
 #[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
 pub struct CounterSnapshot {
+    /// Intact frames received from the GCS side.
     pub frames_from_gcs: u64,
+    /// Intact frames received from the vehicle side.
     pub frames_from_vehicle: u64,
+    /// Frames forwarded to the vehicle.
     pub forwarded_to_vehicle: u64,
+    /// Frames forwarded to the GCS side.
     pub forwarded_to_gcs: u64,
+    /// Protocol violations (forwarded in monitor mode, dropped in enforce mode).
     pub violations: u64,
+    /// Violating frames dropped (enforce mode).
     pub dropped_violations: u64,
+    /// Length-cut candidates that were no intact frame (a corrupt frame with start markers inside can count more than once).
     pub malformed: u64,
+    /// Of those, dropped (enforce mode).
     pub dropped_malformed: u64,
+    /// Bytes that were part of no frame.
     pub junk_bytes: u64,
+    /// Frames from the GCS side that failed the signing check.
     pub signing_rejected: u64,
+    /// SETUP_SIGNING frames dropped (never forwarded).
     pub setup_signing_dropped: u64,
+    /// Answers sent in enforce mode.
     pub replies_sent: u64,
+    /// STATUSTEXT alerts sent to the GCS side.
     pub alerts_sent: u64,
+    /// Alerts not sent because of the rate limit.
     pub alerts_suppressed: u64,
 }
 
