@@ -1,4 +1,5 @@
-//! ns per message for decode + monitor on the largest recording (`cargo bench -p vouch-mav`).
+//! ns per message for decode + monitor on a recording: `cargo bench -p vouch-mav --bench
+//! decode_monitor [-- FILE.tlog]` (default: the largest recording of `../shared/mavlink/tlogs`).
 //!
 //! A plain timing loop (harness = false) instead of criterion: the figure wanted is one mean over
 //! ~97k real messages, repeated a few times; criterion would add a large dependency build to a
@@ -13,17 +14,18 @@ use vouch_mav::dialect::Dialect;
 use vouch_mav::monitor::{Monitor, Verdict};
 
 fn main() {
-    let file =
-        std::env::args().skip(1).find(|a| a.ends_with(".tlog")).map(PathBuf::from).unwrap_or_else(
-            || {
-                PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-                    .join("../../../shared/mavlink/tlogs/uavlogviewer_flight_logs.tlog")
-            },
-        );
-    let Ok(data) = std::fs::read(&file) else {
-        eprintln!("skipping: {} not found", file.display());
-        return;
+    // The recording given on the command line, else the largest one of the reference data.
+    let file = match std::env::args().skip(1).find(|a| a.ends_with(".tlog")) {
+        Some(f) => PathBuf::from(f),
+        None => {
+            let Some(dir) = vouch_testkit::shared("mavlink/tlogs", "uavlogviewer_flight_logs.tlog")
+            else {
+                return;
+            };
+            dir.join("uavlogviewer_flight_logs.tlog")
+        }
     };
+    let data = std::fs::read(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     let dialect = Arc::new(Dialect::default_dialect().expect("default dialect"));
     let reps = 7;
     let mut decode_only = Vec::new();
