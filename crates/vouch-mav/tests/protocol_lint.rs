@@ -6,7 +6,7 @@
 
 mod common;
 use common::dialect;
-use vouch_mav::protocol::{lint, stdlib, ProtocolError};
+use vouch_mav::protocol::{lint, stdlib, ErrorKind, ProtocolError};
 
 fn lint_src(src: &str) -> Result<(), ProtocolError> {
     let d = dialect().expect("dialect");
@@ -153,10 +153,34 @@ fn overrides_must_name_declared_constants() {
     let r = vouch_mav::protocol::load_protocols(&d, &stdlib::sources(), &[("NOPE".into(), 1.0)]);
     let e = r.expect_err("unknown constant");
     assert!(e.message.contains("no constant `NOPE`"));
+    assert_eq!(e.kind, ErrorKind::Override);
     assert!(vouch_mav::protocol::load_protocols(
         &d,
         &stdlib::sources(),
         &[("CHUTE_MAX_CLIMB".into(), 1.0)]
     )
     .is_ok());
+}
+
+/// Each class of mistake has its own kind and diagnostic code, so tools can tell them apart.
+#[test]
+fn every_class_of_mistake_has_its_own_code() {
+    if dialect().is_none() {
+        return;
+    }
+    let cases = [
+        (BASE.replace("n > 0", "n > 0 $"), ErrorKind::Lex, "mav::P001"),
+        (BASE.replace("roles gcs, uav;", "roles gcs uav;"), ErrorKind::Syntax, "mav::P002"),
+        (BASE.replace("MISSION_ACK", "MISSION_ACKK"), ErrorKind::UnknownName, "mav::P003"),
+        (format!("{BASE}{BASE}"), ErrorKind::Duplicate, "mav::P004"),
+        (BASE.replace("n > 0", "n > \"x\""), ErrorKind::Type, "mav::P005"),
+        (BASE.replace("roles gcs, uav;", "roles gcs, gcs;"), ErrorKind::Structure, "mav::P006"),
+    ];
+    for (src, kind, code) in cases {
+        let e = err(&src);
+        assert_eq!(e.kind, kind, "{}", e.message);
+        let got = miette::Diagnostic::code(&e).map(|c| c.to_string());
+        assert_eq!(got.as_deref(), Some(code), "{}", e.message);
+        assert!(miette::Diagnostic::labels(&e).is_some_and(|mut l| l.next().is_some()));
+    }
 }
