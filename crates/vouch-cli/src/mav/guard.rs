@@ -124,11 +124,12 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
 
 fn note_event(ctx: &Ctx, ev: &GuardEvent) {
     match ev {
-        GuardEvent::Violation { from, dropped, summary } => ctx.note(format_args!(
-            "vouch mav guard: violation from {} ({}): {summary}",
+        GuardEvent::Violation { from, dropped, summary, endpoint } => ctx.note(format_args!(
+            "vouch mav guard: violation from {} ({endpoint}, {}): {summary}",
             from.as_str(),
             if *dropped { "dropped" } else { "forwarded" }
         )),
+        other => ctx.note(format_args!("vouch mav guard: {other:?}")),
     }
 }
 

@@ -60,7 +60,7 @@ pub mod serial {
     use std::io;
 
     /// Always an error: serial endpoints are supported on Linux only.
-    pub fn open_raw(device: &str, _baud: u32) -> io::Result<File> {
+    pub fn open_raw(device: &str, _baud: u32, _flow_control: bool) -> io::Result<File> {
         Err(io::Error::new(
             io::ErrorKind::Unsupported,
             format!("{device}: serial endpoints are supported on Linux only"),
@@ -124,6 +124,6 @@ mod tests {
         b.recv(&rx).unwrap();
         let (_, bytes, truncated) = b.get(0);
         assert_eq!((bytes.len(), truncated), (SLOT, true));
-        assert!(super::serial::open_raw("/dev/null", 57600).is_err());
+        assert!(super::serial::open_raw("/dev/null", 57600, false).is_err());
     }
 }
