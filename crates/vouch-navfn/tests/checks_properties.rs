@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use vouch_navfn::checks::{check_plan, PlanView, Violation};
 use vouch_navfn::core::{Algo, Cell, NoObserver, COST_OBS, POT_HIGH};
-use vouch_navfn::suite_run::{CaseRunner, CostInput};
+use vouch_navfn::suite::{CaseRunner, CostInput};
 
 /// A random map in NavFn costs (border 254, interior 50..=253 or 254) with two open cells.
 fn map_strategy() -> impl Strategy<Value = (usize, usize, Vec<u8>, Cell, Cell)> {

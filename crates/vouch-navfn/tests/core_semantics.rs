@@ -8,7 +8,7 @@ use vouch_navfn::core::{
     SearchObserver, COST_OBS, POT_HIGH,
 };
 use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, WorldParams};
-use vouch_navfn::suite_run::{CaseRunner, CostInput};
+use vouch_navfn::suite::{CaseRunner, CostInput};
 
 /// Free map with a 1-cell border of obstacles.
 fn open_map(nx: usize, ny: usize) -> Vec<u8> {
@@ -130,8 +130,8 @@ fn core_rejects_cells_and_sizes_it_cannot_use() {
     assert!(nav.set_costs_raw(&[50; 15]).is_err());
 }
 
-fn planner(nx: usize, ny: usize, map: Vec<u8>, world: WorldParams, tolerance: f64) -> NavfnPlanner {
-    NavfnPlanner::new(map, nx, ny, world, PlannerParams { tolerance, ..PlannerParams::default() })
+fn planner(nx: usize, ny: usize, map: &[u8], world: WorldParams, tol: f64) -> NavfnPlanner<'_> {
+    NavfnPlanner::new(map, nx, ny, world, PlannerParams { tolerance: tol, ..Default::default() })
         .unwrap()
 }
 
@@ -140,7 +140,7 @@ fn planner_statuses() {
     let w = WorldParams { origin: [-1.0, -1.0], resolution: 0.5 };
     let mut ros = vec![0u8; 10 * 10];
     ros[5 * 10 + 5] = 254;
-    let mut p = planner(10, 10, ros.clone(), w, 0.0);
+    let mut p = planner(10, 10, &ros, w, 0.0);
     assert_eq!(p.create_plan([-1.5, 0.0], [1.0, 1.0]).status, PlanStatus::StartOutsideMapBounds);
     assert_eq!(p.create_plan([0.0, 0.0], [4.0, 1.0]).status, PlanStatus::GoalOutsideMapBounds);
     // cell (5,5) is lethal: (5*0.5-1, 5*0.5-1) = (1.5, 1.5)
@@ -161,7 +161,7 @@ fn planner_tolerance_moves_an_unreachable_goal_to_the_nearest_reachable_point() 
     let w = WorldParams { origin: [0.0, 0.0], resolution: 1.0 };
     let mut ros = vec![0u8; 12 * 12];
     ros[6 * 12 + 6] = 254; // goal cell lethal
-    let mut p = planner(12, 12, ros, w, 1.0);
+    let mut p = planner(12, 12, &ros, w, 1.0);
     let plan = p.create_plan([2.0, 2.0], [6.0, 6.0]);
     assert_eq!(plan.status, PlanStatus::Ok);
     assert!(plan.tol_used);
@@ -177,8 +177,7 @@ fn nav2_default_pair_point_counts_match_the_cpp() {
     // SEMANTICS.md §10: Dijkstra (atStart) 1,070 points, A* 929
     for (astar, points) in [(false, 1070), (true, 929)] {
         let params = PlannerParams { use_astar: astar, ..PlannerParams::default() };
-        let mut p =
-            NavfnPlanner::new(bytes.clone(), 400, 400, WorldParams::default(), params).unwrap();
+        let mut p = NavfnPlanner::new(&bytes, 400, 400, WorldParams::default(), params).unwrap();
         let plan = p.create_plan([390.0, 10.0], [10.0, 390.0]);
         assert_eq!(plan.status, PlanStatus::Ok);
         assert_eq!(plan.navfn_len, points, "astar={astar}");

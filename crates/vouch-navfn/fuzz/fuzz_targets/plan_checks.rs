@@ -4,7 +4,7 @@
 use libfuzzer_sys::fuzz_target;
 use vouch_navfn::checks::{check_plan, PlanView};
 use vouch_navfn::core::{Algo, Cell, NoObserver};
-use vouch_navfn::suite_run::{CaseRunner, CostInput};
+use vouch_navfn::suite::{CaseRunner, CostInput};
 
 fuzz_target!(|data: &[u8]| {
     if data.len() < 6 {

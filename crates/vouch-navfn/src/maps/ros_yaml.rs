@@ -8,8 +8,8 @@
 use std::path::{Path, PathBuf};
 
 use super::pgm::{parse_pgm, GreyImage};
+use super::world::WorldParams;
 use super::MapError;
-use crate::planner::WorldParams;
 
 /// map_server's interpretation mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -100,18 +100,24 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
             continue;
         }
         let Some((key, value)) = line.split_once(':') else {
-            return Err(MapError::line(path, ln, format!("expected `key: value`, found `{line}`")));
+            return Err(MapError::syntax(
+                path,
+                text,
+                ln,
+                "",
+                format!("expected `key: value`, found `{line}`"),
+            ));
         };
         let value = value.trim().trim_matches(|c| c == '"' || c == '\'');
         let num = |what: &str| -> Result<f64, MapError> {
             value.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                MapError::line(path, ln, format!("{what} `{value}` is not a number"))
+                MapError::syntax(path, text, ln, value, format!("{what} `{value}` is not a number"))
             })
         };
         match key.trim() {
             "image" => {
                 if value.is_empty() {
-                    return Err(MapError::line(path, ln, "image must name a file"));
+                    return Err(MapError::syntax(path, text, ln, "", "image must name a file"));
                 }
                 meta.image = PathBuf::from(value);
                 seen_image = true;
@@ -119,9 +125,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
             "resolution" => {
                 meta.resolution = num("resolution")?;
                 if meta.resolution <= 0.0 {
-                    return Err(MapError::line(
+                    return Err(MapError::syntax(
                         path,
+                        text,
                         ln,
+                        value,
                         format!("resolution {value} must be > 0"),
                     ));
                 }
@@ -135,9 +143,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
                 match nums {
                     Some(v) if v.len() == 3 => meta.origin = [v[0], v[1], v[2]],
                     _ => {
-                        return Err(MapError::line(
+                        return Err(MapError::syntax(
                             path,
+                            text,
                             ln,
+                            value,
                             format!("origin must be `[x, y, yaw]`, found `{value}`"),
                         ))
                     }
@@ -148,9 +158,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
                     "0" | "false" | "False" => false,
                     "1" | "true" | "True" => true,
                     _ => {
-                        return Err(MapError::line(
+                        return Err(MapError::syntax(
                             path,
+                            text,
                             ln,
+                            value,
                             format!("negate must be 0 or 1, found `{value}`"),
                         ))
                     }
@@ -158,10 +170,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
             }
             "occupied_thresh" => {
                 meta.occupied_thresh =
-                    threshold(path, ln, "occupied_thresh", num("occupied_thresh")?)?
+                    threshold(path, text, ln, value, "occupied_thresh", num("occupied_thresh")?)?
             }
             "free_thresh" => {
-                meta.free_thresh = threshold(path, ln, "free_thresh", num("free_thresh")?)?
+                meta.free_thresh =
+                    threshold(path, text, ln, value, "free_thresh", num("free_thresh")?)?
             }
             "mode" => {
                 meta.mode = match value {
@@ -169,9 +182,11 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
                     "scale" => MapMode::Scale,
                     "raw" => MapMode::Raw,
                     _ => {
-                        return Err(MapError::line(
+                        return Err(MapError::syntax(
                             path,
+                            text,
                             ln,
+                            value,
                             format!("mode must be trinary, scale or raw, found `{value}`"),
                         ))
                     }
@@ -198,11 +213,18 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
     Ok(meta)
 }
 
-fn threshold(path: &Path, ln: usize, what: &str, v: f64) -> Result<f64, MapError> {
+fn threshold(
+    path: &Path,
+    text: &str,
+    ln: usize,
+    field: &str,
+    what: &str,
+    v: f64,
+) -> Result<f64, MapError> {
     if (0.0..=1.0).contains(&v) {
         Ok(v)
     } else {
-        Err(MapError::line(path, ln, format!("{what} {v} is outside [0, 1]")))
+        Err(MapError::syntax(path, text, ln, field, format!("{what} {v} is outside [0, 1]")))
     }
 }
 
