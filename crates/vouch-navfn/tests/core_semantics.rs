@@ -4,10 +4,10 @@
 mod common;
 
 use vouch_navfn::core::{
-    Algo, Cell, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd, PropagationEndView,
-    SearchObserver, COST_OBS, POT_HIGH,
+    Algo, Cell, CoreError, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd,
+    PropagationEndView, SearchObserver, COST_OBS, POT_HIGH,
 };
-use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, WorldParams};
+use vouch_navfn::planner::{End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, WorldParams};
 use vouch_navfn::suite::{CaseRunner, CostInput};
 
 /// Free map with a 1-cell border of obstacles.
@@ -197,4 +197,48 @@ fn nav2_default_pair_point_counts_match_the_cpp() {
     nav.set_goal(Cell::new(390, 10)).unwrap();
     nav.calc_dijkstra(false, &mut NoObserver);
     assert_eq!(nav.calc_path(1600, &mut NoObserver), 1072);
+}
+
+#[test]
+fn planner_refuses_setups_whose_tolerance_search_would_not_finish() {
+    let ros = vec![0u8; 10 * 10];
+    let w = WorldParams { origin: [0.0, 0.0], resolution: 0.1 };
+    let with = |tolerance: f64, world: WorldParams| {
+        let params = PlannerParams { tolerance, ..PlannerParams::default() };
+        NavfnPlanner::new(&ros, 10, 10, world, params).err()
+    };
+    assert!(matches!(with(1e9, w), Some(PlanError::BadTolerance { .. })));
+    assert!(matches!(with(-0.5, w), Some(PlanError::BadTolerance { .. })));
+    assert!(matches!(with(f64::NAN, w), Some(PlanError::BadTolerance { .. })));
+    // (2·tol/res + 1)² = 1e8 points at most: 499.95 m at 0.1 m is the edge
+    assert!(with(499.9, w).is_none());
+    let bad_res = WorldParams { resolution: -1.0, ..w };
+    assert!(matches!(with(0.5, bad_res), Some(PlanError::BadWorld { .. })));
+    let bad_origin = WorldParams { origin: [f64::INFINITY, 0.0], ..w };
+    assert!(matches!(with(0.5, bad_origin), Some(PlanError::BadWorld { .. })));
+    let short = NavfnPlanner::new(&ros[..99], 10, 10, w, PlannerParams::default());
+    assert!(matches!(short.err(), Some(PlanError::Core(CoreError::CostLength { .. }))));
+}
+
+#[test]
+fn checked_plans_refuse_ends_off_the_map_or_in_obstacles() {
+    let mut ros = vec![0u8; 10 * 10];
+    ros[3 * 10 + 4] = 254;
+    let w = WorldParams { origin: [-1.0, -1.0], resolution: 0.5 };
+    let mut p = NavfnPlanner::new(&ros, 10, 10, w, PlannerParams::default()).unwrap();
+    let outside = p.plan_checked([0.0, 0.0], [4.0, 0.0]).unwrap_err();
+    assert!(matches!(outside, PlanError::OutsideMap { end: End::Goal, .. }), "{outside}");
+    assert!(outside.to_string().contains("x from -1.0000 to 4.0000"), "{outside}");
+    let blocked = p.plan_checked([1.1, 0.6], [0.0, 0.0]).unwrap_err();
+    assert!(matches!(blocked, PlanError::InObstacle { end: End::Start, .. }), "{blocked}");
+    assert_eq!(p.cell_point(End::Start, [2.0, 3.0]), Ok([0.0, 0.5]));
+    assert!(p.cell_point(End::Goal, [2.5, 3.0]).is_err());
+    assert!(p.cell_point(End::Goal, [10.0, 0.0]).is_err());
+    let ok = p.plan_checked([0.0, 0.0], [2.5, 2.0]).unwrap();
+    assert_eq!(ok.status, PlanStatus::Ok);
+    // the caller's costmap is never written (nav2's robot-cell clearing happens on NavFn's costs)
+    let mut q = NavfnPlanner::new(&ros, 10, 10, w, PlannerParams::default()).unwrap();
+    let _ = q.create_plan([1.0, 0.5], [0.0, 0.0]);
+    assert_eq!(q.costmap()[3 * 10 + 4], 254);
+    assert_eq!(q.nav().costs()[3 * 10 + 4], 50, "robot cell cleared for the plan");
 }
