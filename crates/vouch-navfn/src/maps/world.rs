@@ -24,17 +24,17 @@ impl WorldParams {
     /// `Costmap2D::worldToMap`: `unsigned((w − origin) / res)`, invalid below the origin or at
     /// or beyond the size.
     pub fn costmap_world_to_map(&self, p: [f64; 2], nx: usize, ny: usize) -> Option<Cell> {
-        self.to_map(p, nx, ny, f64::trunc)
+        self.cell_of(p, nx, ny, f64::trunc)
     }
 
     /// `NavfnPlanner::worldToMap`: `int(round((w − origin) / res))` (half away from zero),
     /// invalid below the origin or when the rounded index reaches the size.
     pub fn planner_world_to_map(&self, p: [f64; 2], nx: usize, ny: usize) -> Option<Cell> {
-        self.to_map(p, nx, ny, f64::round)
+        self.cell_of(p, nx, ny, f64::round)
     }
 
     /// The cell of `p` with `index` turning the scaled offset into an index.
-    fn to_map(&self, p: [f64; 2], nx: usize, ny: usize, index: fn(f64) -> f64) -> Option<Cell> {
+    fn cell_of(&self, p: [f64; 2], nx: usize, ny: usize, index: fn(f64) -> f64) -> Option<Cell> {
         let axis = |w: f64, o: f64, n: usize| -> Option<usize> {
             if w < o || w.is_nan() {
                 return None;
