@@ -86,6 +86,21 @@ pub fn summary_table(r: &Report) -> String {
     if t.oracle.pass + t.oracle.fail > 0 {
         let _ = writeln!(s, "oracle: {} equal, {} different", t.oracle.pass, t.oracle.fail);
     }
+    optimality_lines(&mut s, &t);
+    let wall: f64 = r.wall_seconds.iter().copied().fold(0.0, f64::max);
+    let _ = writeln!(
+        s,
+        "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}",
+        r.cases,
+        r.shards.len(),
+        wall,
+        r.threads
+    );
+    s
+}
+
+/// The optimality figures of the total row and the ratio histogram.
+fn optimality_lines(s: &mut String, t: &CategoryStats) {
     let o = &t.optimality;
     let _ = writeln!(
         s,
@@ -109,14 +124,4 @@ pub fn summary_table(r: &Report) -> String {
         let _ =
             writeln!(s, "  excess navfn−optimal: min {:.1}, max {:.1}", o.excess_min, o.excess_max);
     }
-    let wall: f64 = r.wall_seconds.iter().copied().fold(0.0, f64::max);
-    let _ = writeln!(
-        s,
-        "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}",
-        r.cases,
-        r.shards.len(),
-        wall,
-        r.threads
-    );
-    s
 }
