@@ -8,7 +8,7 @@ use vouch_navfn::core::{
     PropagationEndView, SearchObserver, COST_OBS, POT_HIGH,
 };
 use vouch_navfn::planner::{End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, WorldParams};
-use vouch_navfn::suite::{CaseRunner, CostInput};
+use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};
 
 /// Free map with a 1-cell border of obstacles.
 fn open_map(nx: usize, ny: usize) -> Vec<u8> {
@@ -80,13 +80,10 @@ fn reused_arrays_give_the_same_result_as_fresh_ones() {
     for (map, nx, ny) in [(&big, 20, 15), (&small, 6, 5), (&big, 20, 15)] {
         for algo in [Algo::Dijkstra, Algo::Astar] {
             let (from, to) = (Cell::new(1, 1), Cell::new(nx - 2, ny - 2));
-            let r = reused
-                .run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver)
-                .unwrap();
+            let m = MapRef { bytes: map, nx, ny, costs: CostInput::Raw };
+            let r = reused.run_navfn(m, algo, from, to, &mut NoObserver).unwrap();
             let mut fresh = CaseRunner::new();
-            let f = fresh
-                .run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver)
-                .unwrap();
+            let f = fresh.run_navfn(m, algo, from, to, &mut NoObserver).unwrap();
             assert_eq!(r, f);
             assert!(r.len > 0);
             assert_eq!(reused.nav().potential(), fresh.nav().potential());

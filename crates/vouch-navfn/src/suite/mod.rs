@@ -212,10 +212,9 @@ impl CaseRunner {
         to: Cell,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
-        let (bytes, nx, ny) = (map.bytes, map.nx, map.ny);
         match mode {
-            RunMode::Paper => self.run_paper(bytes, nx, ny, from, to, obs),
-            m => self.run_navfn(bytes, nx, ny, map.costs, m.algo(), from, to, obs),
+            RunMode::Paper => self.run_paper(map.bytes, map.nx, map.ny, from, to, obs),
+            m => self.run_navfn(map, m.algo(), from, to, obs),
         }
     }
 
@@ -265,19 +264,16 @@ impl CaseRunner {
 
     /// The planner's cell-level call sequence: NavFn start = `to`, NavFn goal = `from`
     /// (swapped), `calcNavFnDijkstra(atStart=true)` or `calcNavFnAstar`, `calcPath(max(nx,ny)*4)`.
-    #[allow(clippy::too_many_arguments)]
     pub fn run_navfn<O: SearchObserver>(
         &mut self,
-        map: &[u8],
-        nx: usize,
-        ny: usize,
-        costs: CostInput,
+        map: MapRef<'_>,
         algo: Algo,
         from: Cell,
         to: Cell,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
-        let nav = self.load_map(map, nx, ny, costs)?;
+        let (nx, ny) = (map.nx, map.ny);
+        let nav = self.load_map(map.bytes, nx, ny, map.costs)?;
         nav.set_start(to)?;
         nav.set_goal(from)?;
         let (prop, last_path_cost) = match algo {
