@@ -249,3 +249,33 @@ fn bench_prints_vouch_figures_only() {
     let o = vouch(&["navfn", "bench"]);
     assert_eq!(code(&o), 2, "the suite must be given");
 }
+
+#[test]
+fn suite_diff_exit_codes_follow_the_contract() {
+    let me = env!("CARGO_BIN_EXE_vouch");
+    let itself = format!("{me} -q navfn suite run");
+    let o = vouch(&["navfn", "suite", "diff", SUITE, "--oracle", &itself, "--mode", "navfn"]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    assert!(text(&o.stdout).starts_with("3 files, 220 cases: 220 equal, 0 different"));
+    let perturbed = format!("{itself} --perturb-pri-inc 90");
+    let report = tmp("diff.json");
+    let o = vouch(&[
+        "navfn",
+        "suite",
+        "diff",
+        SUITE,
+        "--oracle",
+        &perturbed,
+        "--json",
+        "-o",
+        report.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(code(&o), 3, "a disagreement is a finding: {}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    assert!(v["different"].as_u64().is_some_and(|d| d > 0));
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).expect("written")).expect("json");
+    assert_eq!(written, v);
+    let o = vouch(&["navfn", "suite", "diff", SUITE, "--oracle", "/nonexistent/oracle"]);
+    assert_eq!(code(&o), 2, "an oracle that cannot run is an I/O error");
+}

@@ -58,14 +58,14 @@ impl From<CaseError> for CampaignError {
 
 impl CampaignError {
     /// Whether the cause lies outside the input: a file that cannot be read or written, an
-    /// oracle that cannot be started (as opposed to input that was read and rejected).
+    /// oracle that cannot be run or answers outside the contract, generator options (as
+    /// opposed to input that was read and rejected).
     pub fn is_io(&self) -> bool {
         match self {
             CampaignError::Map(m) => m.is_io(),
             CampaignError::Suite(s) => s.is_io(),
             CampaignError::Write { .. } => true,
-            CampaignError::Oracle(o) => matches!(o, OracleError::Spawn { .. }),
-            CampaignError::Gen(_) => true,
+            CampaignError::Oracle(_) | CampaignError::Gen(_) => true,
             _ => false,
         }
     }
