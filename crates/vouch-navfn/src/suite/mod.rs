@@ -1,12 +1,13 @@
-//! Running suite files and printing the golden line format of `shared/navfn/golden/README.md`
-//! (`CASE` + `PATH` lines, `WORLD` in planner mode, float bit patterns, FNV-1a-64 hashes).
+//! Running suite files: the call sequences of the golden modes (`golden/README.md`, "Modes")
+//! on one reused NavFn, and the golden line format (`golden.rs`).
 
-use std::fmt::Write as _;
+mod golden;
 
-use crate::core::numeric::{path_fnv, potential_fnv};
+pub use golden::{fmt_g17, run_file, write_cell_case, write_planner_case, RunStats};
+
 use crate::core::{Algo, Cell, CoreError, NavFn, SearchObserver};
-use crate::maps::{SuiteCase, SuiteFile};
-use crate::planner::{NavfnPlanner, PlanStatus, PlannerParams, WorldParams};
+use crate::maps::{SuiteCase, SuiteFile, WorldParams};
+use crate::planner::PlanError;
 
 /// How the map bytes are turned into NavFn costs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -17,7 +18,7 @@ pub enum CostInput {
     Ros,
 }
 
-/// Which call sequence runs a case (golden/README.md, "Modes").
+/// Which call sequence runs a case (golden/README.md, "Modes"), as chosen with `--mode`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SuiteMode {
     /// The paper's harness: no swap, A* only, path limit `4*nx`.
@@ -28,12 +29,69 @@ pub enum SuiteMode {
     Planner,
 }
 
+/// A cell-level call sequence with its propagation: the modes a case runs in without the
+/// planner layer (serialised as `paper`, `navfn-dijkstra`, `navfn-astar`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum RunMode {
+    /// The paper's harness: A*, no swap, `calcPath(4*nx)`.
+    #[default]
+    #[serde(rename = "paper")]
+    Paper,
+    /// The planner's cell-level call sequence with `atStart` Dijkstra.
+    #[serde(rename = "navfn-dijkstra")]
+    NavfnDijkstra,
+    /// The planner's cell-level call sequence with A*.
+    #[serde(rename = "navfn-astar")]
+    NavfnAstar,
+}
+
+impl RunMode {
+    /// The cell-level sequence of `mode` with `algo` (paper mode is always A*); `None` for
+    /// planner mode, which is not cell-level.
+    pub fn new(mode: SuiteMode, algo: Algo) -> Option<RunMode> {
+        match (mode, algo) {
+            (SuiteMode::Paper, _) => Some(RunMode::Paper),
+            (SuiteMode::Navfn, Algo::Dijkstra) => Some(RunMode::NavfnDijkstra),
+            (SuiteMode::Navfn, Algo::Astar) => Some(RunMode::NavfnAstar),
+            (SuiteMode::Planner, _) => None,
+        }
+    }
+
+    /// The propagation this sequence runs.
+    pub fn algo(self) -> Algo {
+        match self {
+            RunMode::NavfnDijkstra => Algo::Dijkstra,
+            RunMode::Paper | RunMode::NavfnAstar => Algo::Astar,
+        }
+    }
+
+    /// `--mode`/`--algo` arguments naming this sequence (the oracle contract's, and the CLI's).
+    pub fn args(self) -> &'static [&'static str] {
+        match self {
+            RunMode::Paper => &["--mode", "paper"],
+            RunMode::NavfnDijkstra => &["--mode", "navfn", "--algo", "dijkstra"],
+            RunMode::NavfnAstar => &["--mode", "navfn", "--algo", "astar"],
+        }
+    }
+
+    /// The name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            RunMode::Paper => "paper",
+            RunMode::NavfnDijkstra => "navfn-dijkstra",
+            RunMode::NavfnAstar => "navfn-astar",
+        }
+    }
+}
+
 /// Everything that selects how a suite file is run.
 #[derive(Clone, Copy, Debug)]
 pub struct SuiteOptions {
+    /// The call sequence.
     pub mode: SuiteMode,
     /// Ignored in paper mode (always A*).
     pub algo: Algo,
+    /// How map bytes become NavFn costs (cell-level modes; planner mode reads ROS values).
     pub costs: CostInput,
     /// World frame for planner mode.
     pub world: WorldParams,
@@ -55,12 +113,44 @@ pub struct CaseOutcome {
 }
 
 /// A case that cannot be run.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum CaseError {
+    /// A case point does not truncate into the map.
     #[error("{}:{line}: case {number}: a point lies outside the {width}x{height} map", path.display())]
-    OutsideMap { path: std::path::PathBuf, line: usize, number: usize, width: usize, height: usize },
+    #[diagnostic(code(navfn::E030))]
+    OutsideMap {
+        /// The test file.
+        path: std::path::PathBuf,
+        /// 1-based line of the case.
+        line: usize,
+        /// Case number.
+        number: usize,
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+    },
+    /// The core refused the case.
     #[error(transparent)]
+    #[diagnostic(transparent)]
     Core(#[from] CoreError),
+    /// The planner refused the set-up (planner mode).
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Plan(#[from] PlanError),
+}
+
+/// A map as a case runner reads it.
+#[derive(Clone, Copy, Debug)]
+pub struct MapRef<'a> {
+    /// `nx*ny` bytes, cell (x, y) at `y*nx + x`.
+    pub bytes: &'a [u8],
+    /// Columns.
+    pub nx: usize,
+    /// Rows.
+    pub ny: usize,
+    /// How the bytes become NavFn costs (paper mode always reads them raw).
+    pub costs: CostInput,
 }
 
 /// Runs cell-level cases on one reusable NavFn (arrays kept while the map size is unchanged).
@@ -75,6 +165,7 @@ impl Default for CaseRunner {
 }
 
 impl CaseRunner {
+    /// A runner with a 1×1 NavFn (resized by the first case).
     pub fn new() -> Self {
         CaseRunner { nav: NavFn::new(1, 1).expect("1x1 is a valid size") }
     }
@@ -83,17 +174,18 @@ impl CaseRunner {
     pub fn nav(&self) -> &NavFn {
         &self.nav
     }
+    /// The NavFn, for set-up knobs such as [`NavFn::set_pri_inc`].
     pub fn nav_mut(&mut self) -> &mut NavFn {
         &mut self.nav
     }
 
-    /// Run one case in `paper` or `navfn` mode (planner mode goes through [`NavfnPlanner`]).
+    /// Run one case of a suite file in a cell-level mode (planner mode goes through
+    /// [`crate::planner::NavfnPlanner`]).
     pub fn run_case<O: SearchObserver>(
         &mut self,
         file: &SuiteFile,
         case: &SuiteCase,
-        mode: SuiteMode,
-        algo: Algo,
+        mode: RunMode,
         costs: CostInput,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
@@ -107,9 +199,22 @@ impl CaseRunner {
             })?;
         let from = Cell::new(from[0], from[1]);
         let to = Cell::new(to[0], to[1]);
+        let map = MapRef { bytes: &file.map, nx: file.width, ny: file.height, costs };
+        self.run(mode, map, from, to, obs)
+    }
+
+    /// Run a case from `from` to `to` in a cell-level mode.
+    pub fn run<O: SearchObserver>(
+        &mut self,
+        mode: RunMode,
+        map: MapRef<'_>,
+        from: Cell,
+        to: Cell,
+        obs: &mut O,
+    ) -> Result<CaseOutcome, CaseError> {
         match mode {
-            SuiteMode::Paper => self.run_paper(&file.map, file.width, file.height, from, to, obs),
-            _ => self.run_navfn(&file.map, file.width, file.height, costs, algo, from, to, obs),
+            RunMode::Paper => self.run_paper(map.bytes, map.nx, map.ny, from, to, obs),
+            m => self.run_navfn(map, m.algo(), from, to, obs),
         }
     }
 
@@ -159,19 +264,16 @@ impl CaseRunner {
 
     /// The planner's cell-level call sequence: NavFn start = `to`, NavFn goal = `from`
     /// (swapped), `calcNavFnDijkstra(atStart=true)` or `calcNavFnAstar`, `calcPath(max(nx,ny)*4)`.
-    #[allow(clippy::too_many_arguments)]
     pub fn run_navfn<O: SearchObserver>(
         &mut self,
-        map: &[u8],
-        nx: usize,
-        ny: usize,
-        costs: CostInput,
+        map: MapRef<'_>,
         algo: Algo,
         from: Cell,
         to: Cell,
         obs: &mut O,
     ) -> Result<CaseOutcome, CaseError> {
-        let nav = self.load_map(map, nx, ny, costs)?;
+        let (nx, ny) = (map.nx, map.ny);
+        let nav = self.load_map(map.bytes, nx, ny, map.costs)?;
         nav.set_start(to)?;
         nav.set_goal(from)?;
         let (prop, last_path_cost) = match algo {
@@ -184,120 +286,6 @@ impl CaseRunner {
         let len = nav.calc_path(nx.max(ny) * 4, obs);
         Ok(CaseOutcome { navfn_start: to, navfn_goal: from, prop, len, last_path_cost })
     }
-}
-
-/// C's `printf("%.17g", v)` (used for the case coordinates of the CASE line).
-pub fn fmt_g17(v: f64) -> String {
-    if v == 0.0 {
-        return if v.is_sign_negative() { "-0".into() } else { "0".into() };
-    }
-    if !v.is_finite() {
-        return if v.is_nan() {
-            "nan".into()
-        } else if v > 0.0 {
-            "inf".into()
-        } else {
-            "-inf".into()
-        };
-    }
-    // the exponent after rounding to 17 significant digits decides between the two styles
-    let sci = format!("{:.16e}", v);
-    let (mant, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    if (-4..17).contains(&exp) {
-        let decimals = (16 - exp) as usize;
-        strip_zeros(format!("{:.*}", decimals, v))
-    } else {
-        let m = strip_zeros(mant.to_string());
-        let sign = if exp < 0 { '-' } else { '+' };
-        format!("{m}e{sign}{:02}", exp.abs())
-    }
-}
-
-fn strip_zeros(s: String) -> String {
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
-
-fn write_path_line(out: &mut String, tag: &str, path: &[[f32; 2]]) {
-    out.push_str(tag);
-    for p in path {
-        let _ = write!(out, " {:08x}:{:08x}", p[0].to_bits(), p[1].to_bits());
-    }
-    out.push('\n');
-}
-
-/// Append the CASE and PATH lines of one cell-level case.
-pub fn write_cell_case(out: &mut String, case: &SuiteCase, o: &CaseOutcome, nav: &NavFn) {
-    let [x0, y0, x1, y1] = case.coords.map(fmt_g17);
-    let lpc = match o.last_path_cost {
-        Some(c) => format!("{:08x}", c.to_bits()),
-        None => "na".to_string(),
-    };
-    let _ = writeln!(
-        out,
-        "CASE {} {x0} {y0} {x1} {y1} navfn_start={},{} navfn_goal={},{} prop={} len={} last_path_cost={lpc} pot_fnv={:016x} path_fnv={:016x}",
-        case.number,
-        o.navfn_start.x,
-        o.navfn_start.y,
-        o.navfn_goal.x,
-        o.navfn_goal.y,
-        o.prop as u8,
-        o.len,
-        potential_fnv(nav.potential()),
-        path_fnv(nav.path()),
-    );
-    write_path_line(out, "PATH", nav.path());
-}
-
-/// Counters of one run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RunStats {
-    pub cases: usize,
-    /// Cases with a non-empty path.
-    pub found: usize,
-}
-
-/// Run every case of `file` and append the golden-format lines to `out`.
-pub fn run_file(
-    file: &SuiteFile,
-    opts: &SuiteOptions,
-    out: &mut String,
-) -> Result<RunStats, CaseError> {
-    let mut stats = RunStats::default();
-    match opts.mode {
-        SuiteMode::Planner => {
-            let mut planner = NavfnPlanner::new(
-                file.map.clone(),
-                file.width,
-                file.height,
-                opts.world,
-                PlannerParams { use_astar: opts.algo == Algo::Astar, ..PlannerParams::default() },
-            )?;
-            for case in &file.cases {
-                let [x0, y0, x1, y1] = case.coords;
-                let plan = planner.create_plan([x0, y0], [x1, y1]);
-                stats.cases += 1;
-                stats.found += (plan.status == PlanStatus::Ok) as usize;
-                crate::planner::write_planner_case(out, case, &plan, planner.nav());
-            }
-        }
-        mode => {
-            let mut runner = CaseRunner::new();
-            let algo = if mode == SuiteMode::Paper { Algo::Astar } else { opts.algo };
-            let mut obs = crate::core::NoObserver;
-            for case in &file.cases {
-                let o = runner.run_case(file, case, mode, algo, opts.costs, &mut obs)?;
-                stats.cases += 1;
-                stats.found += (o.len > 0) as usize;
-                write_cell_case(out, case, &o, runner.nav());
-            }
-        }
-    }
-    Ok(stats)
 }
 
 #[cfg(test)]

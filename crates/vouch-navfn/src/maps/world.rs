@@ -7,7 +7,9 @@ use crate::core::Cell;
 /// World frame of a costmap: origin of cell (0, 0) and cell size in metres.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct WorldParams {
+    /// World position of cell (0, 0)'s corner, metres.
     pub origin: [f64; 2],
+    /// Cell size, metres.
     pub resolution: f64,
 }
 
@@ -22,33 +24,23 @@ impl WorldParams {
     /// `Costmap2D::worldToMap`: `unsigned((w − origin) / res)`, invalid below the origin or at
     /// or beyond the size.
     pub fn costmap_world_to_map(&self, p: [f64; 2], nx: usize, ny: usize) -> Option<Cell> {
-        let axis = |w: f64, o: f64, n: usize| -> Option<usize> {
-            if w < o || w.is_nan() {
-                return None;
-            }
-            let m = ((w - o) / self.resolution).trunc();
-            if m < n as f64 {
-                Some(m as usize)
-            } else {
-                None
-            }
-        };
-        Some(Cell::new(axis(p[0], self.origin[0], nx)?, axis(p[1], self.origin[1], ny)?))
+        self.cell_of(p, nx, ny, f64::trunc)
     }
 
     /// `NavfnPlanner::worldToMap`: `int(round((w − origin) / res))` (half away from zero),
     /// invalid below the origin or when the rounded index reaches the size.
     pub fn planner_world_to_map(&self, p: [f64; 2], nx: usize, ny: usize) -> Option<Cell> {
+        self.cell_of(p, nx, ny, f64::round)
+    }
+
+    /// The cell of `p` with `index` turning the scaled offset into an index.
+    fn cell_of(&self, p: [f64; 2], nx: usize, ny: usize, index: fn(f64) -> f64) -> Option<Cell> {
         let axis = |w: f64, o: f64, n: usize| -> Option<usize> {
             if w < o || w.is_nan() {
                 return None;
             }
-            let m = ((w - o) / self.resolution).round();
-            if m < n as f64 {
-                Some(m as usize)
-            } else {
-                None
-            }
+            let m = index((w - o) / self.resolution);
+            (m < n as f64).then_some(m as usize)
         };
         Some(Cell::new(axis(p[0], self.origin[0], nx)?, axis(p[1], self.origin[1], ny)?))
     }
