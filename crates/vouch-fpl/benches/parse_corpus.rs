@@ -1,18 +1,33 @@
-//! Criterion benchmark: parse all 116 XML files of `shared/fpl/corpus` (106 flight plans with
-//! their includes expanded and names resolved, 10 procedure files that stop at the root check).
-//! Run: `cargo bench -p vouch-fpl --bench parse_corpus`. Skips when the corpus is absent.
+//! Criterion benchmark: parse all XML files of `../shared/fpl/corpus` (the flight plans with
+//! their includes expanded and names resolved, and the procedure files, which stop at the root
+//! check). Run: `cargo bench -p vouch-fpl --bench parse_corpus`. Skips when the corpus is absent.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
-fn corpus_parse(c: &mut Criterion) {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    let files = vouch_fpl::front::bench::xml_files(&dir);
-    if files.is_empty() {
-        eprintln!("skipping: no corpus at {}", dir.display());
-        return;
+/// All `.xml` files under `dir`, sorted.
+fn xml_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else { continue };
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "xml") {
+                out.push(p);
+            }
+        }
     }
+    out.sort();
+    out
+}
+
+fn corpus_parse(c: &mut Criterion) {
+    let Some(dir) = vouch_testkit::shared("fpl/corpus", "INDEX.tsv") else { return };
+    let files = xml_files(&dir);
     c.bench_function(&format!("parse all {} corpus files", files.len()), |b| {
         b.iter(|| {
             let mut ok = 0usize;

@@ -14,7 +14,7 @@ fn load(rel: &str) -> Option<FlightPlan> {
         eprintln!("skipping: {} not found", p.display());
         return None;
     }
-    Some(parse_file(&p).unwrap_or_else(|d| panic!("{rel}: {}", d.render(false))))
+    Some(parse_file(&p).unwrap_or_else(|d| panic!("{rel}: {}", d.listing())))
 }
 
 #[test]

@@ -108,7 +108,7 @@ fn undeclared_attributes_are_errors_only_in_validated_plans() {
     let validated = format!("<!DOCTYPE flight_plan SYSTEM \"flight_plan.dtd\">\n{text}");
     let d = parse_str("t.xml", &validated).expect_err("rejected with DOCTYPE");
     let e = d.first().unwrap();
-    assert_eq!(e.kind, vouch_fpl::front::ErrorKind::UnknownAttribute);
+    assert_eq!(e.kind, vouch_fpl::diag::ErrorKind::UnknownAttribute);
     // Lines: DOCTYPE, flight_plan, waypoints, waypoint, /waypoints, blocks, then the block.
     assert_eq!(e.line, Some(7));
 }

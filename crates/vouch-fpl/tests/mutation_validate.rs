@@ -99,7 +99,7 @@ fn conditions_asked(
     fp: &vouch_fpl::passes::fp::Fp,
     depth: usize,
 ) -> std::collections::HashSet<String> {
-    use vouch_fpl::evidence::explore::{enumerate_call, state_key};
+    use vouch_fpl::semantics::explore::{enumerate_call, state_key};
     use vouch_fpl::semantics::trace::Event;
     let mut interp = vouch_fpl::semantics::Interp::new(fp);
     let mut seen = std::collections::HashSet::new();

@@ -16,7 +16,21 @@ use syn::visit::Visit;
 
 /// Per crate, its top-level modules from the lowest layer to the highest. Modules in one inner
 /// list are in the same layer (they may import each other as long as no cycle appears).
-const LAYERS: &[(&str, &[&[&str]])] = &[];
+const LAYERS: &[(&str, &[&[&str]])] = &[(
+    "vouch-fpl",
+    &[
+        &["span", "ids"],
+        &["diag"],
+        &["expr"],
+        &["ast"],
+        &["front"],
+        &["passes"],
+        &["semantics", "lint"],
+        &["emit", "graph"],
+        &["evidence", "model_check"],
+        &["pipeline"],
+    ],
+)];
 
 type Module = Vec<String>;
 

@@ -12,15 +12,17 @@
 //!
 //! Nothing is lost: every element keeps all its attributes as written in [`Attrs`].
 
-mod span;
+pub mod outline;
 mod stage;
 
-pub use span::{line_col, FileId, SourceFile, SourceMap, Span};
 pub use stage::*;
 
 use serde::Serialize;
 
+use crate::diag::Diagnostic;
 use crate::expr::Expr;
+use crate::ids::{BlockId, WpId};
+use crate::span::{FileId, SourceMap, Span};
 
 /// An attribute value kept exactly as written (after upstream's only processing: backslash
 /// escapes; entities are *not* decoded) with the span of the value.
@@ -66,23 +68,6 @@ impl Attrs {
     /// Case-insensitive lookup (names are stored lower-case).
     pub fn get(&self, name: &str) -> Option<&RawAttr> {
         self.0.iter().find(|a| a.name.eq_ignore_ascii_case(name))
-    }
-}
-
-/// Index of a block in [`FlightPlan::blocks`]; equals upstream's block number.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-pub struct BlockId(pub usize);
-
-/// Index of a waypoint in [`FlightPlan::waypoints`] (0-based, user waypoints only).
-/// Upstream's `WP_` number is `index + 1` because upstream prepends the implicit `dummy`
-/// waypoint: use [`WpId::upstream_index`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-pub struct WpId(pub usize);
-
-impl WpId {
-    /// The number upstream prints (`WP_<name>`, stage arguments): dummy waypoint is 0.
-    pub fn upstream_index(self) -> usize {
-        self.0 + 1
     }
 }
 
@@ -151,7 +136,7 @@ pub struct FlightPlan {
     /// VFPG extension: `<forbidden_deroutes><forbidden_deroute from to [only_when]/>`.
     pub forbidden_deroutes: Vec<ForbiddenDeroute>,
     /// Non-fatal findings (duplicate attributes dropped, duplicate waypoint names, ...).
-    pub warnings: Vec<crate::front::Diagnostic>,
+    pub warnings: Vec<Diagnostic>,
 }
 
 impl FlightPlan {

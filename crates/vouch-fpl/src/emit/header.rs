@@ -27,7 +27,7 @@ struct WpRow {
     ltp_enu: Option<[f64; 3]>,
 }
 
-fn parse_alt(text: &str, what: &str, span: crate::ast::Span) -> Result<f64, CompileError> {
+fn parse_alt(text: &str, what: &str, span: crate::span::Span) -> Result<f64, CompileError> {
     text.trim()
         .parse::<f64>()
         .map_err(|_| CompileError::new(format!("{what}: altitude '{text}' is not a number"), span))

@@ -189,34 +189,8 @@ pub fn unwrap_instrumented(text: &str, header_text: Option<&str>) -> String {
     }
 }
 
-/// Why a plan did not compile: rejected by the front end, or by the back end.
-#[derive(Debug)]
-pub enum CompileFailure {
-    Front(crate::front::Diagnostics),
-    Back(crate::front::Diagnostics),
-}
-
-impl CompileFailure {
-    pub fn diagnostics(&self) -> &crate::front::Diagnostics {
-        match self {
-            CompileFailure::Front(d) | CompileFailure::Back(d) => d,
-        }
-    }
-}
-
 /// Passes + emission for an already parsed plan.
 pub fn compile_plan(plan: &FlightPlan, opts: &EmitOptions) -> Result<String, CompileError> {
     let fps = crate::passes::compile(plan)?;
     emit_header(plan, &fps, opts)
-}
-
-/// Parse, the three passes, emission: `vouch fpl compile` without the file writing.
-/// `opts.source_path` is filled with `path` when empty.
-pub fn compile_file(path: &std::path::Path, opts: &EmitOptions) -> Result<String, CompileFailure> {
-    let plan = crate::front::parse_file(path).map_err(CompileFailure::Front)?;
-    let mut o = opts.clone();
-    if o.source_path.is_empty() {
-        o.source_path = path.display().to_string();
-    }
-    compile_plan(&plan, &o).map_err(|e| CompileFailure::Back(e.to_diagnostics(&plan)))
 }

@@ -4,10 +4,10 @@
 //! * **Exhaustive part.** Breadth first over calls: for every distinct interpreter state reached
 //!   after `d < depth` calls, the C driver replays the answer prefix that reached it and forks
 //!   at every question of call `d + 1`; the interpreter enumerates the same call
-//!   ([`super::explore::enumerate_call`]). Both path sets must be equal (answers consumed,
+//!   ([`crate::semantics::explore::enumerate_call`]). Both path sets must be equal (answers consumed,
 //!   events, and the state after the call), which checks both directions: nothing the C does
 //!   that the semantics does not, and the reverse. States are merged by
-//!   [`super::explore::StateKey`], so equal subtrees are explored once; this assumes the C has
+//!   [`crate::semantics::explore::StateKey`], so equal subtrees are explored once; this assumes the C has
 //!   no hidden state beyond what the interpreter tracks (the random runs below do not merge).
 //! * **Random part.** Long seeded runs compared trace against trace.
 //! * **Bound.** Every compared call must stay within the static bound of [`super::wcet`].
@@ -20,11 +20,11 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use serde::Serialize;
 
 use super::cdriver::{CPath, Driver};
-use super::explore::{enumerate_call, state_key, StateKey};
 use super::wcet::{self, PlanBound};
 use crate::ast::FlightPlan;
 use crate::emit::{compile_plan, EmitOptions, Flavor};
 use crate::passes::fp::Fp;
+use crate::semantics::explore::{enumerate_call, state_key, StateKey};
 use crate::semantics::oracle::{seeded_sequence, Scripted};
 use crate::semantics::{Interp, State};
 

@@ -11,11 +11,12 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::ast::{Attrs, IncludeInfo, NameValue, RawAttr, Span, Text};
+use crate::ast::{Attrs, IncludeInfo, NameValue, RawAttr, Text};
+use crate::diag::ErrorKind;
 use crate::expr::{parse, print_upstream, subst_procedure, ProcEnv};
+use crate::span::Span;
 
-use super::build::Ctx;
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::tree::{read_document, Elem};
 
 /// The plan's lists after include expansion (main plan's elements first).

@@ -3,9 +3,11 @@
 //! deroutes.
 
 use crate::ast::*;
+use crate::diag::ErrorKind;
+use crate::ids::{BlockId, WpId};
+use crate::span::{SourceMap, Span};
 
-use super::build::{index_names, Ctx};
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::include::Merged;
 use super::stages::{build_exception, build_stages};
 use super::tree::Elem;
@@ -378,4 +380,57 @@ fn forbidden(ctx: &mut Ctx, f: &Elem) -> Option<ForbiddenDeroute> {
     let to = ctx.req_text(f, "to").and_then(|t| ctx.block_ref(t));
     let only_when = ctx.expr_attr(f, "only_when");
     Some(ForbiddenDeroute { from: from?, to: to?, only_when, attrs: f.attrs.clone(), span: f.span })
+}
+
+/// Keeps the first of each name in a table and reports later duplicates.
+pub fn index_names(ctx: &mut Ctx, m: &Merged) {
+    for (i, b) in m.blocks.iter().enumerate() {
+        let Some(a) = b.attr("name") else { continue };
+        if ctx.blocks.contains_key(&a.value) {
+            ctx.error(
+                ErrorKind::DuplicateBlock,
+                format!("duplicate block name '{}'", a.value),
+                a.value_span,
+            );
+        } else {
+            ctx.blocks.insert(a.value.clone(), BlockId(i));
+        }
+    }
+    let home = m.blocks.len();
+    if ctx.blocks.contains_key("HOME") {
+        if let Some(a) = m.blocks.iter().filter_map(|b| b.attr("name")).find(|a| a.value == "HOME")
+        {
+            ctx.error_help(
+                ErrorKind::DuplicateBlock,
+                "duplicate block name 'HOME'",
+                a.value_span,
+                "the implicit safety block appended after all blocks is named HOME",
+            );
+        }
+    } else {
+        ctx.blocks.insert("HOME".to_string(), BlockId(home));
+    }
+    for (i, w) in m.waypoints.iter().enumerate() {
+        let Some(a) = w.attr("name") else { continue };
+        if ctx.waypoints.contains_key(&a.value) {
+            if w.relative.is_some() {
+                ctx.warn(
+                    format!(
+                        "relative waypoint '{}' created twice (references use the first)",
+                        a.value
+                    ),
+                    a.value_span,
+                );
+            } else {
+                ctx.error_help(
+                    ErrorKind::DuplicateWaypoint,
+                    format!("duplicate waypoint name '{}'", a.value),
+                    a.value_span,
+                    "upstream would silently use the first one; procedures' waypoints are not prefixed",
+                );
+            }
+        } else {
+            ctx.waypoints.insert(a.value.clone(), WpId(i));
+        }
+    }
 }

@@ -2,9 +2,9 @@
 //! upstream's generator does (`<GO>` passes the DTD but is an unknown stage).
 
 use crate::ast::*;
+use crate::diag::ErrorKind;
 
-use super::build::Ctx;
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::schema::STAGE_TAGS;
 use super::tree::Elem;
 use super::values::bool_text;

@@ -2,9 +2,10 @@
 //! text: tolerant pre-pass, then roxmltree, then attribute values taken from the *original*
 //! text (not entity-decoded, backslash escapes applied), as upstream's xml-light does.
 
-use crate::ast::{Attrs, FileId, RawAttr, Span};
+use crate::ast::{Attrs, RawAttr};
+use crate::diag::{Diagnostic, ErrorKind};
+use crate::span::{FileId, Span};
 
-use super::diag::{Diagnostic, ErrorKind};
 use super::tolerant::{sanitize, FixKind};
 
 /// Maps byte offsets to 1-based line/column quickly (binary search over line starts).

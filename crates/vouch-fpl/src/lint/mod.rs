@@ -10,7 +10,8 @@ pub(crate) mod rules;
 
 use serde::Serialize;
 
-use crate::ast::{FlightPlan, Span};
+use crate::ast::FlightPlan;
+use crate::span::Span;
 
 /// Every warning code with its one-line meaning (the documentation table is generated from
 /// the same words).

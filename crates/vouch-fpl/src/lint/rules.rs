@@ -3,8 +3,9 @@
 use std::collections::{BTreeSet, HashSet, VecDeque};
 
 use super::{Note, Warning};
-use crate::ast::{FlightPlan, ForbiddenDeroute, Span, Stage, StageKind};
+use crate::ast::{FlightPlan, ForbiddenDeroute, Resume, Stage, StageKind};
 use crate::expr::{Expr, UnOp};
+use crate::span::Span;
 
 fn walk<'a>(stages: &'a [Stage], f: &mut impl FnMut(&'a Stage)) {
     for s in stages {
@@ -191,10 +192,6 @@ pub fn forbidden_steps(plan: &FlightPlan, out: &mut Vec<Warning>) {
     }
 }
 
-fn resets(reset: &Option<crate::ast::Text>) -> bool {
-    reset.as_ref().map(|t| matches!(t.value.trim(), "1" | "TRUE" | "true")).unwrap_or(false)
-}
-
 /// Live stages of a list: those not after a stage that never hands over to the next one.
 pub(crate) fn live_stages<'a>(stages: &'a [Stage], f: &mut impl FnMut(&'a Stage)) {
     for s in stages {
@@ -250,7 +247,7 @@ pub fn return_after_deroute(plan: &FlightPlan, out: &mut Vec<Warning>) {
         }
         live_stages(&block.stages, &mut |s| {
             if let StageKind::Return(r) = &s.kind {
-                if !resets(&r.reset_stage) {
+                if r.resume() == Resume::SavedStage {
                     let from: Vec<String> = into[t]
                         .iter()
                         .map(|(b, _)| format!("'{}'", plan.blocks[*b].name.value))

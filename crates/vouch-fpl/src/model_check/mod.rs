@@ -2,7 +2,7 @@
 //!
 //! The abstract state is the interpreter's: (block, stage, last block, last stage), plus the
 //! `for` counters, with every condition *free* (both answers explored at every question; `for`
-//! bounds from [`crate::evidence::explore::VALUE_CHOICES`]). One transition is one `auto_nav`
+//! bounds from [`crate::semantics::explore::VALUE_CHOICES`]). One transition is one `auto_nav`
 //! call. The graph is built with the same call enumeration the validator uses, on the reference
 //! semantics itself, so the model cannot drift from the interpreter.
 //!
@@ -19,8 +19,10 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
-use crate::evidence::explore::{enumerate_call, state_key, StateKey, FORCED_SUFFIX, MARKER_PREFIX};
 use crate::passes::fp::Fp;
+use crate::semantics::explore::{
+    enumerate_call, state_key, CallPath, StateKey, FORCED_SUFFIX, MARKER_PREFIX,
+};
 use crate::semantics::trace::Observation;
 use crate::semantics::Interp;
 
@@ -62,7 +64,7 @@ fn marked(fp: &Fp, operator: bool) -> Fp {
             cond: format!("{MARKER_PREFIX}{OPERATOR}{t}"),
             target: t,
             exec: None,
-            span: crate::ast::Span::default(),
+            span: crate::span::Span::default(),
         });
         let mut ex: Vec<_> = jumps.collect();
         ex.extend(m.exceptions);
@@ -169,7 +171,7 @@ trait ForcedPositions {
     fn events_markers_forced(&self) -> Vec<usize>;
 }
 
-impl ForcedPositions for crate::evidence::explore::CallPath<'_> {
+impl ForcedPositions for CallPath<'_> {
     /// Positions in `answers` of the questions the real plan does not ask (forced forbidden
     /// markers, operator jumps): the questions are the condition and non-literal value events,
     /// in order.

@@ -4,10 +4,11 @@
 //! (missing altitude for `alt` vmode, glide without route, ...).
 
 use crate::ast::{
-    self, BlockRef, ExprAttr, FlightPlan, HMode, NavCommon, Pitch, Span, StageKind, Text, VMode,
+    self, BlockRef, ExprAttr, FlightPlan, HMode, NavCommon, Pitch, StageKind, Text, VMode,
     Vertical, WpRef,
 };
 use crate::expr::print_upstream;
+use crate::span::Span;
 
 use super::fp::*;
 use super::CompileError;
@@ -131,11 +132,7 @@ fn lower_stage(s: &ast::Stage) -> Result<FpStage, CompileError> {
         },
         StageKind::Deroute(d) => FpStage::Deroute { target: blk(&d.block), span },
         StageKind::Return(r) => FpStage::Return {
-            reset: r
-                .reset_stage
-                .as_ref()
-                .map(|t| t.value.clone())
-                .unwrap_or_else(|| "0".to_string()),
+            reset: Reset { text: r.reset_text().to_string(), resume: r.resume() },
             span,
         },
         kind => FpStage::Nav(Box::new(lower_nav(kind, span)?)),
@@ -236,7 +233,7 @@ fn until(c: &NavCommon) -> Option<Cond> {
     c.until.as_ref().map(p)
 }
 
-fn nav(kind: &'static str, c: &NavCommon, span: Span) -> NavStage {
+fn nav(kind: NavKind, c: &NavCommon, span: Span) -> NavStage {
     NavStage {
         kind,
         init: None,
@@ -255,7 +252,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         StageKind::Go(g) => {
             let pf = prefix(&g.common);
             let t = &pf.t;
-            let mut n = nav("go", &g.common, span);
+            let mut n = nav(NavKind::Go, &g.common, span);
             let w = match &g.wp {
                 Some(w) => wp(w),
                 None => {
@@ -303,7 +300,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Stay(s) => {
             let pf = prefix(&s.common);
-            let mut n = nav("stay", &s.common, span);
+            let mut n = nav(NavKind::Stay, &s.common, span);
             let w = wp(&s.wp);
             n.lines.push(max_speed(&pf.t, &s.common));
             // Quirk 18: a route stay has no `from`; upstream prints an empty first argument.
@@ -319,7 +316,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Circle(c) => {
             let pf = prefix(&c.common);
-            let mut n = nav("circle", &c.common, span);
+            let mut n = nav(NavKind::Circle, &c.common, span);
             let w = wp(&c.wp);
             n.lines.extend(vmode_lines(&pf.t, &c.vertical, Some(&w), None, false, span)?);
             n.lines.push(max_speed(&pf.t, &c.common));
@@ -333,7 +330,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Heading(h) => {
             let pf = prefix(&h.common);
-            let mut n = nav("heading", &h.common, span);
+            let mut n = nav(NavKind::Heading, &h.common, span);
             n.lines.push(max_speed(&pf.t, &h.common));
             n.lines.push(Code::stmt(format!(
                 "{}Heading(RadOfDeg({}){})",
@@ -346,7 +343,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Attitude(a) => {
             let pf = prefix(&a.common);
-            let mut n = nav("attitude", &a.common, span);
+            let mut n = nav(NavKind::Attitude, &a.common, span);
             n.lines.push(Code::stmt(format!(
                 "{}Attitude(RadOfDeg({}){})",
                 pf.t,
@@ -358,7 +355,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Guided(g) => {
             let pf = prefix(&g.common);
-            let mut n = nav("guided", &g.common, span);
+            let mut n = nav(NavKind::Guided, &g.common, span);
             n.lines.push(max_speed(&pf.t, &g.common));
             let flags = g.flags.as_ref().map(|f| f.value.as_str()).unwrap_or("0");
             n.lines.push(Code::stmt(format!(
@@ -369,7 +366,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Follow(f) => {
             let pf = prefix(&f.common);
-            let mut n = nav("follow", &f.common, span);
+            let mut n = nav(NavKind::Follow, &f.common, span);
             n.until = None;
             n.lines.push(Code::stmt(format!(
                 "{}Follow({}, {}, {}{})",
@@ -379,7 +376,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Xyz(x) => {
             let pf = prefix(&x.common);
-            let mut n = nav("xyz", &x.common, span);
+            let mut n = nav(NavKind::Xyz, &x.common, span);
             n.until = None;
             let r = x.radius.as_ref().map(p).unwrap_or_else(|| "100".to_string());
             n.lines.push(Code { text: format!("Goto3D({r})"), semi: false });
@@ -387,7 +384,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             n
         }
         StageKind::Home => NavStage {
-            kind: "home",
+            kind: NavKind::Home,
             init: None,
             pre_call: None,
             before: Vec::new(),
@@ -399,7 +396,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         },
         StageKind::Eight(e) => {
             let pf = prefix(&e.common);
-            let mut n = nav("eight", &e.common, span);
+            let mut n = nav(NavKind::Eight, &e.common, span);
             let c = wp(&e.center);
             n.init = Some(vec![Code::stmt("nav_eight_init()")]);
             n.lines.push(max_speed("Nav", &e.common));
@@ -413,7 +410,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::Oval(o) => {
             let pf = prefix(&o.common);
-            let mut n = nav("oval", &o.common, span);
+            let mut n = nav(NavKind::Oval, &o.common, span);
             let p1 = wp(&o.p1);
             n.init = Some(vec![Code::stmt("nav_oval_init()")]);
             n.lines.push(max_speed("Nav", &o.common));
@@ -423,7 +420,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
         }
         StageKind::SurveyRectangle(s) => {
             let pf = prefix(&s.common);
-            let mut n = nav("survey_rectangle", &s.common, span);
+            let mut n = nav(NavKind::SurveyRectangle, &s.common, span);
             let (w1, w2) = (wp(&s.wp1), wp(&s.wp2));
             let o = match s.orientation.as_ref().map(|o| o.value) {
                 Some(ast::Orientation::WE) => "WE",

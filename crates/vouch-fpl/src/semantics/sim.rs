@@ -4,10 +4,10 @@
 
 use serde::Serialize;
 
+use super::oracle::Oracle;
+use super::trace::{Event, Run};
+use super::{Interp, StepError};
 use crate::passes::fp::Fp;
-use crate::semantics::oracle::Oracle;
-use crate::semantics::trace::{Event, Run};
-use crate::semantics::{Interp, StepError};
 
 /// Runs `steps` calls of `auto_nav` from the initial state.
 pub fn simulate(fp: &Fp, oracle: &mut dyn Oracle, steps: usize) -> Result<Run, StepError> {

@@ -6,14 +6,14 @@
 //! integer values branch on [`VALUE_CHOICES`] (a small sample: the value domain is unbounded).
 //!
 //! Answers are encoded as the numbers of the shared oracle convention
-//! ([`crate::semantics::oracle`]): a condition is `0`/`1`, a value `v` is `2 * v`, so the same
+//! ([`super::oracle`]): a condition is `0`/`1`, a value `v` is `2 * v`, so the same
 //! answer list drives the C stub and the interpreter.
 //!
 //! The validator and the model checker both build on this, so they explore the same tree.
 
-use crate::semantics::oracle::{literal_value, Oracle};
-use crate::semantics::trace::{Event, Observation};
-use crate::semantics::{Interp, State, StepError};
+use super::oracle::{literal_value, Oracle};
+use super::trace::{Event, Observation};
+use super::{Interp, Item, State, StepError};
 
 /// Values tried for a non-literal integer (a `for` bound).
 pub const VALUE_CHOICES: [i64; 3] = [0, 1, 3];
@@ -145,11 +145,7 @@ pub struct StateKey {
     pub counters: Vec<((usize, usize), (i8, i8))>,
 }
 
-fn numbers<'p>(
-    interp: &mut Interp<'p>,
-    block: usize,
-    stack: &[crate::semantics::Item<'p>],
-) -> Vec<usize> {
+fn numbers<'p>(interp: &mut Interp<'p>, block: usize, stack: &[Item<'p>]) -> Vec<usize> {
     stack
         .iter()
         .map(|item| {
