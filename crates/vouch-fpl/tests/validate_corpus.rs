@@ -22,7 +22,7 @@ fn every_corpus_plan_validates_at_depth_8() {
             let name = p.strip_prefix(&dir).unwrap_or(p).display().to_string();
             let r = vouch_fpl::front::parse_file(p)
                 .map_err(|d| d.listing())
-                .and_then(|plan| validate(&plan, &opts));
+                .and_then(|plan| validate(&plan, &opts).map_err(|e| e.to_string()));
             (name, r)
         })
         .collect();

@@ -14,6 +14,9 @@
 
 pub mod check;
 pub mod property;
+mod report;
+
+pub use report::{run, CheckError, CheckReport, Spec};
 
 use std::collections::HashMap;
 
@@ -24,7 +27,7 @@ use crate::semantics::explore::{
     enumerate_call, state_key, CallPath, StateKey, FORCED_SUFFIX, MARKER_PREFIX,
 };
 use crate::semantics::trace::Observation;
-use crate::semantics::Interp;
+use crate::semantics::{Interp, StepError};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Edge {
@@ -94,7 +97,7 @@ fn marker_index(text: &str) -> Option<usize> {
 
 /// Builds the reachable state graph, at most `max_states` states; `operator` adds
 /// ground-station jumps to any block at any call.
-pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String> {
+pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, StepError> {
     let m = marked(fp, operator);
     let mut interp = Interp::new(&m);
     let init = interp.state.clone();
@@ -113,8 +116,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
         let from = states[next].clone();
         interp.state = from.clone();
         graph.states.push(interp.observe());
-        let tree = enumerate_call(&mut interp, &from, 100_000)
-            .map_err(|e| format!("interpreter: {e:?}"))?;
+        let tree = enumerate_call(&mut interp, &from, 100_000)?;
         let mut incomplete = tree.cut;
         if tree.cut {
             graph.cut = Some("more than 100000 paths in one call".into());

@@ -44,10 +44,20 @@ pub enum Item<'p> {
     NavMain(&'p FpStage),
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Why the interpreter stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error, miette::Diagnostic)]
 pub enum StepError {
-    /// The in-call loop exceeded its bound (a bug: see the module documentation).
-    Diverged { block: usize },
+    /// The in-call loop exceeded its bound (a defect of the interpreter: see the module
+    /// documentation); the plan itself is not at fault.
+    #[error("the reference interpreter exceeded its per-call bound in block {block}")]
+    #[diagnostic(
+        code(fpl::E040),
+        help("one call visits each stage at most twice; exceeding 2 × stages + 2 iterations is a defect of the interpreter")
+    )]
+    Diverged {
+        /// The block the call ran in.
+        block: usize,
+    },
 }
 
 #[derive(Debug, Clone)]
