@@ -1,0 +1,111 @@
+//! `vouch`: one binary, three families of doer/checker pairs.
+//!
+//! This library is the whole command line (the binary only calls [`run`]); it is a library so
+//! that tests, completions and man pages see the same clap command tree. Each family's
+//! subcommands live in their own module (`fpl`, `mav`, `navfn`) and call into the family's
+//! library crate.
+//!
+//! The command contract (exit codes, pipe-safe output, diagnostics printed once) is in
+//! `contract.rs`.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+pub mod contract;
+mod diagnostics;
+mod fpl;
+mod mav;
+mod navfn;
+mod tooling;
+
+use contract::{CmdResult, Ctx, Exit, Failure, MessageFormat, Out, Severity, Verbosity};
+
+/// The whole command line.
+#[derive(Parser)]
+#[command(
+    name = "vouch",
+    version,
+    about = "Pair every doer with a checker: flight plans, MAVLink, NavFn"
+)]
+pub struct Cli {
+    /// How errors and warnings are printed on stderr: boxes with the source excerpt (human),
+    /// `file:line:col: error[CODE]: message` lines (short), or JSON Lines (json)
+    #[arg(long, global = true, value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
+    /// Print errors only (no warnings, summaries or progress)
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Print more detail (progress, per-item notes)
+    #[arg(short, long, global = true)]
+    verbose: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Paparazzi flight plans: parse, compile to flight_plan.h, simulate, validate
+    #[command(subcommand)]
+    Fpl(fpl::FplCmd),
+    /// MAVLink: protocol checking of recordings and a guarding proxy
+    #[command(subcommand)]
+    Mav(mav::MavCmd),
+    /// ROS 2 nav2 NavFn planner, bit-exact, with checked plans and a verification campaign
+    #[command(subcommand)]
+    Navfn(navfn::NavfnCmd),
+    /// Print a shell completion script on standard output
+    #[command(after_help = "Example:\n  vouch completions bash > /etc/bash_completion.d/vouch")]
+    Completions(tooling::CompletionsArgs),
+    /// Write man pages (one per command) into a directory, or the top page to standard output
+    #[command(after_help = "Example:\n  vouch man -o /usr/local/share/man/man1")]
+    Man(tooling::ManArgs),
+}
+
+/// Parses the command line, runs the command and returns its exit code.
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help/version on stdout with exit 0; real usage errors exit 2.
+            let _ = e.print();
+            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+        }
+    };
+    let verbosity = match (cli.quiet, cli.verbose) {
+        (true, _) => Verbosity::Quiet,
+        (_, true) => Verbosity::Verbose,
+        _ => Verbosity::Normal,
+    };
+    let mut ctx = Ctx { out: Out::stdout(), format: cli.message_format, verbosity };
+    let result = match cli.command {
+        Command::Fpl(cmd) => fpl::run(cmd, &mut ctx),
+        Command::Mav(cmd) => mav::run(cmd, &mut ctx),
+        Command::Navfn(cmd) => navfn::run(cmd, &mut ctx),
+        Command::Completions(a) => tooling::completions(a, &mut ctx),
+        Command::Man(a) => tooling::man(a, &mut ctx),
+    };
+    finish(result, &mut ctx).into()
+}
+
+/// Flushes the main output, prints a failure once and chooses the exit code.
+fn finish(result: CmdResult, ctx: &mut Ctx) -> Exit {
+    let result = result.and_then(|exit| ctx.out.flush().map(|()| exit));
+    match result {
+        Ok(exit) => exit,
+        Err(failure) => {
+            if let Failure::Rejected(report) | Failure::Usage(report) = &failure {
+                diagnostics::print(ctx.format, report.as_ref(), Severity::Error);
+            }
+            failure.exit()
+        }
+    }
+}
+
+/// Adapts a command that still prints for itself and returns a bare exit code.
+pub(crate) fn legacy(code: ExitCode) -> CmdResult {
+    Ok([Exit::Ok, Exit::Rejected, Exit::Usage, Exit::Findings]
+        .into_iter()
+        .find(|e| ExitCode::from(*e) == code)
+        .unwrap_or(Exit::Usage))
+}
