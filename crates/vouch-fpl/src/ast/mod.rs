@@ -1,4 +1,5 @@
-//! The typed, resolved flight plan produced by [`crate::front`].
+//! The typed, resolved flight plan produced by the front end. It is plain data with spans: no
+//! XML type appears here.
 //!
 //! What "resolved" means here (see `docs/fpl-ast-contract.md`):
 //! * includes are expanded exactly as upstream's `fp_proc` does (procedure blocks renamed
@@ -8,7 +9,7 @@
 //! * the implicit `HOME` block (one `home` stage) is appended as the last block;
 //! * every block reference is a [`BlockRef`] carrying the block's index, every waypoint
 //!   reference a [`WpRef`] carrying the waypoint's index, and `IndexOfBlock(x)` in expressions is
-//!   [`crate::expr::ExprKind::BlockIndex`].
+//!   [`crate::expr::Expr::BlockIndex`].
 //!
 //! Nothing is lost: every element keeps all its attributes as written in [`Attrs`].
 

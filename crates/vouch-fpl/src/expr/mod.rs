@@ -4,7 +4,7 @@
 //! * [`parse`] turns a text into an [`Expr`] or an [`ExprError`] with a byte offset;
 //! * [`print_upstream`] prints it as upstream's generator does (fully parenthesised binary
 //!   operations, `%f` floats, `$v` as `_var_v`, resolved `IndexOfBlock` as the block number);
-//! * [`subst`] is upstream's procedure parameter substitution.
+//! * [`subst_procedure`] is upstream's procedure parameter substitution.
 
 mod error;
 mod lexer;

@@ -26,7 +26,7 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
     let doc = match read_document(main, &text) {
         Ok(d) => d,
         Err(d) => {
-            ctx.push(d);
+            ctx.push(*d);
             return None;
         }
     };

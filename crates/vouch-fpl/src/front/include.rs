@@ -119,7 +119,7 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
     let doc = match read_document(file, &ctx.sources.files[file.0 as usize].text) {
         Ok(d) => d,
         Err(d) => {
-            ctx.push(d);
+            ctx.push(*d);
             return;
         }
     };

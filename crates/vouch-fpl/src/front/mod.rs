@@ -3,14 +3,14 @@
 //!
 //! Pipeline (each step a module):
 //! 1. [`tolerant`]: length-preserving pre-pass that neutralises what xml-light accepts and
-//!    strict XML rejects; then [`tree`]: roxmltree parse into an owned element tree whose
+//!    strict XML rejects; then `tree`: roxmltree parse into an owned element tree whose
 //!    attribute values are read from the original text.
-//! 2. [`include`]: `<includes>` expansion exactly like upstream's `fp_proc` (renaming,
+//! 2. `include`: `<includes>` expansion exactly like upstream's `fp_proc` (renaming,
 //!    parameter substitution, re-printing of procedure attributes).
-//! 3. [`expand`]: `<path>` expansion and relative waypoints (`wp_qdr`/`wp_dist`), implicit
-//!    `HOME` block.
-//! 4. [`build`] / [`stages`]: checks against the DTD (unknown elements/attributes, required
-//!    attributes), typed values, expressions parsed, names resolved.
+//! 3. `expand`: `<path>` expansion and relative waypoints (`wp_qdr`/`wp_dist`).
+//! 4. `build` (the driver, with the schema checks), `plan` and `stages` (typed building over
+//!    the shared `ctx`): checks against the DTD (unknown elements/attributes, required
+//!    attributes), typed values, expressions parsed, names resolved, implicit `HOME` block.
 
 mod build;
 mod ctx;
