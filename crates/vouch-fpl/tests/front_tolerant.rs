@@ -8,13 +8,7 @@ use vouch_fpl::front::tolerant::sanitize;
 use vouch_fpl::front::{parse_file, parse_str};
 
 fn corpus() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
+    vouch_testkit::shared("fpl/corpus", "INDEX.tsv")
 }
 
 const HEAD: &str = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="250" ground_alt="185" security_height="25" max_dist_from_home="1000">"#;
