@@ -1,4 +1,4 @@
-//! Issue 3's "every generated header compiles": the *drop-in* header (not the instrumented test
+//! Every generated header compiles: the *drop-in* header (not the instrumented test
 //! flavour) of every corpus plan upstream compiles, and of the demo, is built with
 //! `cc -std=c99 -Wall -Wextra -Werror -O2` against the project's stub runtime (`tests/stub/`),
 //! the no-op navigation API and the module environment the plans' own C texts name

@@ -1,7 +1,7 @@
 //! The typed, resolved flight plan produced by the front end. It is plain data with spans: no
 //! XML type appears here.
 //!
-//! What "resolved" means here (see `docs/fpl-ast-contract.md`):
+//! What "resolved" means here (see also the fpl section of `ARCHITECTURE.md`):
 //! * includes are expanded exactly as upstream's `fp_proc` does (procedure blocks renamed
 //!   `Name.block`, parameters substituted, raw texts of procedure stages re-printed);
 //! * `<path>` stages are expanded into `go` stages and relative waypoints (`wp_qdr`/`wp_dist`)
