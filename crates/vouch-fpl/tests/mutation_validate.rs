@@ -117,7 +117,7 @@ fn conditions_asked(
                         asked.insert(text.clone());
                     }
                 }
-                if seen.insert(state_key(&mut interp, &p.state)) {
+                if seen.insert(state_key(&interp, &p.state)) {
                     next.push(p.state);
                 }
             }

@@ -102,7 +102,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, StepEr
     let mut interp = Interp::new(&m);
     let init = interp.state.clone();
     let mut index: HashMap<StateKey, usize> = HashMap::new();
-    index.insert(state_key(&mut interp, &init), 0);
+    index.insert(state_key(&interp, &init), 0);
     let mut states = vec![init];
     let mut graph = Graph {
         block_names: fp.blocks.iter().map(|b| b.name.clone()).collect(),
@@ -128,7 +128,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, StepEr
             if op.is_some() && refused {
                 continue;
             }
-            let k = state_key(&mut interp, &p.state);
+            let k = state_key(&interp, &p.state);
             let to = match index.get(&k) {
                 Some(&i) => i,
                 None => {

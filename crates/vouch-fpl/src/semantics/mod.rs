@@ -182,7 +182,11 @@ impl<'p> Interp<'p> {
 
     /// The C-visible state: `nav_block`, `nav_stage`, `last_block`, `last_stage`.
     pub fn observe(&self) -> Observation {
-        let s = &self.state;
+        self.observe_state(&self.state)
+    }
+
+    /// The C-visible part of any state of this plan.
+    pub fn observe_state(&self, s: &State<'p>) -> Observation {
         Observation {
             block: s.block,
             stage: self.stage_number(s.block, &s.remaining),
