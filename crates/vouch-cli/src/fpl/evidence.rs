@@ -97,18 +97,15 @@ pub fn validate(a: ValidateArgs, ctx: &mut Ctx) -> CmdResult {
         max_paths: a.max_paths,
         ..validate::Options::default()
     };
-    let report = validate::validate(&plan, &opts).map_err(|e| match e {
-        ValidateError::Interpreter(e) => Failure::rejected(e),
-        e => Failure::Usage(miette::Report::new(e)),
+    let report = validate::validate(&plan, &opts).map_err(|e| {
+        let interpreter = matches!(e, ValidateError::Interpreter(_));
+        not_run(e, interpreter)
     })?;
-    if a.json {
-        ctx.out.json(&report)?;
-    } else {
-        ctx.out.write_all(report.render(&a.plan.name()).as_bytes())?;
-        if a.bounds {
-            ctx.out.write_all(report.bound.render().as_bytes())?;
-        }
+    let mut text = report.render(&a.plan.name());
+    if a.bounds {
+        text.push_str(&report.bound.render());
     }
+    print_report(ctx, a.json, &report, &text)?;
     Ok(if report.passed() { Exit::Ok } else { Exit::Findings })
 }
 
@@ -143,15 +140,11 @@ pub fn check(a: CheckArgs, ctx: &mut Ctx) -> CmdResult {
         max_states: a.max_states,
         operator: a.operator,
     };
-    let report = model_check::run(&fp, &spec).map_err(|e| match e {
-        CheckError::Interpreter(e) => Failure::rejected(e),
-        e => Failure::Usage(miette::Report::new(e)),
+    let report = model_check::run(&fp, &spec).map_err(|e| {
+        let interpreter = matches!(e, CheckError::Interpreter(_));
+        not_run(e, interpreter)
     })?;
-    if a.json {
-        ctx.out.json(&report)?;
-    } else {
-        ctx.out.write_all(report.render(&a.plan.name()).as_bytes())?;
-    }
+    print_report(ctx, a.json, &report, &report.render(&a.plan.name()))?;
     Ok(if report.holds() { Exit::Ok } else { Exit::Findings })
 }
 
@@ -164,4 +157,28 @@ pub fn graph(a: GraphArgs, ctx: &mut Ctx) -> CmdResult {
         None => ctx.out.write_all(svg.as_bytes())?,
     }
     Ok(Exit::Ok)
+}
+
+/// Why an evidence run did not run: the interpreter's bound rejects the plan; anything else (no
+/// C compiler, a property that does not parse) is a usage or I/O error.
+fn not_run(e: impl miette::Diagnostic + Send + Sync + 'static, interpreter: bool) -> Failure {
+    if interpreter {
+        Failure::rejected(e)
+    } else {
+        Failure::Usage(miette::Report::new(e))
+    }
+}
+
+/// The report as one JSON document, or its text.
+fn print_report(
+    ctx: &mut Ctx,
+    json: bool,
+    report: &impl serde::Serialize,
+    text: &str,
+) -> Result<(), Failure> {
+    if json {
+        ctx.out.json(report)
+    } else {
+        ctx.out.write_all(text.as_bytes())
+    }
 }

@@ -12,6 +12,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 pub use kind::ErrorKind;
+pub(crate) use report::underline;
 
 use crate::span::{SourceFile, SourceMap, Span};
 

@@ -6,7 +6,7 @@ use std::fmt;
 use miette::{LabeledSpan, MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanContents};
 
 use super::{Diagnostic, Diagnostics, Severity};
-use crate::span::SourceFile;
+use crate::span::{SourceFile, Span};
 
 impl SourceCode for SourceFile {
     fn read_span<'a>(
@@ -25,6 +25,15 @@ impl SourceCode for SourceFile {
             inner.line_count(),
         )))
     }
+}
+
+/// The one label of a located diagnostic: an underline of `span`, when its file is known.
+pub(crate) fn underline(
+    source: Option<&SourceFile>,
+    span: Span,
+) -> Option<Box<dyn Iterator<Item = LabeledSpan>>> {
+    source?;
+    Some(Box::new(std::iter::once(LabeledSpan::new_with_span(None, span.range()))))
 }
 
 impl fmt::Display for Diagnostic {
@@ -56,9 +65,7 @@ impl miette::Diagnostic for Diagnostic {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        self.source.as_ref()?;
-        let span = self.span?;
-        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(None, span.range()))))
+        underline(self.source.as_deref(), self.span?)
     }
 }
 

@@ -7,6 +7,7 @@ use miette::{LabeledSpan, SourceCode};
 
 use super::{Note, Rule, Warning};
 use crate::ast::FlightPlan;
+use crate::diag::underline;
 use crate::span::Span;
 
 fn source_line(plan: &FlightPlan, span: Span) -> Option<&str> {
@@ -66,8 +67,7 @@ impl miette::Diagnostic for Warning {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        self.source.as_ref()?;
-        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(None, self.span.range()))))
+        underline(self.source.as_deref(), self.span)
     }
 
     fn related<'a>(&'a self) -> Option<Box<dyn Iterator<Item = &'a dyn miette::Diagnostic> + 'a>> {
@@ -96,7 +96,6 @@ impl miette::Diagnostic for Note {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        self.source.as_ref()?;
-        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(None, self.span.range()))))
+        underline(self.source.as_deref(), self.span)
     }
 }
