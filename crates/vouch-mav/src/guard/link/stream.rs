@@ -92,7 +92,8 @@ pub(super) fn open_tcp_client(
                     rc.sink.link(rc.ep, Peer::Fixed, LinkEvent::Opened { what });
                     let why = read_stream(&rc, reader, Peer::Fixed, true);
                     eg.remove_stream(FIXED_STREAM);
-                    let ev = LinkEvent::Closed { reason: why, reconnect_in: retry };
+                    let again = retry.filter(|_| !rc.stop.load(Ordering::Relaxed));
+                    let ev = LinkEvent::Closed { reason: why, reconnect_in: again };
                     rc.sink.link(rc.ep, Peer::Fixed, ev);
                     None
                 }
