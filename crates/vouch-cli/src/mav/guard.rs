@@ -103,6 +103,10 @@ pub struct GuardArgs {
     /// Link id the guard signs with toward the vehicle
     #[arg(long, value_name = "ID")]
     pub signing_link_id: Option<u8>,
+    /// Read the configuration and the protocols, print the endpoints and exit without opening
+    /// anything (exit 0 when everything is accepted)
+    #[arg(long)]
+    pub check: bool,
     /// Stop by itself after this many seconds
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub duration: Option<Duration>,
@@ -218,6 +222,16 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
         if cfg.signing.is_some() { ", signing required from ground endpoints" } else { "" },
         if cfg.alert_gcs { ", STATUSTEXT alerts" } else { "" }
     );
+    if a.check {
+        ctx.note(format_args!(
+            "vouch mav guard: configuration accepted: {what}; {mode} mode{extras}"
+        ));
+        for e in &eps {
+            let c = &e.config;
+            writeln!(ctx.out, "{}\t{}\t{}", c.name, side_word(c.side), c.link)?;
+        }
+        return Ok(Exit::Ok);
+    }
     let running = guard::start(cfg, inspector).map_err(Failure::usage)?;
     ctx.note(format_args!("vouch mav guard: {what}; {mode} mode{extras}"));
     for e in &eps {
