@@ -50,11 +50,15 @@ fn mission_ack(s: u8) -> Vec<u8> {
     frame(47, 153, &[255, 190, 0, 0], 1, 1, s)
 }
 /// ATTITUDE with the sample index in `time_boot_ms`, so the receiver can match send instants.
-fn attitude(index: u32, s: u8) -> Vec<u8> {
+pub(super) fn attitude(index: u32, s: u8) -> Vec<u8> {
     let mut p = vec![0u8; 28];
     p[..4].copy_from_slice(&index.to_le_bytes());
     p[4..8].copy_from_slice(&0.1f32.to_le_bytes());
     frame(30, 39, &p, 1, 1, s)
+}
+/// HEARTBEAT of the autopilot 1/1 (quadrotor, ArduPilot).
+pub(super) fn heartbeat_vehicle(s: u8) -> Vec<u8> {
+    frame(0, 50, &[0, 0, 0, 0, 2, 3, 0, 4, 3], 1, 1, s)
 }
 fn heartbeat_gcs(s: u8) -> Vec<u8> {
     frame(0, 50, &[0, 0, 0, 0, 6, 8, 0, 0, 3], 255, 190, s)

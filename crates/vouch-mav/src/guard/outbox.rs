@@ -75,26 +75,37 @@ impl Outbox {
         if self.is_empty() {
             return;
         }
+        // datagrams first (one sendmmsg), then streams: a slow stream write never delays them
         udp_batch::begin();
-        for s in &mut self.slots {
-            if s.buf.is_empty() {
-                continue;
-            }
-            if s.ends.last() != Some(&s.buf.len()) {
-                s.ends.push(s.buf.len());
-            }
-            let mut from = 0;
-            for &end in &s.ends {
-                send(s.ep, s.peer, &s.buf[from..end]);
-                from = end;
-            }
-            s.buf.clear();
-            s.ends.clear();
-            if s.buf.capacity() > 4 * STREAM_LIMIT {
-                s.buf.shrink_to(STREAM_LIMIT);
-            }
+        for s in self.slots.iter_mut().filter(|s| s.datagram) {
+            s.send_all(&mut send);
         }
         udp_batch::flush();
+        for s in self.slots.iter_mut().filter(|s| !s.datagram) {
+            s.send_all(&mut send);
+        }
+    }
+}
+
+impl Slot {
+    /// Sends this destination's pieces and empties it (keeping its buffer).
+    fn send_all(&mut self, send: &mut impl FnMut(usize, Peer, &[u8]) -> bool) {
+        if self.buf.is_empty() {
+            return;
+        }
+        if self.ends.last() != Some(&self.buf.len()) {
+            self.ends.push(self.buf.len());
+        }
+        let mut from = 0;
+        for &end in &self.ends {
+            send(self.ep, self.peer, &self.buf[from..end]);
+            from = end;
+        }
+        self.buf.clear();
+        self.ends.clear();
+        if self.buf.capacity() > 4 * STREAM_LIMIT {
+            self.buf.shrink_to(STREAM_LIMIT);
+        }
     }
 }
 
@@ -121,7 +132,8 @@ mod tests {
         assert_eq!(
             sent,
             vec![(0, a, 1200, 1), (0, a, 600, 3), (0, a, 2000, 4), (1, b, 20, 9)],
-            "per destination in order; datagrams of at most 1400 bytes unless received larger"
+            "per destination in order, datagrams before streams; datagrams of at most 1400 bytes \
+             unless received larger"
         );
         assert!(o.is_empty());
         let mut n = 0;
