@@ -85,22 +85,40 @@ pub(super) struct Rig {
     back: SocketAddr,
 }
 
-/// Makes the vehicle learn where the path's far end is (the relay's sending socket).
+/// Makes the vehicle learn where the path's far end is (the relay's sending socket), and the
+/// path learn both ends: each side's heartbeat reaches the other (a router sends frames that
+/// target a system only where that system has been heard).
 pub(super) fn handshake(gcs: UdpSocket, vehicle: UdpSocket, entry: SocketAddr) -> io::Result<Rig> {
     let mut buf = [0u8; 512];
     let mut seqs = Seqs(0);
     let end = Instant::now() + Duration::from_secs(5);
     vehicle.set_read_timeout(Some(Duration::from_millis(50)))?;
-    while Instant::now() < end {
+    gcs.set_read_timeout(Some(Duration::from_millis(50)))?;
+    let timed_out =
+        || io::Error::new(io::ErrorKind::TimedOut, "path did not deliver a heartbeat within 5 s");
+    let back = loop {
+        if Instant::now() > end {
+            return Err(timed_out());
+        }
         gcs.send_to(&heartbeat_gcs(seqs.next()), entry)?;
         if let Some((_, from)) = recv(&vehicle, &mut buf) {
-            // drain what else is in flight
-            while recv(&vehicle, &mut buf).is_some() {}
-            vehicle.set_read_timeout(Some(WAIT))?;
-            return Ok(Rig { gcs, vehicle, entry, back: from });
+            break from;
+        }
+    };
+    loop {
+        if Instant::now() > end {
+            return Err(timed_out());
+        }
+        vehicle.send_to(&heartbeat_vehicle(seqs.next()), back)?;
+        if recv(&gcs, &mut buf).is_some() {
+            break;
         }
     }
-    Err(io::Error::new(io::ErrorKind::TimedOut, "path did not deliver a heartbeat within 5 s"))
+    // drain what else is in flight
+    while recv(&vehicle, &mut buf).is_some() || recv(&gcs, &mut buf).is_some() {}
+    vehicle.set_read_timeout(Some(WAIT))?;
+    gcs.set_read_timeout(Some(WAIT))?;
+    Ok(Rig { gcs, vehicle, entry, back })
 }
 
 pub(super) fn upload_latencies(rig: &Rig, uploads: usize, out: &mut Vec<f64>) -> io::Result<()> {
