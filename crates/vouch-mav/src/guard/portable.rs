@@ -74,6 +74,8 @@ pub mod process {
     use std::process::Child;
 
     /// No-op.
+    pub fn lower_current_thread_priority(_n: i32) {}
+    /// No-op.
     pub fn pin_current_thread(_cpu: usize) {}
     /// No-op.
     pub fn unpin_current_thread() {}

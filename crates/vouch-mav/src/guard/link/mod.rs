@@ -8,9 +8,9 @@
 
 mod stream;
 mod udp;
+mod writer;
 
-use std::fs::File;
-use std::io::{self, Write};
+use std::io;
 use std::net::{SocketAddr, TcpStream, UdpSocket};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
@@ -20,6 +20,7 @@ use std::time::{Duration, Instant};
 use super::config::EndpointConfig;
 use super::endpoint::Endpoint;
 use super::sys::udp_batch;
+use writer::Writer;
 
 /// How often blocked readers wake up to look at the stop flag.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
@@ -32,9 +33,6 @@ pub const UDP_PEER_IDLE: Duration = Duration::from_secs(60);
 pub const BROADCAST_FALLBACK: Duration = Duration::from_secs(5);
 /// Most simultaneous TCP clients accepted on a TCP server endpoint.
 pub const MAX_TCP_CLIENTS: usize = 8;
-/// A TCP connection whose peer takes nothing for this long (its send buffer stays full) is
-/// closed, so that one stalled reader cannot stall the router.
-pub const TCP_WRITE_TIMEOUT: Duration = Duration::from_millis(200);
 
 /// One connection of an endpoint: what a route is, what a reply goes back to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -107,12 +105,13 @@ enum EgressKind {
         target: Arc<UdpTarget>,
         broadcast: bool,
     },
-    /// TCP server clients by connection number, or the one connection of a TCP client (`Fixed`).
+    /// TCP server clients by connection number, or the one connection of a TCP client (`Fixed`),
+    /// each with its writer thread.
     Streams {
-        conns: Mutex<Vec<(u64, TcpStream)>>,
+        conns: Mutex<Vec<(u64, Writer)>>,
     },
     Serial {
-        port: Mutex<File>,
+        out: Writer,
     },
 }
 
@@ -126,8 +125,8 @@ const FIXED_STREAM: u64 = u64::MAX;
 
 impl Egress {
     /// Sends `bytes` to connection `peer`. A UDP send joins the calling thread's `sendmmsg`
-    /// batch when one is open ([`udp_batch::begin`]). A TCP connection that fails a write (or
-    /// takes nothing for [`TCP_WRITE_TIMEOUT`]) is shut down: its reader then closes it.
+    /// batch when one is open ([`udp_batch::begin`]); a stream send is queued for the stream's
+    /// writer thread (`false` when its queue is full).
     pub fn send(&self, peer: Peer, bytes: &[u8]) -> bool {
         match (&self.kind, peer) {
             (EgressKind::UdpServer { sock }, Peer::Udp(a)) => udp_batch::send_to(sock, bytes, &a),
@@ -140,16 +139,9 @@ impl Egress {
                     Peer::Stream(id) => id,
                     _ => FIXED_STREAM,
                 };
-                let mut conns = lock(conns);
-                let Some(pos) = conns.iter().position(|(i, _)| *i == id) else { return false };
-                if conns[pos].1.write_all(bytes).is_ok() {
-                    return true;
-                }
-                let (_, s) = conns.swap_remove(pos);
-                let _ = s.shutdown(std::net::Shutdown::Both);
-                false
+                lock(conns).iter().find(|(i, _)| *i == id).is_some_and(|(_, w)| w.send(bytes))
             }
-            (EgressKind::Serial { port }, _) => lock(port).write_all(bytes).is_ok(),
+            (EgressKind::Serial { out }, _) => out.send(bytes),
             (EgressKind::UdpServer { .. }, _) => false,
         }
     }
@@ -160,10 +152,16 @@ impl Egress {
         matches!(self.kind, EgressKind::UdpServer { .. } | EgressKind::UdpClient { .. })
     }
 
-    fn add_stream(&self, id: u64, s: TcpStream) {
-        if let EgressKind::Streams { conns } = &self.kind {
-            lock(conns).push((id, s));
-        }
+    /// Registers a TCP connection with a writer thread; a failed write shuts the connection
+    /// down, so that its reader ends and closes it.
+    fn add_stream(&self, id: u64, s: TcpStream, name: &str) -> io::Result<()> {
+        let EgressKind::Streams { conns } = &self.kind else { return Ok(()) };
+        let closer = s.try_clone()?;
+        let w = Writer::spawn(format!("{name}-write"), s, move || {
+            let _ = closer.shutdown(std::net::Shutdown::Both);
+        })?;
+        lock(conns).push((id, w));
+        Ok(())
     }
 
     fn remove_stream(&self, id: u64) {

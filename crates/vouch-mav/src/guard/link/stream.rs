@@ -9,9 +9,10 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
+use super::writer::Writer;
 use super::{
     is_transient, Egress, EgressKind, LinkEvent, OpenedLink, Peer, ReaderCtx, Received,
-    FIXED_STREAM, MAX_TCP_CLIENTS, POLL_INTERVAL, TCP_WRITE_TIMEOUT,
+    FIXED_STREAM, MAX_TCP_CLIENTS, POLL_INTERVAL,
 };
 use crate::codec::split::StreamSplitter;
 use crate::guard::sys::serial;
@@ -27,7 +28,6 @@ fn prepare(s: &TcpStream) -> io::Result<TcpStream> {
     s.set_nonblocking(false)?;
     s.set_nodelay(true)?;
     s.set_read_timeout(Some(POLL_INTERVAL))?;
-    s.set_write_timeout(Some(TCP_WRITE_TIMEOUT))?;
     s.try_clone()
 }
 
@@ -46,7 +46,9 @@ pub(super) fn open_tcp_server(rc: ReaderCtx, addr: SocketAddr) -> io::Result<Ope
                     let id = next_id;
                     next_id += 1;
                     let Ok(reader) = prepare(&s) else { continue };
-                    eg.add_stream(id, s);
+                    if eg.add_stream(id, s, &rc.name).is_err() {
+                        continue;
+                    }
                     let peer = Peer::Stream(id);
                     rc.sink.link(rc.ep, peer, LinkEvent::Opened { what: from.to_string() });
                     let (rc2, eg2) = (rc.clone(), eg.clone());
@@ -85,9 +87,10 @@ pub(super) fn open_tcp_client(
     let eg = egress.clone();
     let t = thread::Builder::new().name(format!("{}-tcp", rc.name)).spawn(move || loop {
         let why = match TcpStream::connect_timeout(&peer_addr, CONNECT_TIMEOUT) {
-            Ok(s) => match prepare(&s) {
+            Ok(s) => match prepare(&s)
+                .and_then(|r| eg.add_stream(FIXED_STREAM, s, &rc.name).map(|()| r))
+            {
                 Ok(reader) => {
-                    eg.add_stream(FIXED_STREAM, s);
                     let what = peer_addr.to_string();
                     rc.sink.link(rc.ep, Peer::Fixed, LinkEvent::Opened { what });
                     let why = read_stream(&rc, reader, Peer::Fixed, true);
@@ -129,7 +132,8 @@ pub(super) fn open_serial(
 ) -> io::Result<OpenedLink> {
     let port = serial::open_raw(device, baud, flow_control)?;
     let reader = port.try_clone()?;
-    let egress = Arc::new(Egress { kind: EgressKind::Serial { port: Mutex::new(port) } });
+    let out = Writer::spawn(format!("{}-write", rc.name), port, || {})?;
+    let egress = Arc::new(Egress { kind: EgressKind::Serial { out } });
     let t = thread::Builder::new().name(format!("{}-serial", rc.name)).spawn(move || {
         read_stream(&rc, reader, Peer::Fixed, false);
     })?;
