@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::codec::encode::frame_v2_truncated;
+use crate::codec::split::{split_datagram, Piece};
 use crate::guard::sys::process;
 
 /// How long a receive waits before a message counts as lost.
@@ -178,21 +179,24 @@ pub(super) fn stream(
         let mut lat = Vec::with_capacity(count as usize);
         let mut got = 0u64;
         let mut last = base;
-        let mut buf = [0u8; 2048];
+        let mut buf = [0u8; 4096];
         loop {
             match gcs.recv_from(&mut buf) {
                 Ok((n, _)) => {
                     let now = base.elapsed().as_nanos() as u64;
                     last = Instant::now();
-                    got += 1;
-                    if let Some(i) = attitude_index(&buf[..n]) {
-                        if let Some(t) = s2.get(i as usize) {
+                    // a router may put several frames of one batch into one datagram
+                    let d = &buf[..n];
+                    split_datagram(d, |p| {
+                        let Piece::Frame(a, b) = p else { return };
+                        got += 1;
+                        if let Some(t) = attitude_index(&d[a..b]).and_then(|i| s2.get(i as usize)) {
                             let t = t.load(Ordering::Relaxed);
                             if t > 0 && now >= t {
                                 lat.push((now - t) as f64 / 1000.0);
                             }
                         }
-                    }
+                    });
                 }
                 Err(_) if d2.load(Ordering::Relaxed) => break,
                 Err(_) => {}
