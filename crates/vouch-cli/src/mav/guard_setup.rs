@@ -10,7 +10,7 @@ use vouch_mav::guard::{Endpoint, EndpointConfig, DEFAULT_TCP_RETRY};
 use vouch_mav::monitor::MonitorSpec;
 use vouch_mav::Side;
 
-use super::guard::GuardArgs;
+use super::guard_args::GuardArgs;
 use super::MonitorOpts;
 use crate::contract::Failure;
 

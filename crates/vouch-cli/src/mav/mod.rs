@@ -3,6 +3,7 @@
 mod bench;
 mod check;
 mod guard;
+mod guard_args;
 mod guard_setup;
 mod lint;
 
@@ -33,7 +34,7 @@ pub enum MavCmd {
     #[command(
         after_help = "Example:\n  vouch mav guard -c /etc/vouch/guard.conf\n  vouch mav guard --vehicle serial:/dev/ttyACM0:115200 --endpoint qgc=ground:udpout:127.0.0.1:14550 --enforce --alert-gcs\n  vouch mav guard -e 192.168.1.20:14550 -e 127.0.0.1:14560 /dev/ttyS1:921600"
     )]
-    Guard(Box<guard::GuardArgs>),
+    Guard(Box<guard_args::GuardArgs>),
     /// Latency, throughput and memory of the guard against a direct path and a socat relay,
     /// side by side on loopback (Linux: CPU pinning and RSS from /proc)
     #[command(after_help = "Example:\n  vouch mav bench --uploads 5 --pings 1000 --seconds 1")]
