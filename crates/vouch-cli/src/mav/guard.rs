@@ -83,7 +83,8 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
         sign_to_vehicle,
         link_id: a.signing_link_id.or(g.signing_link_id).unwrap_or(0),
     });
-    let (log_path, tlog_path) = log_paths(&a, &file)?;
+    // --check opens nothing: the log directory is neither created nor trimmed
+    let (log_path, tlog_path) = if a.check { (None, None) } else { log_paths(&a, &file)? };
     let cfg = GuardConfig {
         routing,
         enforce: a.enforce || g.enforce.unwrap_or(false),
