@@ -320,3 +320,102 @@ fn cases_out_streams_one_line_per_case_in_suite_order() {
         vouch(&["-q", "navfn", "campaign", s(&suite), "--cases-out", "/nonexistent/dir/c.jsonl"]);
     assert_eq!(code(&o), 2);
 }
+
+/// `PATH` with the directory of the `vouch` under test first.
+fn path_with_vouch() -> String {
+    let bin = Path::new(env!("CARGO_BIN_EXE_vouch")).parent().expect("bin dir").to_path_buf();
+    format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default())
+}
+
+/// Merges `reports/shard-*.json` of `dir` and checks the result covers the whole suite.
+fn merged_covers_the_suite(dir: &Path, shards: usize) {
+    let files: Vec<PathBuf> = (0..shards).map(|i| dir.join(format!("shard-{i}.json"))).collect();
+    let refs: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
+    let merged = dir.join("report.json");
+    let o = merge(&merged, &refs, &[]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    let v = json(&merged);
+    assert_eq!(v["shards"]["indices"].as_array().map(Vec::len), Some(shards));
+    assert!(v["suite"]["content"].is_string(), "every map of the suite is in the merge");
+}
+
+#[test]
+fn the_slurm_array_example_runs_as_written() {
+    let d = tmp("slurm");
+    let script = repo().join("examples/navfn/cluster/slurm-campaign.sh");
+    let text_of = std::fs::read_to_string(&script).expect("the example");
+    assert!(text_of.contains("#SBATCH --array=0-15"));
+    std::fs::create_dir_all(d.join("reports")).expect("reports");
+    // every array task as Slurm would start it (16 tasks, 1 map per category, 3 cases per map)
+    for i in 0..16 {
+        let o = Command::new("bash")
+            .arg(&script)
+            .current_dir(&d)
+            .env("PATH", path_with_vouch())
+            .envs([
+                ("SLURM_ARRAY_JOB_ID", "42".to_string()),
+                ("SLURM_ARRAY_TASK_ID", i.to_string()),
+                ("SLURM_ARRAY_TASK_MIN", "0".into()),
+                ("SLURM_ARRAY_TASK_COUNT", "16".into()),
+                ("SLURM_SUBMIT_DIR", s(&d).into()),
+                ("TMPDIR", s(&d).into()),
+                ("MAPS", "2".into()),
+                ("CASES", "3".into()),
+            ])
+            .output()
+            .expect("bash runs the example");
+        assert!(o.status.success(), "task {i}: {}", text(&o.stderr));
+    }
+    merged_covers_the_suite(&d.join("reports"), 16);
+    let left: Vec<_> = std::fs::read_dir(&d).expect("dir").flatten().collect();
+    assert_eq!(left.len(), 1, "each task removes its share of the suite: {left:?}");
+}
+
+#[test]
+fn the_kubernetes_indexed_job_example_runs_as_written() {
+    let d = tmp("k8s");
+    let manifest =
+        std::fs::read_to_string(repo().join("examples/navfn/cluster/campaign-indexed-job.yaml"))
+            .expect("the example");
+    let field = |key: &str| -> String {
+        let line = manifest.lines().find(|l| l.trim_start().starts_with(key)).expect(key);
+        line.split_once(':')
+            .expect("key: value")
+            .1
+            .split('#')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .trim_matches('"')
+            .to_string()
+    };
+    assert_eq!(field("completionMode"), "Indexed");
+    let count = field("completions");
+    assert_eq!(field("value"), count, "VOUCH_SHARD_COUNT = completions");
+    // the container's shell script: the block under `- |`, with the volumes as local folders
+    let lines: Vec<&str> = manifest.lines().collect();
+    let start = lines.iter().position(|l| l.trim() == "- |").expect("script block") + 1;
+    let indent = lines[start].len() - lines[start].trim_start().len();
+    let script: String = lines[start..]
+        .iter()
+        .take_while(|l| l.len() - l.trim_start().len() >= indent || l.trim().is_empty())
+        .map(|l| format!("{}\n", l.get(indent..).unwrap_or("")))
+        .collect();
+    let script = script
+        .replace("--maps 1000 --cases 500", "--maps 2 --cases 3")
+        .replace("/work/", &format!("{}/work-$JOB_COMPLETION_INDEX/", s(&d)))
+        .replace("/reports/", &format!("{}/reports/", s(&d)));
+    std::fs::create_dir_all(d.join("reports")).expect("reports");
+    let n: usize = count.parse().expect("a number");
+    for i in 0..n {
+        let o = Command::new("sh")
+            .args(["-c", &script])
+            .env("PATH", path_with_vouch())
+            .env("JOB_COMPLETION_INDEX", i.to_string())
+            .env("VOUCH_SHARD_COUNT", &count)
+            .output()
+            .expect("sh runs the container's script");
+        assert!(o.status.success(), "index {i}: {}", text(&o.stderr));
+    }
+    merged_covers_the_suite(&d.join("reports"), n);
+}

@@ -15,6 +15,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::core::numeric::Fnv1a;
+
 /// What `--shard I/N` splits.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
@@ -168,14 +170,11 @@ impl Shard {
     }
 }
 
-/// FNV-1a, 64 bits.
+/// FNV-1a, 64 bits (the core's, as in the golden `pot_fnv`/`path_fnv`).
 fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    h
+    let mut h = Fnv1a::default();
+    h.bytes(bytes);
+    h.0
 }
 
 /// The SplitMix64 finaliser: every input bit reaches the low bits the modulo keeps.

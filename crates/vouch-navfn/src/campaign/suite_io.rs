@@ -116,36 +116,21 @@ pub struct SuiteEntry {
 }
 
 /// Every `test.txt` below a folder, depth-first with the entries of each folder sorted by name
-/// (the order of [`crate::maps::find_test_files`]), one at a time: only the folders on the current path
-/// are held in memory, never the whole tree. The category is the grand-parent folder name, the
-/// map name the parent folder name.
+/// (the order of [`crate::maps::find_test_files`]), one at a time: only the folders on the
+/// current path are held in memory, never the whole tree (`walkdir`). The category is the
+/// grand-parent folder name, the map name the parent folder name.
 pub struct SuiteWalk {
     root: PathBuf,
     /// The suite argument is a single test file.
-    single: Option<PathBuf>,
-    /// Sorted entries still to visit, one list per open folder.
-    stack: Vec<std::vec::IntoIter<PathBuf>>,
+    single: bool,
+    inner: walkdir::IntoIter,
 }
 
 /// Walk the suite at `path` (a folder, or one test file).
 pub fn walk_suite(path: &Path) -> Result<SuiteWalk, SuiteIoError> {
     let meta = fs::metadata(path).map_err(|e| MapError::io(path, e))?;
-    let mut w = SuiteWalk { root: path.to_path_buf(), single: None, stack: Vec::new() };
-    if meta.is_file() {
-        w.single = Some(path.to_path_buf());
-    } else {
-        w.stack.push(sorted_entries(path)?);
-    }
-    Ok(w)
-}
-
-fn sorted_entries(dir: &Path) -> Result<std::vec::IntoIter<PathBuf>, SuiteIoError> {
-    let mut entries: Vec<PathBuf> = fs::read_dir(dir)
-        .map_err(|e| MapError::io(dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .collect();
-    entries.sort();
-    Ok(entries.into_iter())
+    let inner = walkdir::WalkDir::new(path).follow_links(true).sort_by_file_name().into_iter();
+    Ok(SuiteWalk { root: path.to_path_buf(), single: meta.is_file(), inner })
 }
 
 fn name_of(p: Option<&Path>) -> String {
@@ -159,17 +144,15 @@ impl SuiteWalk {
         let test_size = fs::metadata(&test_txt).map_err(|e| MapError::io(&test_txt, e))?.len();
         let map_dir = test_txt.parent();
         let (category, name) = (name_of(map_dir.and_then(Path::parent)), name_of(map_dir));
-        let key = match map_dir.and_then(|d| d.strip_prefix(&self.root).ok()) {
-            Some(rel) if self.single.is_none() => {
+        let rel = map_dir.and_then(|d| d.strip_prefix(&self.root).ok()).filter(|_| !self.single);
+        let key = match rel {
+            Some(rel) if rel.as_os_str().is_empty() => ".".to_string(),
+            Some(rel) => {
                 let parts: Vec<String> =
                     rel.iter().map(|c| c.to_string_lossy().into_owned()).collect();
-                if parts.is_empty() {
-                    ".".to_string()
-                } else {
-                    parts.join("/")
-                }
+                parts.join("/")
             }
-            _ => format!("{category}/{name}"),
+            None => format!("{category}/{name}"),
         };
         Ok(SuiteEntry { key, category, name, test_txt, test_size })
     }
@@ -179,23 +162,19 @@ impl Iterator for SuiteWalk {
     type Item = Result<SuiteEntry, SuiteIoError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        if let Some(file) = self.single.take() {
-            self.stack.clear();
-            return Some(self.entry(file));
-        }
         loop {
-            let top = self.stack.last_mut()?;
-            let Some(p) = top.next() else {
-                self.stack.pop();
-                continue;
-            };
-            if p.is_dir() {
-                match sorted_entries(&p) {
-                    Ok(entries) => self.stack.push(entries),
-                    Err(e) => return Some(Err(e)),
+            match self.inner.next()? {
+                Err(e) => {
+                    let path = e.path().unwrap_or(&self.root).to_path_buf();
+                    return Some(Err(MapError::io(&path, e.into()).into()));
                 }
-            } else if p.file_name().is_some_and(|n| n == "test.txt") {
-                return Some(self.entry(p));
+                Ok(ent)
+                    if ent.file_type().is_file()
+                        && (self.single || ent.file_name() == "test.txt") =>
+                {
+                    return Some(self.entry(ent.into_path()));
+                }
+                Ok(_) => {}
             }
         }
     }
