@@ -159,7 +159,7 @@ fn inconsistent_sets_are_refused() {
     let e = strict(&parts[0..3]).expect_err("incomplete");
     assert!(matches!(&e, MergeError::Incomplete(m) if m.contains("3/4")), "{e}");
     let p = partial(&parts[0..3]);
-    assert_eq!((p.shards.missing(), p.suite.content.clone()), (vec![3], None));
+    assert_eq!((p.shards.missing(8), p.suite.content.clone()), (vec![3], None));
     // another vouch version
     let mut other = parts.clone();
     other[2].vouch_version = "0.0.1".into();
@@ -251,4 +251,59 @@ fn shares_of_a_generated_suite_run_where_they_were_generated() {
     let e = strict(&[parts[0].clone(), lost, parts[2].clone()]).expect_err("a map is missing");
     assert!(matches!(&e, MergeError::Incomplete(m) if m.contains("maps read")), "{e}");
     let _ = std::fs::remove_dir_all(whole_dir);
+}
+
+/// An edit that damages a report's JSON.
+type Damage = dyn Fn(&mut serde_json::Value);
+
+/// The malformed-report catalogue: each damage is refused on reading with its reason.
+#[test]
+fn malformed_reports_are_refused_with_their_reason() {
+    let dir = suite("malformed", 15, 4);
+    let good = run(
+        &dir,
+        &CampaignOptions { shard: Shard::new(1, 4, ShardBy::Map).expect("1/4"), ..base() },
+    );
+    let good: serde_json::Value = serde_json::to_value(&good).expect("json");
+    let damaged = |edit: &Damage| {
+        let mut v = good.clone();
+        edit(&mut v);
+        Report::from_json(Path::new("bad.json"), &v.to_string())
+    };
+    let catalogue: [(&str, &Damage); 9] = [
+        ("ascending", &|v| v["shards"]["indices"] = serde_json::json!([2, 1])),
+        ("ascending", &|v| v["shards"]["indices"] = serde_json::json!([1, 1])),
+        ("ascending", &|v| v["shards"]["indices"] = serde_json::json!([])),
+        ("not below the shard count", &|v| v["shards"]["indices"] = serde_json::json!([4])),
+        ("ascending", &|v| v["shards"]["count"] = serde_json::json!(0)),
+        ("run of a shard", &|v| v["runs"][0]["shard"] = serde_json::json!(3)),
+        ("categories add up", &|v| v["cases"] = serde_json::json!(1)),
+        ("more maps read", &|v| v["suite"]["maps_total"] = serde_json::json!(0)),
+        ("ratio", &|v| v["options"]["ratio"] = serde_json::json!(0.5)),
+    ];
+    for (why, edit) in catalogue {
+        let e = damaged(edit).expect_err(why);
+        assert!(e.to_string().contains(why), "{why}: {e}");
+    }
+    let e = damaged(&|v| {
+        let cats = v["categories"].as_object_mut().expect("categories");
+        let first = cats.values_mut().next().expect("a category");
+        first["optimality"]["ratio_hist"] = serde_json::json!([1, 2]);
+    })
+    .expect_err("histogram");
+    assert!(e.to_string().contains("histogram"), "{e}");
+    // counts near the top of u64 saturate in a merge instead of overflowing
+    let mut a: Report = Report::from_json(Path::new("a.json"), &good.to_string()).expect("reads");
+    let huge = u64::MAX - 1;
+    for c in a.categories.values_mut() {
+        c.cases = huge;
+        c.outcomes.found = huge;
+    }
+    a.cases = huge.saturating_mul(a.categories.len() as u64);
+    let mut b = a.clone();
+    b.shards.indices = vec![2];
+    b.runs[0].shard = 2;
+    let m = partial(&[a, b]);
+    assert_eq!(m.cases, u64::MAX);
+    let _ = std::fs::remove_dir_all(dir);
 }

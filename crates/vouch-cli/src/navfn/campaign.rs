@@ -394,14 +394,15 @@ pub fn report(cmd: ReportCmd, ctx: &mut Ctx) -> CmdResult {
         if a.allow_partial { Completeness::AllowPartial } else { Completeness::Required };
     let merged = Report::merge(&reports, completeness).map_err(Failure::rejected)?;
     write_file(&a.output, json_text(&merged)?.as_bytes())?;
-    let missing = merged.shards.missing();
-    if !missing.is_empty() || merged.suite.content.is_none() {
-        let (n, total) = (merged.suite.maps.len(), merged.suite.maps_total);
-        let count = merged.shards.count;
-        let missing: Vec<String> = missing.iter().map(|i| format!("{i}/{count}")).collect();
+    if !merged.shards.complete() || merged.suite.content.is_none() {
+        let (n, total, count) =
+            (merged.suite.maps.len(), merged.suite.maps_total, merged.shards.count);
+        let first: Vec<String> =
+            merged.shards.missing(8).iter().map(|i| format!("{i}/{count}")).collect();
         ctx.note(format_args!(
-            "partial merge: shard(s) [{}] missing, {n} of the suite's {total} maps",
-            missing.join(", ")
+            "partial merge: {} shard(s) missing [{}], {n} of the suite's {total} maps",
+            merged.shards.missing_count(),
+            first.join(", ")
         ));
     }
     if a.json {

@@ -86,7 +86,7 @@ impl SuiteIdentity {
 
     /// Cases of every map in `maps`.
     pub fn cases(&self) -> u64 {
-        self.maps.values().map(|d| d.cases).sum()
+        self.maps.values().map(|d| d.cases).fold(0, u64::saturating_add)
     }
 }
 

@@ -6,7 +6,7 @@
 //! union of the maps the shards read. The result does not depend on the order or grouping of
 //! the inputs: every field is a union, an exact sum or a total-order selection.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::campaign::report::{CategoryStats, Report, ShardSet};
 
@@ -59,6 +59,15 @@ pub enum MergeError {
         /// `N`.
         count: u32,
     },
+    /// A report whose parts contradict each other.
+    #[error("inconsistent report of shard(s) {shards}: {msg}")]
+    #[diagnostic(code(navfn::E057))]
+    Invalid {
+        /// Its shard indices.
+        shards: String,
+        /// What contradicts what.
+        msg: String,
+    },
     /// The reports do not cover the suite.
     #[error("incomplete: {0}")]
     #[diagnostic(
@@ -82,7 +91,10 @@ impl Report {
     /// Join reports of shards of one campaign (see the module documentation).
     pub fn merge(reports: &[Report], completeness: Completeness) -> Result<Report, MergeError> {
         let first = reports.first().ok_or(MergeError::Empty)?;
-        for r in &reports[1..] {
+        for r in reports {
+            if let Some(msg) = r.inconsistency() {
+                return Err(MergeError::Invalid { shards: format!("{:?}", r.shards.indices), msg });
+            }
             compatible(first, r)?;
         }
         let mut out = Report {
@@ -95,22 +107,22 @@ impl Report {
         out.suite.basis = first.suite.basis;
         out.suite.fingerprint = first.suite.fingerprint.clone();
         out.suite.maps_total = first.suite.maps_total;
+        let mut seen = BTreeSet::new();
         for r in reports {
             for &i in &r.shards.indices {
-                if out.shards.indices.contains(&i) {
+                if !seen.insert(i) {
                     return Err(MergeError::Duplicate { index: i, count: r.shards.count });
                 }
-                out.shards.indices.push(i);
             }
             union_maps(&mut out, r)?;
-            out.cases += r.cases;
+            out.cases = out.cases.saturating_add(r.cases);
             for (k, v) in &r.categories {
                 out.categories.entry(k.clone()).or_default().merge(v);
             }
             out.findings.extend(r.findings.iter().cloned());
             out.runs.extend(r.runs.iter().cloned());
         }
-        out.shards.indices.sort_unstable();
+        out.shards.indices = seen.into_iter().collect();
         out.runs.sort_by_key(|run| run.shard);
         count_maps(&mut out.categories, &out.suite.maps);
         out.trim_findings();
@@ -194,9 +206,14 @@ fn union_maps(out: &mut Report, r: &Report) -> Result<(), MergeError> {
 /// What is missing from a merged report, if anything.
 fn incompleteness(r: &Report) -> Option<String> {
     let mut gaps = Vec::new();
-    let missing = r.shards.missing();
-    if !missing.is_empty() {
-        let list: Vec<String> = missing.iter().map(|i| format!("{i}/{}", r.shards.count)).collect();
+    let missing = r.shards.missing_count();
+    if missing > 0 {
+        let first = r.shards.missing(8);
+        let mut list: Vec<String> =
+            first.iter().map(|i| format!("{i}/{}", r.shards.count)).collect();
+        if missing > first.len() as u64 {
+            list.push(format!("and {} more", missing - first.len() as u64));
+        }
         gaps.push(format!("shard(s) {} missing", list.join(", ")));
     }
     let maps = r.suite.maps.len() as u64;
@@ -204,7 +221,7 @@ fn incompleteness(r: &Report) -> Option<String> {
         gaps.push(format!("{maps} of the suite's {} maps read", r.suite.maps_total));
     }
     let expected = r.suite.cases();
-    if missing.is_empty() && maps == r.suite.maps_total && r.cases != expected {
+    if missing == 0 && maps == r.suite.maps_total && r.cases != expected {
         gaps.push(format!("{} cases run, the suite's maps hold {expected}", r.cases));
     }
     (!gaps.is_empty()).then(|| gaps.join("; "))

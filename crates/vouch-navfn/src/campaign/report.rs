@@ -4,7 +4,9 @@
 //!
 //! Every statistic is a count, an integer sum (costs in millionths), a maximum, a minimum or a
 //! fixed-bin histogram, and findings are kept by a total order: merging shard reports is exact,
-//! and gives the same report whatever the order or grouping of the merge.
+//! and gives the same report whatever the order or grouping of the merge. Merged counts
+//! saturate instead of overflowing (a crafted report cannot make a merge panic), and a report
+//! read from JSON is checked for consistency before it is used.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -35,8 +37,8 @@ impl PassFail {
         }
     }
     pub(crate) fn merge(&mut self, o: &PassFail) {
-        self.pass += o.pass;
-        self.fail += o.fail;
+        self.pass = self.pass.saturating_add(o.pass);
+        self.fail = self.fail.saturating_add(o.fail);
     }
 }
 
@@ -108,18 +110,18 @@ impl OptimalityStats {
                 self.excess_min = f64::INFINITY;
             }
             for (a, b) in self.ratio_hist.iter_mut().zip(&o.ratio_hist) {
-                *a += b;
+                *a = a.saturating_add(*b);
             }
             self.excess_max = self.excess_max.max(o.excess_max);
             self.excess_min = self.excess_min.min(o.excess_min);
             self.ratio_max = self.ratio_max.max(o.ratio_max);
         }
-        self.compared += o.compared;
-        self.navfn_cost_micros += o.navfn_cost_micros;
-        self.optimal_cost_micros += o.optimal_cost_micros;
-        self.obtuse_paths += o.obtuse_paths;
-        self.oscillating_paths += o.oscillating_paths;
-        self.suboptimal_paths += o.suboptimal_paths;
+        self.compared = self.compared.saturating_add(o.compared);
+        self.navfn_cost_micros = self.navfn_cost_micros.saturating_add(o.navfn_cost_micros);
+        self.optimal_cost_micros = self.optimal_cost_micros.saturating_add(o.optimal_cost_micros);
+        self.obtuse_paths = self.obtuse_paths.saturating_add(o.obtuse_paths);
+        self.oscillating_paths = self.oscillating_paths.saturating_add(o.oscillating_paths);
+        self.suboptimal_paths = self.suboptimal_paths.saturating_add(o.suboptimal_paths);
     }
 }
 
@@ -151,11 +153,11 @@ impl Outcomes {
     }
 
     fn merge(&mut self, o: &Outcomes) {
-        self.found += o.found;
-        self.start_is_goal += o.start_is_goal;
-        self.unreachable += o.unreachable;
-        self.cycle_limit += o.cycle_limit;
-        self.path_failed += o.path_failed;
+        self.found = self.found.saturating_add(o.found);
+        self.start_is_goal = self.start_is_goal.saturating_add(o.start_is_goal);
+        self.unreachable = self.unreachable.saturating_add(o.unreachable);
+        self.cycle_limit = self.cycle_limit.saturating_add(o.cycle_limit);
+        self.path_failed = self.path_failed.saturating_add(o.path_failed);
     }
 }
 
@@ -191,15 +193,14 @@ impl CategoryStats {
     }
     /// Failed properties and exact relations (oracle disagreements not included).
     pub fn hard_failures(&self) -> u64 {
-        let checks: u64 = self.checks.values().map(|p| p.fail).sum();
-        let exact: u64 =
-            self.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail).sum();
-        checks + exact
+        let checks = self.checks.values().map(|p| p.fail).fold(0, u64::saturating_add);
+        let exact = self.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail);
+        checks.saturating_add(exact.fold(0, u64::saturating_add))
     }
     /// Adds another category's counts (`maps` too: the caller decides whether they overlap).
     pub fn merge(&mut self, o: &CategoryStats) {
-        self.maps += o.maps;
-        self.cases += o.cases;
+        self.maps = self.maps.saturating_add(o.maps);
+        self.cases = self.cases.saturating_add(o.cases);
         self.outcomes.merge(&o.outcomes);
         for (k, v) in &o.checks {
             self.checks.entry(*k).or_default().merge(v);
@@ -291,14 +292,20 @@ impl ShardSet {
         ShardSet { count: s.count, by: s.by, indices: vec![s.index] }
     }
 
-    /// Indices of `0..count` not in the set.
-    pub fn missing(&self) -> Vec<u32> {
-        (0..self.count).filter(|i| self.indices.binary_search(i).is_err()).collect()
+    /// How many indices of `0..count` are not in the set (indices are unique and below
+    /// `count` in any report that passed [`Report::inconsistency`]).
+    pub fn missing_count(&self) -> u64 {
+        u64::from(self.count).saturating_sub(self.indices.len() as u64)
+    }
+
+    /// The first `limit` indices of `0..count` not in the set, ascending.
+    pub fn missing(&self, limit: usize) -> Vec<u32> {
+        (0..self.count).filter(|i| self.indices.binary_search(i).is_err()).take(limit).collect()
     }
 
     /// Whether every shard is present.
     pub fn complete(&self) -> bool {
-        self.missing().is_empty()
+        self.missing_count() == 0
     }
 }
 
@@ -386,6 +393,15 @@ pub enum ReportError {
         /// What serde_json said.
         msg: String,
     },
+    /// A report whose parts contradict each other (edited or damaged).
+    #[error("{}: inconsistent report: {msg}", path.display())]
+    #[diagnostic(code(navfn::E056))]
+    Invalid {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What contradicts what.
+        msg: String,
+    },
     /// A report of another format version.
     #[error("{}: report format {found}, this vouch reads format {REPORT_FORMAT} (run the campaign again)", path.display())]
     #[diagnostic(code(navfn::E041))]
@@ -416,7 +432,45 @@ impl Report {
         if head.format != REPORT_FORMAT {
             return Err(ReportError::Version { path: path.to_path_buf(), found: head.format });
         }
-        serde_json::from_str(text).map_err(format_err)
+        let report: Report = serde_json::from_str(text).map_err(format_err)?;
+        match report.inconsistency() {
+            Some(msg) => Err(ReportError::Invalid { path: path.to_path_buf(), msg }),
+            None => Ok(report),
+        }
+    }
+
+    /// What contradicts what in the report, if anything: shard indices not ascending, repeated
+    /// or not below the shard count, runs of shards the report does not hold, more maps than
+    /// the suite has, a case total that is not the sum of the categories', a histogram of the
+    /// wrong length, a ratio below 1, another format.
+    pub fn inconsistency(&self) -> Option<String> {
+        let sh = &self.shards;
+        let ascending = sh.indices.windows(2).all(|w| w[0] < w[1]);
+        if sh.count == 0 || sh.indices.is_empty() || !ascending {
+            return Some("shard indices must be ascending, unique and at least one".into());
+        }
+        if sh.indices.iter().any(|&i| i >= sh.count) {
+            return Some(format!("a shard index is not below the shard count {}", sh.count));
+        }
+        if self.runs.iter().any(|r| sh.indices.binary_search(&r.shard).is_err()) {
+            return Some("a run of a shard the report does not hold".into());
+        }
+        if self.suite.maps.len() as u64 > self.suite.maps_total {
+            return Some(format!("more maps read than the suite's {}", self.suite.maps_total));
+        }
+        let cases = self.categories.values().map(|c| c.cases).fold(0, u64::saturating_add);
+        if cases != self.cases {
+            return Some(format!("{} cases, but the categories add up to {cases}", self.cases));
+        }
+        let bins = RATIO_BINS.len() + 1;
+        if self.categories.values().any(|c| ![0, bins].contains(&c.optimality.ratio_hist.len())) {
+            return Some(format!("a ratio histogram without {bins} bins"));
+        }
+        let ratio_ok = self.options.ratio.is_finite() && self.options.ratio >= 1.0;
+        if !ratio_ok || self.format != REPORT_FORMAT {
+            return Some("the ratio must be at least 1, the format 2".into());
+        }
+        None
     }
 
     /// Whether two reports say the same about the same suite: everything but which shards
@@ -440,7 +494,7 @@ impl Report {
     /// Number of failed hard checks (search-trace properties, exact relations, oracle).
     pub fn failures(&self) -> u64 {
         let t = self.total();
-        t.hard_failures() + t.oracle.fail
+        t.hard_failures().saturating_add(t.oracle.fail)
     }
 
     /// Keep the [`FINDINGS_PER_KIND`] first findings of each kind in [`Finding::rank`]

@@ -39,10 +39,11 @@ pub fn summary_table(r: &Report) -> String {
         r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
     rows.push(("TOTAL".into(), r.total()));
     for (name, c) in &rows {
-        let checks_fail: u64 = c.checks.values().map(|p| p.fail).sum();
-        let checks_all: u64 = c.checks.values().map(|p| p.pass + p.fail).sum();
-        let rel_fail: u64 =
-            c.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail).sum();
+        let checks_fail = c.checks.values().map(|p| p.fail).fold(0, u64::saturating_add);
+        let checks_all = c.checks.values().map(|p| p.pass.saturating_add(p.fail));
+        let checks_all = checks_all.fold(0, u64::saturating_add);
+        let rel_fail = c.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail);
+        let rel_fail = rel_fail.fold(0, u64::saturating_add);
         let o = &c.optimality;
         let cpu: f64 = r
             .runs
