@@ -10,7 +10,9 @@
 //! the eight, and `--cases-out` on this suite and on one twice as large (with and without it:
 //! what grows with the suite is the report's digest of every map, not the records). It checks the issue's
 //! bounds (a shard at most 1/8 of the whole run plus 20 MB; the merged report equal to the
-//! whole run) and prints every figure.
+//! whole run) and prints every figure. With `VOUCH_BASELINE=/path/to/another/vouch` it also
+//! measures that binary (e.g. a build of an earlier commit) on the same suite in the same run:
+//! whole, `--shard 0/8`, `--cases-out`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -19,8 +21,13 @@ const TIME: &str = "/usr/bin/time";
 
 /// `vouch ARGS` under GNU time: (peak RSS in MB, wall seconds).
 fn measured(args: &[&str]) -> (f64, f64) {
+    measured_with(env!("CARGO_BIN_EXE_vouch"), args)
+}
+
+/// `BINARY ARGS` under GNU time: (peak RSS in MB, wall seconds).
+fn measured_with(binary: &str, args: &[&str]) -> (f64, f64) {
     let o = Command::new(TIME)
-        .args(["-f", "%M %e", env!("CARGO_BIN_EXE_vouch")])
+        .args(["-f", "%M %e", binary])
         .args(args)
         .output()
         .expect("GNU time runs vouch");
@@ -118,6 +125,17 @@ fn campaign_memory_whole_run_against_shards() {
     row(&format!("campaign --cases-out ({records} lines)"), with_lines);
     row("campaign, 2× suite (--maps 1120)", big_run);
     row(&format!("campaign --cases-out, 2× suite ({big_records} lines)"), big_lines);
+    if let Ok(baseline) = std::env::var("VOUCH_BASELINE") {
+        let base = |extra: &[&str]| {
+            let mut args = vec!["-q", "navfn", "campaign", s(&suite), "-o", "/dev/null"];
+            args.extend_from_slice(extra);
+            measured_with(&baseline, &args)
+        };
+        let base_lines = out("baseline.jsonl");
+        row("baseline: campaign (whole suite)", base(&[]));
+        row("baseline: campaign --shard 0/8", base(&["--shard", "0/8"]));
+        row("baseline: campaign --cases-out", base(&["--cases-out", s(&base_lines)]));
+    }
     let bound = full_mb / 8.0 + 20.0;
     println!(
         "bound for a shard: whole/8 + 20 MB = {bound:.1} MB; merged report = whole run: {equal}"
