@@ -419,3 +419,39 @@ fn the_kubernetes_indexed_job_example_runs_as_written() {
     }
     merged_covers_the_suite(&d.join("reports"), n);
 }
+
+#[test]
+fn oracle_comparisons_are_split_by_home_shard_and_recorded_among_the_options() {
+    let d = tmp("oracle");
+    let suite = d.join("suite");
+    gen(&suite, "12", &[]);
+    let oracle = format!("{} -q navfn suite run", env!("CARGO_BIN_EXE_vouch"));
+    let fast = ["--no-metamorphic", "--no-optimality"];
+    let with_oracle = [&fast[..], &["--oracle", &oracle]].concat();
+    let (a, b, single) = (d.join("a.json"), d.join("b.json"), d.join("single.json"));
+    shard(s(&suite), "0/2", &a, &with_oracle);
+    shard(s(&suite), "1/2", &b, &with_oracle);
+    let mut args = vec!["-q", "navfn", "campaign", s(&suite), "-o", s(&single)];
+    args.extend_from_slice(&with_oracle);
+    assert_eq!(code(&vouch(&args)), 0);
+    let merged = d.join("merged.json");
+    assert_eq!(code(&merge(&merged, &[&a, &b], &[])), 0);
+    let (m, one) = (json(&merged), json(&single));
+    assert_eq!(m["categories"], one["categories"], "oracle counts add up to the single run's");
+    assert_eq!(m["options"]["oracle"], serde_json::json!(oracle));
+    let equal: u64 = m["categories"]
+        .as_object()
+        .expect("categories")
+        .values()
+        .map(|c| c["oracle"]["pass"].as_u64().expect("count"))
+        .sum();
+    assert_eq!(
+        equal,
+        m["cases"].as_u64().expect("cases"),
+        "vouch agrees with itself on every case"
+    );
+    // a shard run without the oracle does not merge with one run with it
+    let plain = d.join("plain.json");
+    shard(s(&suite), "1/2", &plain, &fast);
+    refused(&d, &[&a, &plain], &["navfn::E044", "oracle none"]);
+}
