@@ -44,6 +44,7 @@ impl Inspector for DenyParachute {
                 reason: "parachute release refused by the test inspector".into(),
                 time_us: 0,
                 reply: Some(command_ack(Side::Gcs, 1, 1, (f.sysid(), f.compid()), 208, 2)),
+                more_replies: vec![],
                 others: vec![],
             })));
         }

@@ -11,6 +11,7 @@ pub(super) struct Counters {
     pub(super) forwarded: [AtomicU64; 2],
     pub(super) violations: AtomicU64,
     pub(super) dropped_violations: AtomicU64,
+    pub(super) unverifiable: AtomicU64,
     pub(super) malformed: AtomicU64,
     pub(super) dropped_malformed: AtomicU64,
     pub(super) junk_bytes: AtomicU64,
@@ -36,6 +37,9 @@ pub struct CounterSnapshot {
     pub violations: u64,
     /// Violating frames dropped (enforce mode).
     pub dropped_violations: u64,
+    /// Frames the monitor could not verify (answers to requests it did not see) that the
+    /// protocol's policy lets pass.
+    pub unverifiable_forwarded: u64,
     /// Length-cut candidates that were no intact frame (a corrupt frame with start markers inside can count more than once).
     pub malformed: u64,
     /// Of those, dropped (enforce mode).
@@ -56,7 +60,7 @@ pub struct CounterSnapshot {
 
 impl CounterSnapshot {
     /// (name, value) in the order they are printed at shutdown.
-    pub fn rows(&self) -> [(&'static str, u64); 14] {
+    pub fn rows(&self) -> [(&'static str, u64); 15] {
         [
             ("frames from gcs", self.frames_from_gcs),
             ("forwarded to vehicle", self.forwarded_to_vehicle),
@@ -64,6 +68,7 @@ impl CounterSnapshot {
             ("forwarded to gcs", self.forwarded_to_gcs),
             ("violations", self.violations),
             ("dropped violations", self.dropped_violations),
+            ("unverifiable passed", self.unverifiable_forwarded),
             ("malformed frames", self.malformed),
             ("dropped malformed", self.dropped_malformed),
             ("junk bytes", self.junk_bytes),
@@ -88,6 +93,7 @@ impl Counters {
             forwarded_to_gcs: g(&c.forwarded[0]),
             violations: g(&c.violations),
             dropped_violations: g(&c.dropped_violations),
+            unverifiable_forwarded: g(&c.unverifiable),
             malformed: g(&c.malformed),
             dropped_malformed: g(&c.dropped_malformed),
             junk_bytes: g(&c.junk_bytes),

@@ -233,6 +233,11 @@ impl Core {
                 c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
                 Admission::Forward
             }
+            Verdict::Unverifiable(_) => {
+                c.unverifiable.fetch_add(1, Ordering::Relaxed);
+                c.forwarded[side.other().index()].fetch_add(1, Ordering::Relaxed);
+                Admission::Forward
+            }
             Verdict::Violation(v) => self.on_violation(side, peer, fr, &v),
         }
     }
@@ -253,7 +258,7 @@ impl Core {
         self.events.emit(|| GuardEvent::Violation { from: side, dropped, summary });
         if self.enforce {
             c.dropped_violations.fetch_add(1, Ordering::Relaxed);
-            if let Some(r) = &v.reply {
+            for r in v.replies() {
                 self.send_reply(r, side, peer);
             }
             Admission::Drop

@@ -83,6 +83,7 @@ impl Monitor {
             reason,
             time_us,
             reply: self.reply_for(p, s, &env),
+            more_replies: Vec::new(),
             others: Vec::new(),
         }
     }
@@ -145,6 +146,7 @@ impl Monitor {
             },
             time_us,
             reply: self.reply_for(proto, &s, &env),
+            more_replies: Vec::new(),
             others: Vec::new(),
         }
     }

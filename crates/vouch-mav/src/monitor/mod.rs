@@ -38,12 +38,24 @@ pub enum Verdict {
     Accept,
     /// No protocol is concerned with this message.
     Ignore,
+    /// The monitor cannot tell: the message answers a session whose opener it never saw (it
+    /// started mid-exchange, or a recording holds one direction only), and the protocol's
+    /// policy lets such messages pass.
+    Unverifiable(Box<Violation>),
     Violation(Box<Violation>),
 }
 
 impl Verdict {
     pub fn is_violation(&self) -> bool {
         matches!(self, Verdict::Violation(_))
+    }
+
+    /// The finding of a violation or of an unverifiable message.
+    pub fn finding(&self) -> Option<&Violation> {
+        match self {
+            Verdict::Violation(v) | Verdict::Unverifiable(v) => Some(v),
+            _ => None,
+        }
     }
 }
 

@@ -116,12 +116,22 @@ pub struct Violation {
     pub values: Vec<(String, String)>,
     pub reason: String,
     pub time_us: u64,
+    /// The first message to send in answer (enforce mode).
     pub reply: Option<Reply>,
+    /// Further answers, to the other role (e.g. cancelling toward the vehicle too, so that
+    /// neither side waits for a message that was dropped).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub more_replies: Vec<Reply>,
     /// Further violations caused by the same message (other protocols).
     pub others: Vec<Violation>,
 }
 
 impl Violation {
+    /// Every answer to send, in order.
+    pub fn replies(&self) -> impl Iterator<Item = &Reply> {
+        self.reply.iter().chain(&self.more_replies)
+    }
+
     /// One short line, e.g. `MISSION_ACK: curr == n (curr=60, n=100)`: short enough for a
     /// STATUSTEXT's 50 bytes in the common cases (the full report is the `Display` text).
     pub fn summary(&self) -> String {
