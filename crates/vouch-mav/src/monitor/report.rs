@@ -93,8 +93,14 @@ pub enum ViolationKind {
     Refinement,
     /// A recursion invariant failed after an update.
     Invariant,
-    /// A message that requires an open session arrived without one (`strict`).
+    /// A message that requires an open session arrived without one (`strict`), from the role
+    /// that opens the protocol's sessions.
     NoSession,
+    /// An answer to a session whose opener was never seen (`strict`, from the answering role):
+    /// not known to be wrong, not known to be right.
+    Unverifiable,
+    /// A frame from the GCS side that claims a vehicle's identity (trust boundary).
+    Forgery,
 }
 
 /// A precise account of one violation.
@@ -162,7 +168,7 @@ impl fmt::Display for Violation {
         if !self.expected.is_empty() {
             write!(f, "\n    expected one of: {}", self.expected.join("; "))?;
         }
-        if let Some(r) = &self.reply {
+        for r in self.replies() {
             write!(f, "\n    reply:  {} to {}/{}", r.message, r.to_sys, r.to_comp)?;
         }
         for o in &self.others {
