@@ -2,23 +2,18 @@
 //! cell (3, 12) to the upper middle cell (2, 1), NavFn takes the expensive right lane (253) although
 //! the left lane (153) is cheaper; the paper counts the detour as 700 cost units.
 
-use std::path::PathBuf;
-
-use vouch_navfn::campaign::exec::{run_case, RunMode};
+use vouch_navfn::campaign::exec::run_case;
+use vouch_navfn::campaign::names::Outcome;
 use vouch_navfn::campaign::optimal::{grid_optimum, path_cost};
 use vouch_navfn::campaign::pictures::counterexample_png;
-use vouch_navfn::campaign::runner::{prepare, to_pairs};
+use vouch_navfn::campaign::runner::{prepare, run_campaign, to_pairs, CampaignOptions};
 use vouch_navfn::campaign::suite_io::read_test_file;
-use vouch_navfn::suite_run::CaseRunner;
+use vouch_navfn::suite::{CaseRunner, RunMode};
 
 #[test]
 fn circus_counterexample_is_reproduced() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/navfn/suite/circus/circus_12L");
-    if !dir.is_dir() {
-        eprintln!("skipping: {} not found", dir.display());
-        return;
-    }
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
+    let dir = shared.join("suite/circus/circus_12L");
     let m = read_test_file(&dir.join("test.txt"), "circus", "circus_12L").expect("reads");
     let k = m
         .cases
@@ -63,33 +58,105 @@ fn circus_counterexample_is_reproduced() {
     println!("picture: {}", png.display());
 }
 
+/// The C++ path of case `k` from a golden file: the float32 bit patterns of its PATH line.
+fn golden_path(golden: &str, k: usize) -> Vec<(f32, f32)> {
+    let mut lines = golden.lines();
+    let head = format!("CASE {k} ");
+    lines.find(|l| l.starts_with(&head)).expect("the case is in the golden file");
+    let path = lines.next().expect("a PATH line follows");
+    let bits = |h: &str| f32::from_bits(u32::from_str_radix(h, 16).expect("hex"));
+    path.split_whitespace()
+        .skip(1)
+        .map(|t| t.split_once(':').expect("x:y"))
+        .map(|(x, y)| (bits(x), bits(y)))
+        .collect()
+}
+
+/// The cost model stated in docs/navfn-campaign.md, written out here independently of the
+/// campaign's code: each segment costs its length times the mean cost of the cells of its
+/// two end points (nearest cell, half away from zero).
+fn model_cost(costs: &[u8], w: usize, path: &[(f32, f32)]) -> f64 {
+    let cell = |p: (f32, f32)| f64::from(costs[p.1.round() as usize * w + p.0.round() as usize]);
+    path.windows(2)
+        .map(|s| {
+            let (dx, dy) = (f64::from(s[1].0 - s[0].0), f64::from(s[1].1 - s[0].1));
+            (dx * dx + dy * dy).sqrt() * (cell(s[0]) + cell(s[1])) / 2.0
+        })
+        .sum()
+}
+
+/// The least 8-connected grid cost from `a` to `b` by Bellman–Ford relaxation (every cell
+/// relaxed against every neighbour until nothing changes): a different algorithm than the
+/// campaign's heap-based Dijkstra, on the same stated model.
+fn relaxed_optimum(costs: &[u8], w: usize, h: usize, a: (usize, usize), b: (usize, usize)) -> f64 {
+    let mut d = vec![f64::INFINITY; w * h];
+    d[a.1 * w + a.0] = 0.0;
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for y in 1..h - 1 {
+            for x in 1..w - 1 {
+                let i = y * w + x;
+                if costs[i] >= 254 {
+                    continue;
+                }
+                for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)]
+                    .into_iter()
+                    .chain([(x - 1, y - 1), (x + 1, y - 1), (x - 1, y + 1), (x + 1, y + 1)])
+                {
+                    let j = ny * w + nx;
+                    let len = if nx != x && ny != y { std::f64::consts::SQRT_2 } else { 1.0 };
+                    let via = d[j] + len * (f64::from(costs[i]) + f64::from(costs[j])) / 2.0;
+                    if costs[j] < 254 && via < d[i] {
+                        d[i] = via;
+                        changed = true;
+                    }
+                }
+            }
+        }
+    }
+    d[b.1 * w + b.0]
+}
+
 #[test]
 fn per_case_records_carry_the_circus_excess() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn/suite/circus");
-    if !dir.is_dir() {
-        eprintln!("skipping: {} not found", dir.display());
-        return;
-    }
-    let out = std::env::temp_dir().join(format!("vouch-circus-cases-{}.jsonl", std::process::id()));
-    let opts = vouch_navfn::campaign::runner::CampaignOptions::default();
-    let (text, report) =
-        vouch_navfn::campaign::commands::campaign(&dir, &opts, None, None, None, Some(&out))
-            .expect("runs");
-    assert!(text.contains("circus"));
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
+    let dir = shared.join("suite/circus");
+    let opts = CampaignOptions { per_case: true, ..CampaignOptions::default() };
+    let (report, _) = run_campaign(&dir, &opts, &()).expect("runs");
     assert_eq!(report.failures(), 0);
-    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&out)
-        .expect("written")
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("json line"))
-        .collect();
-    assert_eq!(lines.len(), 5, "one line per circus case");
-    let rec = lines
+    assert_eq!(report.per_case.len(), 5, "one record per circus case");
+    let rec = report
+        .per_case
         .iter()
-        .find(|v| v["map"] == "circus_12L" && v["coords"] == serde_json::json!([3, 12, 2, 1]))
+        .find(|r| r.map == "circus_12L" && r.coords == [3, 12, 2, 1])
         .expect("the paper's case");
-    assert_eq!(rec["outcome"], "found");
-    let excess = rec["excess"].as_f64().expect("excess");
-    assert!((excess - 820.7).abs() < 0.1, "excess {excess}");
-    assert!(rec["failed"].as_array().is_some_and(|a| a.is_empty()));
-    let _ = std::fs::remove_file(out);
+    assert_eq!(rec.outcome, Outcome::Found);
+    assert!(rec.failed.is_empty());
+    let json = serde_json::to_value(rec).expect("json");
+    assert_eq!(json["outcome"], "found");
+
+    // The expected excess, derived without the campaign: the C++ path from the golden file,
+    // the map's cell costs with NavFn's 254 border, the stated cost model, and an optimum by
+    // plain relaxation.
+    let map = std::fs::read(shared.join("suite/circus/circus_12L/map.bin")).expect("map");
+    let (w, h) = (5, 14);
+    let mut costs = map.clone();
+    for y in 0..h {
+        for x in 0..w {
+            if x == 0 || y == 0 || x == w - 1 || y == h - 1 {
+                costs[y * w + x] = 254;
+            }
+        }
+    }
+    let golden = std::fs::read_to_string(shared.join("golden/circus/circus_12L/paper_astar.txt"))
+        .expect("golden");
+    let path = golden_path(&golden, rec.case as usize);
+    let navfn_cost = model_cost(&costs, w, &path);
+    let optimum = relaxed_optimum(&costs, w, h, (2, 1), (3, 12));
+    let excess = rec.excess.expect("excess");
+    println!("circus_12L (3,12)->(2,1): NavFn {navfn_cost:.3}, optimum {optimum:.3}");
+    assert!((rec.navfn_cost.expect("cost") - navfn_cost).abs() < 1e-9);
+    assert!((rec.optimal_cost.expect("optimum") - optimum).abs() < 1e-9);
+    assert!((excess - (navfn_cost - optimum)).abs() < 1e-9, "excess {excess}");
 }

@@ -6,22 +6,17 @@
 use std::path::PathBuf;
 
 use vouch_navfn::campaign::diff::{describe, diff_file, diff_suite, DiffOptions};
-use vouch_navfn::campaign::exec::{run_case, RunMode};
+use vouch_navfn::campaign::exec::run_case;
 use vouch_navfn::campaign::grid::SuiteMap;
 use vouch_navfn::campaign::oracle::{emit_file, parse_answers, EmitOptions};
 use vouch_navfn::campaign::suite_io::read_test_file;
 use vouch_navfn::campaign::trace::TraceDetail;
 use vouch_navfn::maps::read_suite_file;
-use vouch_navfn::suite_run::CaseRunner;
+use vouch_navfn::suite::CaseRunner;
+use vouch_navfn::suite::RunMode;
 
 fn suite() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn/suite");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
+    vouch_testkit::shared("navfn", "SEMANTICS.md").map(|p| p.join("suite"))
 }
 
 const ORACLE: &str = env!("CARGO_BIN_EXE_navfn-oracle");

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use vouch_navfn::campaign::gen::{generate, GenOptions, CATEGORIES};
 use vouch_navfn::campaign::grid::OBSTACLE;
+use vouch_navfn::campaign::names::FindingKind;
 use vouch_navfn::campaign::ros_import::import_ros_map;
 use vouch_navfn::campaign::suite_io::{read_suite, write_suite};
 
@@ -137,11 +138,7 @@ fn written_suite_reads_back_with_the_core_reader() {
 
 #[test]
 fn ros_import_reproduces_the_paper_ros_maps() {
-    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn");
-    if !shared.is_dir() {
-        eprintln!("skipping: shared/navfn not found");
-        return;
-    }
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     for name in ["keepout_mask", "map_circular", "speed_mask"] {
         let yaml = shared.join("nav2_maps").join(format!("{name}.yaml"));
         let m = import_ros_map(&yaml, name, None).expect("imports");
@@ -165,9 +162,12 @@ fn generated_circus_maps_reproduce_the_lane_counterexample() {
     })
     .expect("gen");
     write_suite(&d, &maps).expect("write");
-    let (report, _) =
-        run_campaign(&d, &CampaignOptions { metamorphic: false, ..CampaignOptions::default() })
-            .expect("runs");
+    let (report, _) = run_campaign(
+        &d,
+        &CampaignOptions { metamorphic: false, ..CampaignOptions::default() },
+        &(),
+    )
+    .expect("runs");
     let c = &report.categories["circus"];
     assert_eq!(report.failures(), 0);
     // NavFn climbs the expensive lane on some generated tracks: paths > 10 % above the optimum.
@@ -176,6 +176,9 @@ fn generated_circus_maps_reproduce_the_lane_counterexample() {
         "no circus counterexample in {} paths",
         c.optimality.compared
     );
-    assert!(report.findings.iter().any(|f| f.kind == "suboptimal" && f.category == "circus"));
+    assert!(report
+        .findings
+        .iter()
+        .any(|f| f.kind == FindingKind::Suboptimal && f.category == "circus"));
     let _ = std::fs::remove_dir_all(d);
 }

@@ -1,11 +1,21 @@
 //! `--shard I/N` + `report merge`: the shards partition the cases, and the merged report has the
 //! same counts as one unsharded run. Runs on a generated suite (no shared data needed).
 
-use vouch_navfn::campaign::commands::{read_report, report_merge, write_report};
+use std::path::Path;
+
 use vouch_navfn::campaign::gen::{generate, GenOptions};
 use vouch_navfn::campaign::report::{Report, Shard};
 use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
 use vouch_navfn::campaign::suite_io::write_suite;
+use vouch_navfn::campaign::summary::summary_table;
+
+fn write_report(p: &Path, r: &Report) {
+    std::fs::write(p, serde_json::to_string_pretty(r).expect("json")).expect("written");
+}
+
+fn read_report(p: &Path) -> Report {
+    Report::from_json(p, &std::fs::read_to_string(p).expect("read")).expect("a report")
+}
 
 #[test]
 fn merged_shards_equal_the_unsharded_run() {
@@ -24,23 +34,30 @@ fn merged_shards_equal_the_unsharded_run() {
     let total_cases: usize = maps.iter().map(|m| m.cases.len()).sum();
 
     let base = CampaignOptions { unit_cases: 64, ..CampaignOptions::default() };
-    let (whole, _) = run_campaign(&dir.join("suite"), &base).expect("runs");
+    let (whole, _) = run_campaign(&dir.join("suite"), &base, &()).expect("runs");
     assert_eq!(whole.cases as usize, total_cases);
     assert_eq!(whole.failures(), 0);
 
     let mut files = Vec::new();
     for i in 0..3 {
         let opts = CampaignOptions { shard: Shard { index: i, count: 3 }, ..base.clone() };
-        let (r, _) = run_campaign(&dir.join("suite"), &opts).expect("shard runs");
+        let (r, _) = run_campaign(&dir.join("suite"), &opts, &()).expect("shard runs");
         assert!(r.cases > 0 && (r.cases as usize) < total_cases);
         let p = dir.join(format!("shard{i}.json"));
-        write_report(&p, &r).expect("write");
-        assert_eq!(read_report(&p).expect("read back").cases, r.cases);
+        write_report(&p, &r);
+        let back = read_report(&p);
+        assert_eq!(
+            (back.cases, back.mode, back.findings.len()),
+            (r.cases, r.mode, r.findings.len())
+        );
+        assert_eq!(back.total().checks, r.total().checks);
+        assert_eq!(back.total().metamorphic, r.total().metamorphic);
         files.push(p);
     }
-    let (text, merged) = report_merge(&dir.join("merged.json"), &files).expect("merges");
+    let shards: Vec<Report> = files.iter().map(|p| read_report(p)).collect();
+    let merged = Report::merge(&shards).expect("merges");
     assert!(merged.complete());
-    assert!(text.contains("TOTAL"));
+    assert!(summary_table(&merged).contains("TOTAL"));
     let (a, b) = (whole.total(), merged.total());
     assert_eq!(merged.cases, whole.cases);
     assert_eq!(a.outcomes, b.outcomes);
@@ -60,10 +77,11 @@ fn merged_shards_equal_the_unsharded_run() {
         assert_eq!(merged.categories[k].cases, v.cases, "{k}");
     }
     // A shard given twice is refused.
-    assert!(Report::merge(&[
-        read_report(&files[0]).expect("r"),
-        read_report(&files[0]).expect("r")
-    ])
-    .is_err());
+    assert!(Report::merge(&[read_report(&files[0]), read_report(&files[0])]).is_err());
+    // A damaged report is refused with its position.
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{\n  \"suite\": 3\n}").expect("written");
+    let e = Report::from_json(&bad, &std::fs::read_to_string(&bad).expect("read")).unwrap_err();
+    assert!(e.to_string().contains("bad.json:2:"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

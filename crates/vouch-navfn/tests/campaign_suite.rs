@@ -3,24 +3,18 @@
 
 use std::path::PathBuf;
 
-use vouch_navfn::campaign::report::summary_table;
 use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+use vouch_navfn::campaign::summary::summary_table;
 
 fn shared() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn");
-    if p.join("suite").is_dir() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
+    vouch_testkit::shared("navfn", "SEMANTICS.md")
 }
 
 #[test]
 fn campaign_on_paper_suite_holds_every_property() {
     let Some(shared) = shared() else { return };
     let opts = CampaignOptions::default();
-    let (report, _) = run_campaign(&shared.join("suite"), &opts).expect("campaign runs");
+    let (report, _) = run_campaign(&shared.join("suite"), &opts, &()).expect("campaign runs");
     println!("{}", summary_table(&report));
     let t = report.total();
     assert_eq!(report.cases, 121_404);
@@ -34,7 +28,7 @@ fn campaign_on_paper_suite_holds_every_property() {
         assert_eq!(pf.fail, 0, "check {name} failed {} times", pf.fail);
         assert!(pf.pass > 0, "check {name} never ran");
     }
-    for (name, pf) in t.metamorphic.iter().filter(|(k, _)| !k.starts_with("approx")) {
+    for (name, pf) in t.metamorphic.iter().filter(|(k, _)| k.exact()) {
         assert_eq!(pf.fail, 0, "exact relation {name} failed {} times", pf.fail);
     }
     assert_eq!(report.failures(), 0);
@@ -55,11 +49,11 @@ fn campaign_on_paper_suite_holds_every_property() {
 fn campaign_in_planner_dijkstra_mode_matches_golden_outcomes() {
     let Some(shared) = shared() else { return };
     let opts = CampaignOptions {
-        mode: vouch_navfn::campaign::exec::RunMode::NavfnDijkstra,
+        mode: vouch_navfn::suite::RunMode::NavfnDijkstra,
         metamorphic: false,
         ..CampaignOptions::default()
     };
-    let (report, _) = run_campaign(&shared.join("suite"), &opts).expect("campaign runs");
+    let (report, _) = run_campaign(&shared.join("suite"), &opts, &()).expect("campaign runs");
     let t = report.total();
     // golden/README.md, navfn mode Dijkstra: 73,800 + 2,092 found, 20 calcPath exhausted.
     assert_eq!(t.outcomes.found, 73_800);

@@ -4,9 +4,9 @@
 mod common;
 
 use vouch_navfn::checks::{check_plan, PlanView, Violation};
-use vouch_navfn::core::{Algo, NoObserver};
+use vouch_navfn::core::NoObserver;
 use vouch_navfn::maps::{find_test_files, read_suite_file};
-use vouch_navfn::suite_run::{CaseRunner, CostInput, SuiteMode};
+use vouch_navfn::suite::{CaseRunner, CostInput, RunMode};
 
 #[test]
 fn checks_hold_on_every_suite_plan() {
@@ -18,12 +18,9 @@ fn checks_hold_on_every_suite_plan() {
     for f in &files {
         let file = read_suite_file(f).expect("parses");
         for case in &file.cases {
-            for (mode, algo) in
-                [(SuiteMode::Paper, Algo::Astar), (SuiteMode::Navfn, Algo::Dijkstra)]
-            {
-                let o = runner
-                    .run_case(&file, case, mode, algo, CostInput::Raw, &mut NoObserver)
-                    .unwrap();
+            for mode in [RunMode::Paper, RunMode::NavfnDijkstra] {
+                let o =
+                    runner.run_case(&file, case, mode, CostInput::Raw, &mut NoObserver).unwrap();
                 let report = check_plan(&PlanView::of(runner.nav()));
                 plans += 1;
                 paths += (o.len > 0) as usize;
@@ -56,10 +53,8 @@ fn checks_hold_on_every_ros_plan() {
         let dir = shared.join("suite_ros").join(map);
         let cells = read_suite_file(&dir.join("test.txt")).unwrap();
         for case in &cells.cases {
-            for algo in [Algo::Astar, Algo::Dijkstra] {
-                runner
-                    .run_case(&cells, case, SuiteMode::Navfn, algo, CostInput::Ros, &mut NoObserver)
-                    .unwrap();
+            for mode in [RunMode::NavfnAstar, RunMode::NavfnDijkstra] {
+                runner.run_case(&cells, case, mode, CostInput::Ros, &mut NoObserver).unwrap();
                 let nav = runner.nav();
                 let r = check_plan(&PlanView::of(nav));
                 plans += 1;
@@ -83,8 +78,7 @@ fn checks_hold_on_every_ros_plan() {
         for use_astar in [false, true] {
             let pp = PlannerParams { use_astar, ..PlannerParams::default() };
             let mut planner =
-                NavfnPlanner::new(world.map.clone(), world.width, world.height, params, pp)
-                    .unwrap();
+                NavfnPlanner::new(&world.map, world.width, world.height, params, pp).unwrap();
             for case in &world.cases {
                 let [x0, y0, x1, y1] = case.coords;
                 let plan = planner.create_plan([x0, y0], [x1, y1]);

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use vouch_navfn::checks::{check_plan, PlanView, Violation};
 use vouch_navfn::core::{Algo, Cell, NoObserver, COST_OBS, POT_HIGH};
-use vouch_navfn::suite_run::{CaseRunner, CostInput};
+use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};
 
 /// A random map in NavFn costs (border 254, interior 50..=253 or 254) with two open cells.
 fn map_strategy() -> impl Strategy<Value = (usize, usize, Vec<u8>, Cell, Cell)> {
@@ -49,10 +49,10 @@ fn run(
     let o = match mode {
         Mode::Paper => runner.run_paper(map, nx, ny, from, to, &mut NoObserver),
         Mode::NavfnDijkstra => {
-            runner.run_navfn(map, nx, ny, CostInput::Raw, Algo::Dijkstra, from, to, &mut NoObserver)
+            runner.run_navfn(raw(map, nx, ny), Algo::Dijkstra, from, to, &mut NoObserver)
         }
         Mode::NavfnAstar => {
-            runner.run_navfn(map, nx, ny, CostInput::Raw, Algo::Astar, from, to, &mut NoObserver)
+            runner.run_navfn(raw(map, nx, ny), Algo::Astar, from, to, &mut NoObserver)
         }
     };
     o.expect("valid case").len
@@ -165,4 +165,9 @@ fn end_point_and_unreached_corruptions_are_caught() {
         .violations
         .iter()
         .any(|v| matches!(v, Violation::PoseOnUnreachedCell { index: 1, .. })));
+}
+
+/// A map of raw NavFn costs.
+fn raw(bytes: &[u8], nx: usize, ny: usize) -> MapRef<'_> {
+    MapRef { bytes, nx, ny, costs: CostInput::Raw }
 }

@@ -44,16 +44,33 @@ fn nav2_maps_agree_with_suite_ros_on_lethal_and_unknown_cells() {
 }
 
 #[test]
-fn yaml_naming_a_missing_image_is_a_located_io_error() {
-    let Some(shared) = common::shared_navfn() else { return };
-    // upstream's empty_room.yaml names `empty.pgm`, which does not exist
-    let err = load_ros_map(&shared.join("nav2_maps/empty_room.yaml"), true).unwrap_err();
-    assert!(matches!(err, MapError::Io { .. }));
+fn yaml_naming_a_missing_image_is_an_io_error_naming_the_image() {
+    let dir = std::env::temp_dir().join(format!("vouch-missing-image-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let yaml = dir.join("room.yaml");
+    std::fs::write(&yaml, "image: empty.pgm\nresolution: 0.1\n").expect("written");
+    let err = load_ros_map(&yaml, true).unwrap_err();
+    assert!(err.is_io(), "{err}");
     assert!(err.to_string().contains("empty.pgm"), "{err}");
+    assert_eq!(err.path(), dir.join("empty.pgm"));
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn yaml_err(text: &str) -> String {
-    parse_map_yaml(Path::new("m.yaml"), text).unwrap_err().to_string()
+    parse_map_yaml(Path::new("m.yaml"), text).unwrap_err().located()
+}
+
+#[test]
+fn syntax_errors_point_at_the_field() {
+    let text = "image: m.pgm\nresolution: fast\n";
+    let err = parse_map_yaml(Path::new("m.yaml"), text).unwrap_err();
+    let MapError::Syntax(e) = &err else { panic!("{err:?}") };
+    assert_eq!(e.line, 2);
+    assert_eq!(&text[e.span.offset()..e.span.offset() + e.span.len()], "fast");
+    assert_eq!(
+        miette::Diagnostic::code(&err).map(|c| c.to_string()).as_deref(),
+        Some("navfn::E011")
+    );
 }
 
 #[test]
@@ -105,7 +122,7 @@ fn bad_pgm_files_are_rejected() {
 }
 
 fn suite_err(text: &str, map: Vec<u8>) -> String {
-    parse_suite_text(Path::new("t/test.txt"), text, |_| Ok(map)).unwrap_err().to_string()
+    parse_suite_text(Path::new("t/test.txt"), text, |_| Ok(map)).unwrap_err().located()
 }
 
 #[test]

@@ -3,7 +3,7 @@
 
 use vouch_navfn::core::{Cell, NoObserver, COST_OBS};
 use vouch_navfn::picture::{cell_scale, render, write_png, PictureInput};
-use vouch_navfn::suite_run::CaseRunner;
+use vouch_navfn::suite::CaseRunner;
 
 #[test]
 fn picture_shows_map_path_and_end_points() {

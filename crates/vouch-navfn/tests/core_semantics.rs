@@ -4,11 +4,11 @@
 mod common;
 
 use vouch_navfn::core::{
-    Algo, Cell, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd, PropagationEndView,
-    SearchObserver, COST_OBS, POT_HIGH,
+    Algo, Cell, CoreError, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd,
+    PropagationEndView, SearchObserver, COST_OBS, POT_HIGH,
 };
-use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, WorldParams};
-use vouch_navfn::suite_run::{CaseRunner, CostInput};
+use vouch_navfn::planner::{End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, WorldParams};
+use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};
 
 /// Free map with a 1-cell border of obstacles.
 fn open_map(nx: usize, ny: usize) -> Vec<u8> {
@@ -80,13 +80,10 @@ fn reused_arrays_give_the_same_result_as_fresh_ones() {
     for (map, nx, ny) in [(&big, 20, 15), (&small, 6, 5), (&big, 20, 15)] {
         for algo in [Algo::Dijkstra, Algo::Astar] {
             let (from, to) = (Cell::new(1, 1), Cell::new(nx - 2, ny - 2));
-            let r = reused
-                .run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver)
-                .unwrap();
+            let m = MapRef { bytes: map, nx, ny, costs: CostInput::Raw };
+            let r = reused.run_navfn(m, algo, from, to, &mut NoObserver).unwrap();
             let mut fresh = CaseRunner::new();
-            let f = fresh
-                .run_navfn(map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver)
-                .unwrap();
+            let f = fresh.run_navfn(m, algo, from, to, &mut NoObserver).unwrap();
             assert_eq!(r, f);
             assert!(r.len > 0);
             assert_eq!(reused.nav().potential(), fresh.nav().potential());
@@ -130,8 +127,8 @@ fn core_rejects_cells_and_sizes_it_cannot_use() {
     assert!(nav.set_costs_raw(&[50; 15]).is_err());
 }
 
-fn planner(nx: usize, ny: usize, map: Vec<u8>, world: WorldParams, tolerance: f64) -> NavfnPlanner {
-    NavfnPlanner::new(map, nx, ny, world, PlannerParams { tolerance, ..PlannerParams::default() })
+fn planner(nx: usize, ny: usize, map: &[u8], world: WorldParams, tol: f64) -> NavfnPlanner<'_> {
+    NavfnPlanner::new(map, nx, ny, world, PlannerParams { tolerance: tol, ..Default::default() })
         .unwrap()
 }
 
@@ -140,7 +137,7 @@ fn planner_statuses() {
     let w = WorldParams { origin: [-1.0, -1.0], resolution: 0.5 };
     let mut ros = vec![0u8; 10 * 10];
     ros[5 * 10 + 5] = 254;
-    let mut p = planner(10, 10, ros.clone(), w, 0.0);
+    let mut p = planner(10, 10, &ros, w, 0.0);
     assert_eq!(p.create_plan([-1.5, 0.0], [1.0, 1.0]).status, PlanStatus::StartOutsideMapBounds);
     assert_eq!(p.create_plan([0.0, 0.0], [4.0, 1.0]).status, PlanStatus::GoalOutsideMapBounds);
     // cell (5,5) is lethal: (5*0.5-1, 5*0.5-1) = (1.5, 1.5)
@@ -161,7 +158,7 @@ fn planner_tolerance_moves_an_unreachable_goal_to_the_nearest_reachable_point() 
     let w = WorldParams { origin: [0.0, 0.0], resolution: 1.0 };
     let mut ros = vec![0u8; 12 * 12];
     ros[6 * 12 + 6] = 254; // goal cell lethal
-    let mut p = planner(12, 12, ros, w, 1.0);
+    let mut p = planner(12, 12, &ros, w, 1.0);
     let plan = p.create_plan([2.0, 2.0], [6.0, 6.0]);
     assert_eq!(plan.status, PlanStatus::Ok);
     assert!(plan.tol_used);
@@ -177,8 +174,7 @@ fn nav2_default_pair_point_counts_match_the_cpp() {
     // SEMANTICS.md §10: Dijkstra (atStart) 1,070 points, A* 929
     for (astar, points) in [(false, 1070), (true, 929)] {
         let params = PlannerParams { use_astar: astar, ..PlannerParams::default() };
-        let mut p =
-            NavfnPlanner::new(bytes.clone(), 400, 400, WorldParams::default(), params).unwrap();
+        let mut p = NavfnPlanner::new(&bytes, 400, 400, WorldParams::default(), params).unwrap();
         let plan = p.create_plan([390.0, 10.0], [10.0, 390.0]);
         assert_eq!(plan.status, PlanStatus::Ok);
         assert_eq!(plan.navfn_len, points, "astar={astar}");
@@ -198,4 +194,48 @@ fn nav2_default_pair_point_counts_match_the_cpp() {
     nav.set_goal(Cell::new(390, 10)).unwrap();
     nav.calc_dijkstra(false, &mut NoObserver);
     assert_eq!(nav.calc_path(1600, &mut NoObserver), 1072);
+}
+
+#[test]
+fn planner_refuses_setups_whose_tolerance_search_would_not_finish() {
+    let ros = vec![0u8; 10 * 10];
+    let w = WorldParams { origin: [0.0, 0.0], resolution: 0.1 };
+    let with = |tolerance: f64, world: WorldParams| {
+        let params = PlannerParams { tolerance, ..PlannerParams::default() };
+        NavfnPlanner::new(&ros, 10, 10, world, params).err()
+    };
+    assert!(matches!(with(1e9, w), Some(PlanError::BadTolerance { .. })));
+    assert!(matches!(with(-0.5, w), Some(PlanError::BadTolerance { .. })));
+    assert!(matches!(with(f64::NAN, w), Some(PlanError::BadTolerance { .. })));
+    // (2·tol/res + 1)² = 1e8 points at most: 499.95 m at 0.1 m is the edge
+    assert!(with(499.9, w).is_none());
+    let bad_res = WorldParams { resolution: -1.0, ..w };
+    assert!(matches!(with(0.5, bad_res), Some(PlanError::BadWorld { .. })));
+    let bad_origin = WorldParams { origin: [f64::INFINITY, 0.0], ..w };
+    assert!(matches!(with(0.5, bad_origin), Some(PlanError::BadWorld { .. })));
+    let short = NavfnPlanner::new(&ros[..99], 10, 10, w, PlannerParams::default());
+    assert!(matches!(short.err(), Some(PlanError::Core(CoreError::CostLength { .. }))));
+}
+
+#[test]
+fn checked_plans_refuse_ends_off_the_map_or_in_obstacles() {
+    let mut ros = vec![0u8; 10 * 10];
+    ros[3 * 10 + 4] = 254;
+    let w = WorldParams { origin: [-1.0, -1.0], resolution: 0.5 };
+    let mut p = NavfnPlanner::new(&ros, 10, 10, w, PlannerParams::default()).unwrap();
+    let outside = p.plan_checked([0.0, 0.0], [4.0, 0.0]).unwrap_err();
+    assert!(matches!(outside, PlanError::OutsideMap { end: End::Goal, .. }), "{outside}");
+    assert!(outside.to_string().contains("x from -1.0000 to 4.0000"), "{outside}");
+    let blocked = p.plan_checked([1.1, 0.6], [0.0, 0.0]).unwrap_err();
+    assert!(matches!(blocked, PlanError::InObstacle { end: End::Start, .. }), "{blocked}");
+    assert_eq!(p.cell_point(End::Start, [2.0, 3.0]), Ok([0.0, 0.5]));
+    assert!(p.cell_point(End::Goal, [2.5, 3.0]).is_err());
+    assert!(p.cell_point(End::Goal, [10.0, 0.0]).is_err());
+    let ok = p.plan_checked([0.0, 0.0], [2.5, 2.0]).unwrap();
+    assert_eq!(ok.status, PlanStatus::Ok);
+    // the caller's costmap is never written (nav2's robot-cell clearing happens on NavFn's costs)
+    let mut q = NavfnPlanner::new(&ros, 10, 10, w, PlannerParams::default()).unwrap();
+    let _ = q.create_plan([1.0, 0.5], [0.0, 0.0]);
+    assert_eq!(q.costmap()[3 * 10 + 4], 254);
+    assert_eq!(q.nav().costs()[3 * 10 + 4], 50, "robot cell cleared for the plan");
 }

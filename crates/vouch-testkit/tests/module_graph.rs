@@ -16,17 +16,47 @@ use syn::visit::Visit;
 
 /// Per crate, its top-level modules from the lowest layer to the highest. Modules in one inner
 /// list are in the same layer (they may import each other as long as no cycle appears).
-const LAYERS: &[(&str, &[&[&str]])] = &[(
-    "vouch-mav",
-    &[
-        &["side", "dialect", "codec", "signing"],
-        &["vehicle_state"],
-        &["protocol"],
-        &["monitor"],
-        &["guard"],
-        &["bench"],
-    ],
-)];
+const LAYERS: &[(&str, &[&[&str]])] = &[
+    (
+        "vouch-fpl",
+        &[
+            &["span", "ids"],
+            &["diag"],
+            &["expr"],
+            &["ast"],
+            &["front"],
+            &["passes"],
+            &["semantics", "lint"],
+            &["emit", "graph"],
+            &["evidence", "model_check"],
+            &["pipeline"],
+        ],
+    ),
+    (
+        "vouch-mav",
+        &[
+            &["side", "dialect", "codec", "signing"],
+            &["vehicle_state"],
+            &["protocol"],
+            &["monitor"],
+            &["guard"],
+            &["bench"],
+        ],
+    ),
+    (
+        "vouch-navfn",
+        &[
+            &["diag"],
+            &["core"],
+            &["checks"],
+            &["maps"],
+            &["planner"],
+            &["suite"],
+            &["picture"],
+            &["campaign"],
+        ],
+    ),
+];
 
 type Module = Vec<String>;
 

@@ -4,7 +4,7 @@
 use libfuzzer_sys::fuzz_target;
 use vouch_navfn::checks::{check_plan, PlanView};
 use vouch_navfn::core::{Algo, Cell, NoObserver};
-use vouch_navfn::suite_run::{CaseRunner, CostInput};
+use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};
 
 fuzz_target!(|data: &[u8]| {
     if data.len() < 6 {
@@ -17,7 +17,13 @@ fuzz_target!(|data: &[u8]| {
     let map: Vec<u8> = (0..nx * ny).map(|i| data.get(6 + i).map_or(50, |&b| b.max(50))).collect();
     let mut runner = CaseRunner::new();
     for algo in [Algo::Astar, Algo::Dijkstra] {
-        let r = runner.run_navfn(&map, nx, ny, CostInput::Raw, algo, from, to, &mut NoObserver);
+        let r = runner.run_navfn(
+            MapRef { bytes: &map, nx, ny, costs: CostInput::Raw },
+            algo,
+            from,
+            to,
+            &mut NoObserver,
+        );
         assert!(r.is_ok());
         let nav = runner.nav();
         // the property checks assume open end points, as the CLI requires

@@ -11,10 +11,22 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use vouch_navfn::campaign::commands::suite_run_traced;
-use vouch_navfn::campaign::exec::RunMode;
-use vouch_navfn::campaign::oracle::EmitOptions;
+use vouch_navfn::campaign::oracle::{emit_path, EmitOptions};
 use vouch_navfn::campaign::trace::TraceDetail;
+use vouch_navfn::campaign::CampaignError;
+use vouch_navfn::suite::RunMode;
+
+/// Why the oracle stopped: bad input, or its own output went away.
+enum Stop {
+    Input(CampaignError),
+    Output(std::io::Error),
+}
+
+impl From<CampaignError> for Stop {
+    fn from(e: CampaignError) -> Self {
+        Stop::Input(e)
+    }
+}
 
 fn usage(msg: &str) -> ExitCode {
     eprintln!("navfn-oracle: {msg}");
@@ -56,14 +68,18 @@ fn main() -> ExitCode {
     let opts = EmitOptions { mode, trace, pot, perturb_pri_inc: perturb };
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    match suite_run_traced(&path, &opts, &mut out) {
-        Ok(_) => {
-            let _ = out.flush();
-            ExitCode::SUCCESS
+    let written =
+        emit_path(&path, &opts, |text| out.write_all(text.as_bytes()).map_err(Stop::Output));
+    match written.and_then(|_| out.flush().map_err(Stop::Output)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Stop::Output(e)) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(Stop::Output(e)) => {
+            eprintln!("navfn-oracle: standard output: {e}");
+            ExitCode::from(2)
         }
-        Err(e) => {
+        Err(Stop::Input(e)) => {
             eprintln!("navfn-oracle: {e}");
-            ExitCode::from(e.exit_code())
+            ExitCode::from(if e.is_io() { 2 } else { 1 })
         }
     }
 }

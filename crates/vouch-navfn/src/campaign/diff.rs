@@ -12,17 +12,22 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use crate::campaign::exec::RunMode;
+use crate::campaign::error::CampaignError;
+use crate::campaign::names::FindingKind;
 use crate::campaign::oracle::{
-    contract_args, emit_file, parse_answers, run_oracle, CaseAnswer, EmitOptions, OracleError,
+    contract_args, emit_file, parse_answers, run_oracle, CaseAnswer, EmitOptions,
 };
+use crate::campaign::report::{Finding, Report, Shard};
 use crate::campaign::trace::{first_divergence, TraceDetail, TraceDivergence};
-use crate::maps::{find_test_files, read_suite_file, MapError};
-use crate::suite_run::CaseError;
+use crate::maps::{find_test_files, read_suite_file};
+use crate::suite::RunMode;
 
+/// What `suite diff` compares.
 #[derive(Clone, Debug)]
 pub struct DiffOptions {
+    /// The oracle command (run through `sh -c`).
     pub oracle: String,
+    /// The call sequence.
     pub mode: RunMode,
     /// White-box detail for every case (`None` = black box only; the deep re-run still happens).
     pub white_box: Option<TraceDetail>,
@@ -33,45 +38,46 @@ pub struct DiffOptions {
 /// The first differing potential cell.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PotDiff {
+    /// Column.
     pub x: usize,
+    /// Row.
     pub y: usize,
+    /// vouch's potential.
     pub ours: f32,
+    /// The oracle's potential.
     pub theirs: f32,
 }
 
 /// One differing case.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CaseMismatch {
+    /// The test file.
     pub file: String,
+    /// Case number.
     pub case: usize,
+    /// The case's coordinates as printed.
     pub coords: String,
     /// `field: ours vs theirs` for each differing CASE field, and `PATH` when the points differ.
     pub fields: Vec<String>,
+    /// The first diverging cycle of the search traces.
     pub divergence: Option<TraceDivergence>,
+    /// The first differing potential cell.
     pub pot: Option<PotDiff>,
 }
 
 /// Outcome of a diff run.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct DiffReport {
+    /// Test files compared.
     pub files: usize,
+    /// Cases compared.
     pub cases: usize,
+    /// Cases both sides answered the same.
     pub equal: usize,
+    /// Cases that differ (or that the oracle did not answer).
     pub different: usize,
     /// First mismatch of each file that has one, in file order.
     pub mismatches: Vec<CaseMismatch>,
-}
-
-#[derive(Debug, thiserror::Error)]
-pub enum DiffError {
-    #[error(transparent)]
-    Map(#[from] MapError),
-    #[error(transparent)]
-    Case(#[from] CaseError),
-    #[error(transparent)]
-    Oracle(#[from] OracleError),
-    #[error("vouch's own output did not parse: {0}")]
-    Own(String),
 }
 
 const COMPARED: [&str; 8] =
@@ -127,21 +133,21 @@ fn ours_for(
     opts: &DiffOptions,
     trace: Option<TraceDetail>,
     pot: bool,
-) -> Result<BTreeMap<usize, CaseAnswer>, DiffError> {
+) -> Result<BTreeMap<usize, CaseAnswer>, CampaignError> {
     let mut text = String::new();
     emit_file(
         file,
         &EmitOptions { mode: opts.mode, trace, pot, perturb_pri_inc: opts.perturb_pri_inc },
         &mut text,
     )?;
-    parse_answers(&text).map_err(DiffError::Own)
+    parse_answers(&text).map_err(CampaignError::Own)
 }
 
 /// Diff one test file.
 pub fn diff_file(
     test_txt: &Path,
     opts: &DiffOptions,
-) -> Result<(usize, usize, Option<CaseMismatch>), DiffError> {
+) -> Result<(usize, usize, Option<CaseMismatch>), CampaignError> {
     let file = read_suite_file(test_txt)?;
     let ours = ours_for(&file, opts, opts.white_box, false)?;
     let theirs =
@@ -187,7 +193,7 @@ pub fn diff_file(
 }
 
 /// Diff every test file below `suite` (files in parallel; each oracle call is one process).
-pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, DiffError> {
+pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, CampaignError> {
     let files = find_test_files(suite, "test.txt")?;
     let results: Vec<(usize, usize, Option<CaseMismatch>)> =
         files.par_iter().map(|f| diff_file(f, opts)).collect::<Result<_, _>>()?;
@@ -199,6 +205,56 @@ pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, DiffEr
         r.mismatches.extend(m);
     }
     Ok(r)
+}
+
+/// Diffs every test file below `suite` that `shard` owns (one oracle process per file) and adds
+/// the counts and the first mismatch of each file to `report` (as `oracle_mismatch` findings).
+pub fn add_oracle(
+    report: &mut Report,
+    suite: &Path,
+    oracle: &str,
+    mode: RunMode,
+    shard: Shard,
+) -> Result<(), CampaignError> {
+    let files = find_test_files(suite, "test.txt")?;
+    let dopts = DiffOptions {
+        oracle: oracle.into(),
+        mode,
+        white_box: Some(TraceDetail::Hash),
+        perturb_pri_inc: None,
+    };
+    let name_of = |p: Option<&Path>| {
+        p.and_then(Path::file_name).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+    };
+    for (i, f) in files.iter().enumerate() {
+        // Oracle comparison is sharded by file (one oracle process per file).
+        if !shard.owns(i as u64) {
+            continue;
+        }
+        let (eq, diff, m) = diff_file(f, &dopts)?;
+        let category = name_of(f.parent().and_then(Path::parent));
+        let st = report.categories.entry(category.clone()).or_default();
+        st.oracle.pass += eq as u64;
+        st.oracle.fail += diff as u64;
+        if let Some(m) = m {
+            let divergence = m
+                .divergence
+                .map(|d| format!("; cycle {}: {}", d.cycle, d.detail))
+                .unwrap_or_default();
+            report.findings.push(Finding {
+                kind: FindingKind::OracleMismatch,
+                category,
+                map: name_of(f.parent()),
+                case: m.case as u64,
+                coords: [0; 4],
+                detail: format!("{}{divergence}", m.fields.join("; ")),
+                score: 1.0,
+                picture: None,
+            });
+        }
+    }
+    report.trim_findings();
+    Ok(())
 }
 
 /// Human text of a diff report: totals and the first mismatch in detail.

@@ -3,55 +3,21 @@
 //! recorded when asked for.
 
 use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
+use crate::campaign::names::Property;
 use crate::campaign::trace::{Trace, TraceDetail, TraceRecorder};
 use crate::checks::{check_plan, PlanView, Violation as PlanViolation};
 use crate::core::{
-    Algo, Cell, CycleView, NavFn, PathStartView, PropagationEnd, PropagationEndView,
-    SearchObserver, POT_HIGH,
+    Cell, CycleView, NavFn, PathStartView, PropagationEnd, PropagationEndView, SearchObserver,
+    POT_HIGH,
 };
-use crate::suite_run::{CaseError, CaseOutcome, CaseRunner};
-
-/// Which call sequence (golden/README.md "Modes"); the campaign runs cell-level modes only.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum RunMode {
-    /// The paper's harness: A*, no swap, `calcPath(4*nx)`.
-    Paper,
-    /// The planner's cell-level call sequence with `atStart` Dijkstra.
-    NavfnDijkstra,
-    /// The planner's cell-level call sequence with A*.
-    NavfnAstar,
-}
-
-impl RunMode {
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "paper" => Some(RunMode::Paper),
-            "navfn" | "navfn-dijkstra" | "dijkstra" => Some(RunMode::NavfnDijkstra),
-            "navfn-astar" | "astar" => Some(RunMode::NavfnAstar),
-            _ => None,
-        }
-    }
-    /// `--mode`/`--algo` arguments of the oracle contract.
-    pub fn oracle_args(self) -> &'static [&'static str] {
-        match self {
-            RunMode::Paper => &["--mode", "paper"],
-            RunMode::NavfnDijkstra => &["--mode", "navfn", "--algo", "dijkstra"],
-            RunMode::NavfnAstar => &["--mode", "navfn", "--algo", "astar"],
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            RunMode::Paper => "paper",
-            RunMode::NavfnDijkstra => "navfn-dijkstra",
-            RunMode::NavfnAstar => "navfn-astar",
-        }
-    }
-}
+use crate::suite::{CaseError, CaseOutcome, CaseRunner, CostInput, MapRef, RunMode};
 
 /// First violation of a search-trace property.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Violation {
-    pub property: String,
+    /// The property.
+    pub property: Property,
+    /// What was seen.
     pub detail: String,
 }
 
@@ -91,7 +57,7 @@ impl<'a> CaseObserver<'a> {
                 .is_none_or(|&cost| cost >= OBSTACLE);
             if bad {
                 self.violations.push(Violation {
-                    property: "obstacle_free_queues".into(),
+                    property: Property::ObstacleFreeQueues,
                     detail: format!("cycle {cycle}: {name} buffer holds cell {c} of cost ≥ 254"),
                 });
                 return;
@@ -160,35 +126,14 @@ pub fn run_case(
     let (w, h) = (m.width as usize, m.height as usize);
     let from = Cell::new(case.x0 as usize, case.y0 as usize);
     let to = Cell::new(case.x1 as usize, case.y1 as usize);
-    let outcome = match mode {
-        RunMode::Paper => runner.run_paper(&m.costs, w, h, from, to, &mut obs)?,
-        RunMode::NavfnDijkstra => runner.run_navfn(
-            &m.costs,
-            w,
-            h,
-            crate::suite_run::CostInput::Raw,
-            Algo::Dijkstra,
-            from,
-            to,
-            &mut obs,
-        )?,
-        RunMode::NavfnAstar => runner.run_navfn(
-            &m.costs,
-            w,
-            h,
-            crate::suite_run::CostInput::Raw,
-            Algo::Astar,
-            from,
-            to,
-            &mut obs,
-        )?,
-    };
+    let map = MapRef { bytes: &m.costs, nx: w, ny: h, costs: CostInput::Raw };
+    let outcome = runner.run(mode, map, from, to, &mut obs)?;
     let mut violations = std::mem::take(&mut obs.violations);
     // No path without finite potential (the paper's (¬PathComputed) W NonInfinitePotAtInit):
     // a non-empty path implies the start potential was finite when extraction began.
     if outcome.len > 0 && !obs.pot_at_path_start.is_some_and(|p| p < POT_HIGH) {
         violations.push(Violation {
-            property: "no_path_without_finite_potential".into(),
+            property: Property::NoPathWithoutFinitePotential,
             detail: format!(
                 "path of {} points from a start of potential {:?}",
                 outcome.len, obs.pot_at_path_start
@@ -204,20 +149,16 @@ pub fn run_case(
     })
 }
 
-/// Names of the run-time plan checks of the core (`crate::checks`), one per property.
-pub const PLAN_CHECKS: [&str; 5] =
-    ["valid_path", "finite_potential_path", "position_safe", "progress", "path_end_points"];
-
-fn plan_check_name(v: &PlanViolation) -> &'static str {
+fn plan_check_property(v: &PlanViolation) -> Property {
     match v {
-        PlanViolation::PoseInObstacle { .. } => "valid_path",
-        PlanViolation::PoseOnUnreachedCell { .. } => "finite_potential_path",
+        PlanViolation::PoseInObstacle { .. } => Property::ValidPath,
+        PlanViolation::PoseOnUnreachedCell { .. } => Property::FinitePotentialPath,
         PlanViolation::PotentialOnObstacle { .. } | PlanViolation::SizeMismatch { .. } => {
-            "position_safe"
+            Property::PositionSafe
         }
-        PlanViolation::NoProgress { .. } => "progress",
+        PlanViolation::NoProgress { .. } => Property::Progress,
         PlanViolation::WrongFirstPoint { .. } | PlanViolation::WrongLastPoint { .. } => {
-            "path_end_points"
+            Property::PathEndPoints
         }
     }
 }
@@ -229,9 +170,9 @@ pub fn plan_checks(nav: &NavFn) -> Vec<Violation> {
     let report = check_plan(&PlanView::of(nav));
     let mut out: Vec<Violation> = Vec::new();
     for v in &report.violations {
-        let name = plan_check_name(v);
-        if !out.iter().any(|o| o.property == name) {
-            out.push(Violation { property: name.into(), detail: v.to_string() });
+        let property = plan_check_property(v);
+        if !out.iter().any(|o| o.property == property) {
+            out.push(Violation { property, detail: v.to_string() });
         }
     }
     out
@@ -267,7 +208,7 @@ mod tests {
         obs.on_cycle(&dirty);
         obs.on_cycle(&dirty);
         assert_eq!(obs.violations.len(), 1);
-        assert_eq!(obs.violations[0].property, "obstacle_free_queues");
+        assert_eq!(obs.violations[0].property, Property::ObstacleFreeQueues);
         assert!(
             obs.violations[0].detail.contains("cycle 3")
                 && obs.violations[0].detail.contains("overflow")

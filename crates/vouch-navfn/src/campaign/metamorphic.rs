@@ -1,6 +1,6 @@
 //! Metamorphic relations between a run on a map and a run on its transform (docs/navfn-campaign.md
-//! states them precisely). Names starting with `approx_` are approximate relations: a violation
-//! is a *finding* about NavFn (it is not symmetric), not a failure of vouch.
+//! states them precisely). Approximate relations ([`RelationKind::exact`] false, named
+//! `approx_*`): a violation is a *finding* about NavFn (it is not symmetric), not a failure.
 //!
 //! Exact relations (must hold on every case):
 //! * `reachability@T` — if the transformed run did not stop at its cycle limit and the NavFn goal
@@ -22,6 +22,7 @@
 //! * `approx_path_cost@T` — both paths found (start ≠ goal): campaign-model costs within
 //!   [`APPROX_REL`] relative.
 
+use crate::campaign::names::{Relation, RelationKind};
 use crate::campaign::transform::Transform;
 use crate::core::{PropagationEnd, POT_HIGH};
 
@@ -57,13 +58,26 @@ impl RunDigest {
 /// One evaluated relation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RelationResult {
-    pub name: String,
+    /// The relation.
+    pub relation: Relation,
+    /// Whether it held.
     pub held: bool,
+    /// Why not (empty when it held).
     pub detail: String,
 }
 
-fn rel(name: String, held: bool, detail: impl FnOnce() -> String) -> RelationResult {
-    RelationResult { name, held, detail: if held { String::new() } else { detail() } }
+/// Builds the results of one transform's relations.
+struct Results {
+    transform: Transform,
+    out: Vec<RelationResult>,
+}
+
+impl Results {
+    fn push(&mut self, kind: RelationKind, held: bool, detail: impl FnOnce() -> String) {
+        let relation = Relation { kind, transform: self.transform };
+        let detail = if held { String::new() } else { detail() };
+        self.out.push(RelationResult { relation, held, detail });
+    }
 }
 
 /// Inputs describing the original map for the relations.
@@ -85,16 +99,15 @@ pub fn evaluate(
     r: &RunDigest,
     r_potential: &[f32],
 ) -> Vec<RelationResult> {
-    let label = t.label();
-    let mut out = Vec::new();
+    let mut out = Results { transform: t, out: Vec::new() };
     if let (false, Some(conn)) = (r.cycle_limited(), ctx.connected) {
-        out.push(rel(format!("reachability@{label}"), r.reached() == conn, || {
+        out.push(RelationKind::Reachability, r.reached() == conn, || {
             format!("start reached = {}, but start and goal connected = {conn}", r.reached())
-        }));
+        });
     }
-    out.push(rel(format!("properties@{label}"), r.properties_ok, || {
+    out.push(RelationKind::Properties, r.properties_ok, || {
         "a property failed on the transformed map".into()
-    }));
+    });
     match t {
         Transform::Embed { pad } => {
             if !o.cycle_limited() {
@@ -122,9 +135,9 @@ pub fn evaluate(
                         }
                     }
                 }
-                out.push(rel(format!("embed_potential@{label}"), bad.is_none(), || {
+                out.push(RelationKind::EmbedPotential, bad.is_none(), || {
                     bad.clone().unwrap_or_default()
-                }));
+                });
                 if o.len > 0 && !o.oscillated && !r.oscillated {
                     let tol = 2.0
                         * f64::from(f32::EPSILON)
@@ -146,9 +159,9 @@ pub fn evaluate(
                             }
                         }
                     }
-                    out.push(rel(format!("embed_path@{label}"), why.is_none(), || {
+                    out.push(RelationKind::EmbedPath, why.is_none(), || {
                         why.clone().unwrap_or_default()
-                    }));
+                    });
                 }
             }
         }
@@ -156,21 +169,21 @@ pub fn evaluate(
             if o.reached() && r.reached() {
                 let (a, b) = (f64::from(o.start_pot), f64::from(r.start_pot));
                 let ok = (a - b).abs() <= APPROX_REL * a.max(b);
-                out.push(rel(format!("approx_start_potential@{label}"), ok, || {
+                out.push(RelationKind::ApproxStartPotential, ok, || {
                     format!("start potential {a} vs {b}")
-                }));
+                });
             }
             if let (Some(a), Some(b)) = (o.cost, r.cost) {
                 if a > 0.0 || b > 0.0 {
                     let ok = (a - b).abs() <= APPROX_REL * a.max(b);
-                    out.push(rel(format!("approx_path_cost@{label}"), ok, || {
+                    out.push(RelationKind::ApproxPathCost, ok, || {
                         format!("path cost {a:.1} vs {b:.1}")
-                    }));
+                    });
                 }
             }
         }
     }
-    out
+    out.out
 }
 
 #[cfg(test)]
@@ -207,17 +220,25 @@ mod tests {
         let t = Transform::Embed { pad: 1 };
         let res = evaluate(t, &ctx, &o, &r, &rpot);
         assert!(res.iter().all(|x| x.held), "{res:?}");
-        assert!(res.iter().any(|x| x.name == "embed_potential@embed1"));
-        assert!(res.iter().any(|x| x.name == "embed_path@embed1"));
+        assert!(res.iter().any(|x| x.relation.to_string() == "embed_potential@embed1"));
+        assert!(res.iter().any(|x| x.relation.to_string() == "embed_path@embed1"));
         rpot[0] = 5.0;
         let res = evaluate(t, &ctx, &o, &r, &rpot);
-        let bad = res.iter().find(|x| x.name == "embed_potential@embed1").expect("evaluated");
+        let bad = res
+            .iter()
+            .find(|x| x.relation.to_string() == "embed_potential@embed1")
+            .expect("evaluated");
         assert!(!bad.held && bad.detail.contains("(0, 0)"));
         // A shifted path point off by more than rounding breaks embed_path.
         let r2 = digest(PropagationEnd::StartReached, 0.0, vec![[2.01, 2.0]], Some(0.0));
         rpot[0] = POT_HIGH;
         let res = evaluate(t, &ctx, &o, &r2, &rpot);
-        assert!(!res.iter().find(|x| x.name == "embed_path@embed1").expect("evaluated").held);
+        assert!(
+            !res.iter()
+                .find(|x| x.relation.to_string() == "embed_path@embed1")
+                .expect("evaluated")
+                .held
+        );
     }
 
     #[test]
@@ -227,11 +248,16 @@ mod tests {
         let o = digest(PropagationEnd::StartReached, 10.0, vec![], None);
         let unreached = digest(PropagationEnd::QueuesEmpty, POT_HIGH, vec![], None);
         let res = evaluate(Transform::Rot90, &ctx, &o, &unreached, &pot);
-        assert!(!res.iter().find(|x| x.name == "reachability@rot90").expect("evaluated").held);
+        assert!(
+            !res.iter()
+                .find(|x| x.relation.to_string() == "reachability@rot90")
+                .expect("evaluated")
+                .held
+        );
         let limited = digest(PropagationEnd::CycleLimit, POT_HIGH, vec![], None);
         let res = evaluate(Transform::Rot90, &ctx, &o, &limited, &pot);
         assert!(
-            res.iter().all(|x| x.name != "reachability@rot90"),
+            res.iter().all(|x| x.relation.to_string() != "reachability@rot90"),
             "not applicable when cut by the cycle limit"
         );
         // Approximate: start potentials 10 vs 20 differ by 50 % > 25 %.
@@ -239,7 +265,7 @@ mod tests {
         let res = evaluate(Transform::MirrorX, &ctx, &o, &far, &pot);
         assert!(
             !res.iter()
-                .find(|x| x.name == "approx_start_potential@mirror_x")
+                .find(|x| x.relation.to_string() == "approx_start_potential@mirror_x")
                 .expect("evaluated")
                 .held
         );

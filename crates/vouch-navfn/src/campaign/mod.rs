@@ -1,23 +1,24 @@
-//! The verification campaign (issue 7): the paper's method as one command.
+//! The verification campaign: the paper's method as one command.
 //!
 //! * `gen` — deterministic generators for the nine categories, `suite_io` — suite reader/writer,
-//!   `ros_import` — nav2 YAML+PGM maps as suite maps;
+//!   `ros_import` — nav2 YAML+PGM maps as suite maps; `grid` — the campaign's IR;
 //! * `exec` — one case with the search-trace property observer, `trace` — per-cycle trace format;
 //! * `oracle` + `diff` — the oracle contract and the differential harness;
 //! * `optimal` — cost model, 8-connected optimum, obtuse turns and oscillations;
 //! * `transform` + `metamorphic` — grid symmetries, embedding, and the relations between runs;
-//! * `runner` — the parallel campaign, `report` — JSON report, shards, merge, summary table;
-//! * `pictures` — PNG of counterexamples.
+//! * `names` — properties, relations, outcomes and finding kinds as types;
+//! * `runner` — the parallel campaign, `report` — JSON report, shards, merge; `summary` — the
+//!   human table; `pictures` — PNG of counterexamples; `error` — what can go wrong.
 //!
-//! The campaign only calls the core (`crate::core`, `crate::suite_run`); it never changes a
-//! NavFn result.
+//! The campaign only calls the core through `crate::suite`; it never changes a NavFn result.
 
-pub mod commands;
 pub mod diff;
+pub mod error;
 pub mod exec;
 pub mod gen;
 pub mod grid;
 pub mod metamorphic;
+pub mod names;
 pub mod optimal;
 pub mod oracle;
 pub mod pictures;
@@ -26,5 +27,8 @@ pub mod rng;
 pub mod ros_import;
 pub mod runner;
 pub mod suite_io;
+pub mod summary;
 pub mod trace;
 pub mod transform;
+
+pub use error::CampaignError;

@@ -11,11 +11,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
-use crate::campaign::exec::RunMode;
+use crate::campaign::error::{CampaignError, OracleError};
 use crate::campaign::trace::{self, Trace, TraceDetail, TraceRecorder};
-use crate::core::Algo;
-use crate::maps::SuiteFile;
-use crate::suite_run::{write_cell_case, CaseError, CaseRunner, CostInput, SuiteMode};
+use crate::maps::{find_test_files, read_suite_file, SuiteFile};
+use crate::suite::{write_cell_case, CaseError, CaseRunner, CostInput, RunMode};
 
 /// What one side said about one case.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -24,7 +23,9 @@ pub struct CaseAnswer {
     pub fields: BTreeMap<String, String>,
     /// PATH tokens `xbits:ybits`.
     pub path: Vec<String>,
+    /// CYCLE/PROPEND lines.
     pub trace: Trace,
+    /// POT line (float32 bits).
     pub pot: Option<Vec<u32>>,
 }
 
@@ -79,8 +80,11 @@ pub fn parse_answers(text: &str) -> Result<BTreeMap<usize, CaseAnswer>, String> 
 /// Options of vouch's own side of the contract.
 #[derive(Clone, Copy, Debug)]
 pub struct EmitOptions {
+    /// The call sequence.
     pub mode: RunMode,
+    /// Per-cycle trace lines, and how detailed.
     pub trace: Option<TraceDetail>,
+    /// A `POT` line per case.
     pub pot: bool,
     /// Test-only perturbation: a different threshold increment `priInc` (hidden CLI flag).
     pub perturb_pri_inc: Option<f32>,
@@ -96,28 +100,19 @@ pub fn emit_file(
     if let Some(p) = opts.perturb_pri_inc {
         runner.nav_mut().set_pri_inc(p);
     }
-    let (mode, algo) = match opts.mode {
-        RunMode::Paper => (SuiteMode::Paper, Algo::Astar),
-        RunMode::NavfnDijkstra => (SuiteMode::Navfn, Algo::Dijkstra),
-        RunMode::NavfnAstar => (SuiteMode::Navfn, Algo::Astar),
-    };
+    let mode = opts.mode;
     let mut found = 0;
     for case in &file.cases {
         let o = match opts.trace {
             Some(d) => {
                 let mut rec = TraceRecorder::new(d);
-                let o = runner.run_case(file, case, mode, algo, CostInput::Raw, &mut rec)?;
+                let o = runner.run_case(file, case, mode, CostInput::Raw, &mut rec)?;
                 trace::write_trace(out, case.number, &rec.trace);
                 o
             }
-            None => runner.run_case(
-                file,
-                case,
-                mode,
-                algo,
-                CostInput::Raw,
-                &mut crate::core::NoObserver,
-            )?,
+            None => {
+                runner.run_case(file, case, mode, CostInput::Raw, &mut crate::core::NoObserver)?
+            }
         };
         if opts.pot {
             trace::write_pot(out, case.number, runner.nav().potential());
@@ -128,19 +123,30 @@ pub fn emit_file(
     Ok(found)
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum OracleError {
-    #[error("cannot start oracle `{cmd}`: {source}")]
-    Spawn { cmd: String, source: std::io::Error },
-    #[error("oracle `{cmd}` failed on {file} with {status}: {stderr}")]
-    Failed { cmd: String, file: String, status: String, stderr: String },
-    #[error("oracle `{cmd}` on {file}: {msg}")]
-    Output { cmd: String, file: String, msg: String },
+/// Every case of every test file below `path` (a test file or a folder), in the contract's
+/// format, handed to `sink` one file at a time. Returns the number of cases.
+pub fn emit_path<E: From<CampaignError>>(
+    path: &Path,
+    opts: &EmitOptions,
+    mut sink: impl FnMut(&str) -> Result<(), E>,
+) -> Result<usize, E> {
+    let files = find_test_files(path, "test.txt").map_err(CampaignError::from)?;
+    let mut cases = 0;
+    let mut text = String::new();
+    for f in files {
+        let file = read_suite_file(&f).map_err(CampaignError::from)?;
+        text.clear();
+        emit_file(&file, opts, &mut text)
+            .map_err(|source| CampaignError::Case { map: f.display().to_string(), source })?;
+        cases += file.cases.len();
+        sink(&text)?;
+    }
+    Ok(cases)
 }
 
 /// Contract arguments for a run.
 pub fn contract_args(mode: RunMode, trace: Option<TraceDetail>, pot: bool) -> Vec<String> {
-    let mut a: Vec<String> = mode.oracle_args().iter().map(|s| s.to_string()).collect();
+    let mut a: Vec<String> = mode.args().iter().map(|s| s.to_string()).collect();
     if let Some(d) = trace {
         a.push("--trace".into());
         a.push(if d == TraceDetail::Cells { "cells" } else { "hash" }.into());

@@ -5,12 +5,41 @@
 
 use std::path::Path;
 
-use crate::campaign::exec::{navfn_ends, run_case, RunMode};
+use crate::campaign::error::CampaignError;
+use crate::campaign::exec::{navfn_ends, run_case};
 use crate::campaign::grid::{Case, OBSTACLE};
+use crate::campaign::names::FindingKind;
 use crate::campaign::optimal::grid_optimum;
-use crate::campaign::runner::PreparedMap;
+use crate::campaign::report::Report;
+use crate::campaign::runner::{find_map, picture_path, PreparedMap};
 use crate::picture::{cell_scale, render, write_png, PictureInput, Rgb};
-use crate::suite_run::CaseRunner;
+use crate::suite::{CaseRunner, RunMode};
+
+/// Writes a picture of every finding on a map of `maps` (not the oracle mismatches and
+/// approximate relations, which a picture of one run does not show) into `dir`, and records
+/// its path in the finding.
+pub fn write_pictures(
+    dir: &Path,
+    report: &mut Report,
+    maps: &[PreparedMap],
+    mode: RunMode,
+) -> Result<(), CampaignError> {
+    let write_err = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| CampaignError::Write { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(write_err(dir))?;
+    for f in report.findings.iter_mut() {
+        if matches!(f.kind, FindingKind::OracleMismatch | FindingKind::ApproxRelation) {
+            continue;
+        }
+        let Some(pm) = find_map(maps, &f.category, &f.map) else { continue };
+        let p = picture_path(dir, f);
+        counterexample_png(&p, pm, f.case as usize, mode).map_err(write_err(&p))?;
+        f.picture = Some(p.display().to_string());
+    }
+    Ok(())
+}
 
 fn put(img: &mut Rgb, x: i64, y: i64, c: [u8; 3]) {
     if x >= 0 && y >= 0 && (x as usize) < img.width && (y as usize) < img.height {

@@ -1,24 +1,30 @@
-//! The campaign report: mergeable per-category statistics, counterexamples, JSON, shards,
-//! `report merge`, and the human summary table.
+//! The campaign report: mergeable per-category statistics, counterexamples, JSON, shards and
+//! `report merge` (the human summary table is `summary.rs`).
 //!
 //! Every statistic is a count, a sum, a maximum or a fixed-bin histogram, so that the report
 //! of N shards merged equals (up to float summation order) the report of one unsharded run.
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
+
+use crate::campaign::names::{Failed, FindingKind, Outcome, Property, Relation};
+use crate::suite::RunMode;
 
 /// `--shard I/N`: this process handles the cases whose global index `g` (file order over the
 /// sorted suite tree, then case order) satisfies `g % N == I`. Round-robin keeps shards
 /// balanced even though maps differ in size, and needs no coordination between machines.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Shard {
+    /// `I`, from 0.
     pub index: u32,
+    /// `N`.
     pub count: u32,
 }
 
 impl Shard {
+    /// The whole suite (shard 0 of 1).
     pub const ALL: Shard = Shard { index: 0, count: 1 };
 
     /// Parse `I/N` with `0 <= I < N`.
@@ -33,6 +39,7 @@ impl Shard {
         Ok(Shard { index, count })
     }
 
+    /// Whether this shard runs the case of global index `global_case`.
     pub fn owns(self, global_case: u64) -> bool {
         global_case % u64::from(self.count) == u64::from(self.index)
     }
@@ -41,11 +48,14 @@ impl Shard {
 /// Pass/fail counter of one check.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PassFail {
+    /// Times it held.
     pub pass: u64,
+    /// Times it failed.
     pub fail: u64,
 }
 
 impl PassFail {
+    /// Counts one evaluation.
     pub fn record(&mut self, ok: bool) {
         if ok {
             self.pass += 1
@@ -67,11 +77,15 @@ pub const RATIO_BINS: [f64; 9] = [0.95, 1.0, 1.01, 1.05, 1.0825, 1.10, 1.25, 1.5
 pub struct OptimalityStats {
     /// Paths compared with the optimum.
     pub compared: u64,
+    /// Sum of NavFn path costs (campaign model).
     pub navfn_cost_sum: f64,
+    /// Sum of the optimal costs.
     pub optimal_cost_sum: f64,
     /// Largest `navfn − optimal` and the smallest (negative: any-angle path beat the grid).
     pub excess_max: f64,
+    /// Smallest `navfn − optimal`.
     pub excess_min: f64,
+    /// Largest `navfn / optimal`.
     pub ratio_max: f64,
     /// Counts of ratios below each of [`RATIO_BINS`], plus one more for "≥ last".
     pub ratio_hist: Vec<u64>,
@@ -84,6 +98,7 @@ pub struct OptimalityStats {
 }
 
 impl OptimalityStats {
+    /// Counts one compared path.
     pub fn record(&mut self, navfn: f64, optimal: f64) {
         if self.ratio_hist.is_empty() {
             self.ratio_hist = vec![0; RATIO_BINS.len() + 1];
@@ -126,7 +141,9 @@ impl OptimalityStats {
 /// Outcome counts (golden/README.md "Outcome statistics").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Outcomes {
+    /// NavFn returned a path.
     pub found: u64,
+    /// Start and goal are the same cell.
     pub start_is_goal: u64,
     /// Start not reached and not 4-connected to the goal (truly unreachable).
     pub unreachable: u64,
@@ -137,6 +154,17 @@ pub struct Outcomes {
 }
 
 impl Outcomes {
+    /// Counts one case.
+    pub fn record(&mut self, o: Outcome) {
+        match o {
+            Outcome::Found => self.found += 1,
+            Outcome::StartIsGoal => self.start_is_goal += 1,
+            Outcome::Unreachable => self.unreachable += 1,
+            Outcome::CycleLimit => self.cycle_limit += 1,
+            Outcome::PathFailed => self.path_failed += 1,
+        }
+    }
+
     fn merge(&mut self, o: &Outcomes) {
         self.found += o.found;
         self.start_is_goal += o.start_is_goal;
@@ -149,37 +177,52 @@ impl Outcomes {
 /// Everything counted for one category.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CategoryStats {
+    /// Maps of the category (in this shard).
     pub maps: u64,
+    /// Cases run.
     pub cases: u64,
+    /// How the cases ended.
     pub outcomes: Outcomes,
-    /// Search-trace, final-state and run-time checks: name → pass/fail.
-    pub checks: BTreeMap<String, PassFail>,
-    /// Metamorphic relations: name → held/violated (approximate ones are findings, not failures).
-    pub metamorphic: BTreeMap<String, PassFail>,
+    /// Search-trace, final-state and run-time checks: property → pass/fail.
+    pub checks: BTreeMap<Property, PassFail>,
+    /// Metamorphic relations → held/violated (approximate ones are findings, not failures).
+    pub metamorphic: BTreeMap<Relation, PassFail>,
+    /// Optimality and path shape.
     pub optimality: OptimalityStats,
     /// Differential comparison with an oracle (when one was given): equal / different cases.
     pub oracle: PassFail,
     /// CPU time spent in this category's cases, summed over threads (seconds).
     pub cpu_seconds: f64,
+    /// Largest total occupancy of the priority buffers.
     pub max_buffer_occupancy: u64,
 }
 
 impl CategoryStats {
-    pub fn check(&mut self, name: &str, ok: bool) {
-        self.checks.entry(name.to_string()).or_default().record(ok);
+    /// Counts one evaluation of a property.
+    pub fn check(&mut self, p: Property, ok: bool) {
+        self.checks.entry(p).or_default().record(ok);
     }
-    pub fn relation(&mut self, name: &str, ok: bool) {
-        self.metamorphic.entry(name.to_string()).or_default().record(ok);
+    /// Counts one evaluation of a relation.
+    pub fn relation(&mut self, r: Relation, ok: bool) {
+        self.metamorphic.entry(r).or_default().record(ok);
     }
+    /// Failed properties and exact relations (oracle disagreements not included).
+    pub fn hard_failures(&self) -> u64 {
+        let checks: u64 = self.checks.values().map(|p| p.fail).sum();
+        let exact: u64 =
+            self.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail).sum();
+        checks + exact
+    }
+    /// Adds another category's counts.
     pub fn merge(&mut self, o: &CategoryStats) {
         self.maps += o.maps;
         self.cases += o.cases;
         self.outcomes.merge(&o.outcomes);
         for (k, v) in &o.checks {
-            self.checks.entry(k.clone()).or_default().merge(v);
+            self.checks.entry(*k).or_default().merge(v);
         }
         for (k, v) in &o.metamorphic {
-            self.metamorphic.entry(k.clone()).or_default().merge(v);
+            self.metamorphic.entry(*k).or_default().merge(v);
         }
         self.optimality.merge(&o.optimality);
         self.oracle.merge(&o.oracle);
@@ -191,13 +234,17 @@ impl CategoryStats {
 /// One noteworthy case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Finding {
-    /// `check_failed`, `relation_failed`, `oracle_mismatch`, `suboptimal`, `obtuse`, `oscillation`.
-    pub kind: String,
+    /// What was found.
+    pub kind: FindingKind,
+    /// Category folder.
     pub category: String,
+    /// Map folder.
     pub map: String,
+    /// Case number in its map.
     pub case: u64,
     /// `[x0, y0, x1, y1]`.
     pub coords: [u32; 4],
+    /// What was seen.
     pub detail: String,
     /// Ratio navfn/optimal for optimality findings (used to rank them).
     pub score: f64,
@@ -211,15 +258,20 @@ pub const FINDINGS_PER_KIND: usize = 25;
 /// The JSON report.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Report {
+    /// The suite folder.
     pub suite: String,
-    pub mode: String,
+    /// The call sequence.
+    pub mode: RunMode,
     /// Shards merged into this report (one entry per shard run).
     pub shards: Vec<Shard>,
     pub cases: u64,
     /// Wall time of each shard run, seconds.
     pub wall_seconds: Vec<f64>,
+    /// Worker threads of each shard run.
     pub threads: Vec<usize>,
+    /// Statistics per category folder.
     pub categories: BTreeMap<String, CategoryStats>,
+    /// The worst findings of each kind.
     pub findings: Vec<Finding>,
     /// One record per case when asked for (`campaign --cases-out`); written as JSON lines, not
     /// part of the JSON report (and not merged).
@@ -232,25 +284,67 @@ pub struct Report {
 pub struct CaseRecord {
     /// Global index (suite file order, then case order): the key shards split on.
     pub global: u64,
+    /// Category folder.
     pub category: String,
+    /// Map folder.
     pub map: String,
+    /// Case number in its map.
     pub case: u64,
+    /// `[x0, y0, x1, y1]`.
     pub coords: [u32; 4],
-    /// `found`, `start_is_goal`, `unreachable`, `cycle_limit` or `path_failed`.
-    pub outcome: String,
+    /// How the case ended.
+    pub outcome: Outcome,
+    /// Points of NavFn's path.
     pub path_points: usize,
+    /// NavFn path cost (campaign model).
     pub navfn_cost: Option<f64>,
+    /// Optimal 8-connected cost.
     pub optimal_cost: Option<f64>,
     /// `navfn_cost − optimal_cost`.
     pub excess: Option<f64>,
     pub obtuse_turns: u32,
+    /// Sharpest turn, degrees.
     pub max_turn_deg: f64,
+    /// Points equal to the point two before.
     pub oscillations: u32,
-    /// Names of failed checks and exact relations (empty when all hold).
-    pub failed: Vec<String>,
+    /// Failed properties and exact relations (empty when all hold).
+    pub failed: Vec<Failed>,
+}
+
+/// A report file that cannot be read back.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub enum ReportError {
+    /// Not a campaign report (JSON error with its position).
+    #[error("{}:{line}:{column}: not a campaign report: {msg}", path.display())]
+    #[diagnostic(code(navfn::E040))]
+    Format {
+        /// The file.
+        path: std::path::PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What serde_json said.
+        msg: String,
+    },
+    /// Reports that cannot be merged.
+    #[error("{0}")]
+    #[diagnostic(code(navfn::E041))]
+    Merge(String),
 }
 
 impl Report {
+    /// A report from its JSON text (`path` locates errors).
+    pub fn from_json(path: &Path, text: &str) -> Result<Report, ReportError> {
+        serde_json::from_str(text).map_err(|e| ReportError::Format {
+            path: path.to_path_buf(),
+            line: e.line(),
+            column: e.column(),
+            msg: e.to_string(),
+        })
+    }
+
+    /// All categories added up.
     pub fn total(&self) -> CategoryStats {
         let mut t = CategoryStats::default();
         for c in self.categories.values() {
@@ -262,14 +356,7 @@ impl Report {
     /// Number of failed hard checks (search-trace properties, exact relations, oracle).
     pub fn failures(&self) -> u64 {
         let t = self.total();
-        let checks: u64 = t.checks.values().map(|p| p.fail).sum();
-        let exact: u64 = t
-            .metamorphic
-            .iter()
-            .filter(|(k, _)| !k.starts_with("approx"))
-            .map(|(_, p)| p.fail)
-            .sum();
-        checks + exact + t.oracle.fail
+        t.hard_failures() + t.oracle.fail
     }
 
     /// Keep the [`FINDINGS_PER_KIND`] highest-scoring findings of each kind, in a stable order.
@@ -283,9 +370,9 @@ impl Report {
                 .then(a.case.cmp(&b.case))
         });
         let mut kept = Vec::new();
-        let mut count: BTreeMap<String, usize> = BTreeMap::new();
+        let mut count: BTreeMap<FindingKind, usize> = BTreeMap::new();
         for f in self.findings.drain(..) {
-            let n = count.entry(f.kind.clone()).or_default();
+            let n = count.entry(f.kind).or_default();
             if *n < FINDINGS_PER_KIND {
                 *n += 1;
                 kept.push(f);
@@ -295,20 +382,23 @@ impl Report {
     }
 
     /// `vouch navfn report merge`: join shard reports of the same suite and mode.
-    pub fn merge(reports: &[Report]) -> Result<Report, String> {
-        let first = reports.first().ok_or("no reports to merge")?;
-        let mut out =
-            Report { suite: first.suite.clone(), mode: first.mode.clone(), ..Report::default() };
+    pub fn merge(reports: &[Report]) -> Result<Report, ReportError> {
+        let merge_err = |m: String| ReportError::Merge(m);
+        let first = reports.first().ok_or_else(|| merge_err("no reports to merge".into()))?;
+        let mut out = Report { suite: first.suite.clone(), mode: first.mode, ..Report::default() };
         for r in reports {
             if r.suite != first.suite || r.mode != first.mode {
-                return Err(format!(
+                return Err(merge_err(format!(
                     "cannot merge a report of `{}` ({}) with one of `{}` ({})",
-                    r.suite, r.mode, first.suite, first.mode
-                ));
+                    r.suite,
+                    r.mode.name(),
+                    first.suite,
+                    first.mode.name()
+                )));
             }
             for s in &r.shards {
                 if out.shards.contains(s) {
-                    return Err(format!("shard {}/{} appears twice", s.index, s.count));
+                    return Err(merge_err(format!("shard {}/{} appears twice", s.index, s.count)));
                 }
             }
             out.shards.extend(r.shards.iter().copied());
@@ -336,126 +426,6 @@ impl Report {
     }
 }
 
-fn pct(part: u64, whole: u64) -> String {
-    if whole == 0 {
-        "-".into()
-    } else {
-        format!("{:.2}%", 100.0 * part as f64 / whole as f64)
-    }
-}
-
-/// The human summary: one row per category and a total row, then the checks.
-pub fn summary_table(r: &Report) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7} {:>7} {:>7} {:>7} {:>8}",
-        "category",
-        "maps",
-        "cases",
-        "found",
-        "s=g",
-        "unrch",
-        "cyclim",
-        "pfail",
-        "checks",
-        "relation",
-        "excess%",
-        "ratioMx",
-        "obtuse",
-        "oscill",
-        "cpu_s"
-    );
-    let mut rows: Vec<(String, CategoryStats)> =
-        r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
-    rows.push(("TOTAL".into(), r.total()));
-    for (name, c) in &rows {
-        let checks_fail: u64 = c.checks.values().map(|p| p.fail).sum();
-        let checks_all: u64 = c.checks.values().map(|p| p.pass + p.fail).sum();
-        let rel_fail: u64 = c
-            .metamorphic
-            .iter()
-            .filter(|(k, _)| !k.starts_with("approx"))
-            .map(|(_, p)| p.fail)
-            .sum();
-        let o = &c.optimality;
-        let excess = if o.optimal_cost_sum > 0.0 {
-            100.0 * (o.navfn_cost_sum / o.optimal_cost_sum - 1.0)
-        } else {
-            0.0
-        };
-        let _ = writeln!(
-            s,
-            "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7.2} {:>7.3} {:>7} {:>7} {:>8.3}",
-            name,
-            c.maps,
-            c.cases,
-            c.outcomes.found,
-            c.outcomes.start_is_goal,
-            c.outcomes.unreachable,
-            c.outcomes.cycle_limit,
-            c.outcomes.path_failed,
-            if checks_fail == 0 { format!("ok{}", if checks_all == 0 { "?" } else { "" }) } else { format!("{checks_fail}F") },
-            if rel_fail == 0 { "ok".to_string() } else { format!("{rel_fail}F") },
-            excess,
-            o.ratio_max,
-            pct(o.obtuse_paths, c.cases),
-            pct(o.oscillating_paths, c.cases),
-            c.cpu_seconds,
-        );
-    }
-    let t = r.total();
-    let _ = writeln!(s, "\nchecks (pass / fail):");
-    for (k, v) in &t.checks {
-        let _ = writeln!(s, "  {k:<34} {:>9} / {}", v.pass, v.fail);
-    }
-    if !t.metamorphic.is_empty() {
-        let _ = writeln!(
-            s,
-            "metamorphic relations (held / violated; `approx_*` are findings, not failures):"
-        );
-        for (k, v) in &t.metamorphic {
-            let _ = writeln!(s, "  {k:<34} {:>9} / {}", v.pass, v.fail);
-        }
-    }
-    if t.oracle.pass + t.oracle.fail > 0 {
-        let _ = writeln!(s, "oracle: {} equal, {} different", t.oracle.pass, t.oracle.fail);
-    }
-    let o = &t.optimality;
-    let _ = writeln!(
-        s,
-        "optimality: {} paths compared; obtuse turns in {} paths ({} of all cases; paper 1.91 %), oscillation in {} ({}; paper 0.13 %); {} paths above the counterexample ratio",
-        o.compared,
-        o.obtuse_paths,
-        pct(o.obtuse_paths, t.cases),
-        o.oscillating_paths,
-        pct(o.oscillating_paths, t.cases),
-        o.suboptimal_paths
-    );
-    if !o.ratio_hist.is_empty() {
-        let mut line = String::from("  ratio navfn/optimal:");
-        let mut lo = "0".to_string();
-        for (i, n) in o.ratio_hist.iter().enumerate() {
-            let hi = RATIO_BINS.get(i).map(|b| format!("{b}")).unwrap_or_else(|| "inf".into());
-            let _ = write!(line, " [{lo},{hi}):{n}");
-            lo = hi;
-        }
-        let _ = writeln!(s, "{line}");
-        let _ =
-            writeln!(s, "  excess navfn−optimal: min {:.1}, max {:.1}", o.excess_min, o.excess_max);
-    }
-    let wall: f64 = r.wall_seconds.iter().copied().fold(0.0, f64::max);
-    let _ = writeln!(
-        s,
-        "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}",
-        r.cases,
-        r.shards.len(),
-        wall,
-        r.threads
-    );
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -475,13 +445,13 @@ mod tests {
     fn merge_adds_counts_and_rejects_duplicates() {
         let mut a = Report {
             suite: "s".into(),
-            mode: "paper".into(),
+            mode: RunMode::Paper,
             shards: vec![Shard { index: 0, count: 2 }],
             cases: 3,
             ..Report::default()
         };
         let mut c = CategoryStats { maps: 1, cases: 3, ..Default::default() };
-        c.check("x", true);
+        c.check(Property::Progress, true);
         c.optimality.record(110.0, 100.0);
         a.categories.insert("free".into(), c);
         let mut b = a.clone();
@@ -490,7 +460,7 @@ mod tests {
         assert!(m.complete());
         assert_eq!(m.cases, 6);
         let f = &m.categories["free"];
-        assert_eq!(f.checks["x"], PassFail { pass: 2, fail: 0 });
+        assert_eq!(f.checks[&Property::Progress], PassFail { pass: 2, fail: 0 });
         assert_eq!(f.optimality.compared, 2);
         assert_eq!(f.maps, 1);
         assert!(Report::merge(&[a.clone(), a]).is_err());

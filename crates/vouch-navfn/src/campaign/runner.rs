@@ -1,6 +1,7 @@
 //! `vouch navfn campaign`: every case of a suite through NavFn with the search-trace property
 //! observer, the final-state checks, the optimality analysis and the metamorphic relations, in
-//! parallel (rayon), with a progress bar (indicatif), into a mergeable [`Report`].
+//! parallel (rayon), into a mergeable [`Report`]. Progress is reported through [`Progress`];
+//! the library draws nothing.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -8,20 +9,24 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::campaign::exec::{navfn_ends, plan_checks, run_case, CaseRun, RunMode, PLAN_CHECKS};
+use crate::campaign::error::CampaignError;
+use crate::campaign::exec::{navfn_ends, plan_checks, run_case, CaseRun};
 use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
 use crate::campaign::metamorphic::{self, OriginalCtx, RunDigest};
+use crate::campaign::names::{Failed, FindingKind, Outcome, Property};
 use crate::campaign::optimal::{dijkstra, path_cost, path_shape};
 use crate::campaign::report::{CaseRecord, CategoryStats, Finding, Report, Shard};
-use crate::campaign::suite_io::{list_suite, read_test_file, SuiteIoError};
+use crate::campaign::suite_io::{list_suite, read_test_file};
 use crate::campaign::transform::Transform;
 use crate::core::{Cell, PropagationEnd, POT_HIGH};
-use crate::suite_run::{CaseError, CaseRunner};
+use crate::suite::{CaseRunner, RunMode};
 
 /// What a campaign does.
 #[derive(Clone, Debug)]
 pub struct CampaignOptions {
+    /// The call sequence every case runs in.
     pub mode: RunMode,
+    /// The cases this process runs.
     pub shard: Shard,
     /// Run the metamorphic transforms (6 extra runs per case).
     pub metamorphic: bool,
@@ -31,8 +36,6 @@ pub struct CampaignOptions {
     /// The default 1.10 sits above the 8.24 % any-angle/octile metric gap, so a finding is a real
     /// detour, not a metric artefact.
     pub suboptimal_ratio: f64,
-    /// Show a progress bar on stderr.
-    pub progress: bool,
     /// Cases per work unit (a unit = consecutive cases of one map, sharing one NavFn and one
     /// optimum cache).
     pub unit_cases: usize,
@@ -48,26 +51,30 @@ impl Default for CampaignOptions {
             metamorphic: true,
             optimality: true,
             suboptimal_ratio: 1.10,
-            progress: false,
             unit_cases: 1024,
             per_case: false,
         }
     }
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum CampaignError {
-    #[error(transparent)]
-    Suite(#[from] SuiteIoError),
-    #[error("{map}: {source}")]
-    Case { map: String, source: CaseError },
+/// Receives progress from the worker threads: the number of cases to run, then the cases done.
+pub trait Progress: Sync {
+    /// The number of cases the campaign will run.
+    fn start(&self, _cases: u64) {}
+    /// `cases` more cases are done.
+    fn advance(&self, _cases: u64) {}
 }
+
+/// No progress reporting.
+impl Progress for () {}
 
 /// A loaded map with what every case on it shares.
 pub struct PreparedMap {
+    /// The map and its cases.
     pub map: SuiteMap,
     /// Costs as NavFn's set-up leaves them (border 254).
     pub setup_costs: Vec<u8>,
+    /// 4-connected component of every cell.
     pub components: Vec<u32>,
     /// Global index of its first case (file order over the sorted suite).
     pub first_global: u64,
@@ -81,6 +88,7 @@ fn stamped(m: &SuiteMap) -> Vec<u8> {
     c.costs
 }
 
+/// Prepares a map: set-up costs, components, and the transformed maps when asked for.
 pub fn prepare(map: SuiteMap, first_global: u64, metamorphic: bool) -> PreparedMap {
     let setup_costs = stamped(&map);
     let components = map.components().0;
@@ -127,6 +135,7 @@ struct UnitResult {
 
 /// Optimum distances from a NavFn goal, cached per unit (small maps) — the cost model is
 /// symmetric, so one Dijkstra from the goal serves every start.
+#[derive(Default)]
 struct OptimumCache {
     full: HashMap<usize, Vec<f64>>,
 }
@@ -151,18 +160,15 @@ fn digest(
     costs: &[u8],
     w: u32,
     h: u32,
-    found_cost: bool,
 ) -> RunDigest {
     let nav = runner.nav();
-    let pot = nav.potential();
     let path = nav.path().to_vec();
     let oscillated = path_shape(&to_pairs(nav.path_recorded())).oscillations > 0;
-    let cost =
-        (found_cost && run.outcome.len > 0).then(|| path_cost(costs, w, h, &to_pairs(&path)));
+    let cost = (run.outcome.len > 0).then(|| path_cost(costs, w, h, &to_pairs(&path)));
     RunDigest {
         end: run.end,
         len: run.outcome.len,
-        start_pot: pot[start.y * w as usize + start.x],
+        start_pot: nav.potential()[start.y * w as usize + start.x],
         oscillated,
         path,
         cost,
@@ -170,20 +176,221 @@ fn digest(
     }
 }
 
+/// A path as coordinate pairs.
 pub fn to_pairs(p: &[[f32; 2]]) -> Vec<(f32, f32)> {
     p.iter().map(|q| (q[0], q[1])).collect()
 }
 
-fn finding(kind: &str, m: &SuiteMap, k: usize, c: &Case, detail: String, score: f64) -> Finding {
-    Finding {
-        kind: kind.into(),
-        category: m.category.clone(),
-        map: m.name.clone(),
-        case: k as u64,
-        coords: [c.x0, c.y0, c.x1, c.y1],
-        detail,
-        score,
-        picture: None,
+/// The state of one case while its results are gathered.
+struct CaseCtx<'a> {
+    pm: &'a PreparedMap,
+    k: usize,
+    case: &'a Case,
+    record: Option<CaseRecord>,
+}
+
+impl CaseCtx<'_> {
+    fn finding(&self, kind: FindingKind, detail: String, score: f64) -> Finding {
+        let (m, c) = (&self.pm.map, self.case);
+        Finding {
+            kind,
+            category: m.category.clone(),
+            map: m.name.clone(),
+            case: self.k as u64,
+            coords: [c.x0, c.y0, c.x1, c.y1],
+            detail,
+            score,
+            picture: None,
+        }
+    }
+
+    fn failed(&mut self, f: Failed) {
+        if let Some(r) = self.record.as_mut() {
+            r.failed.push(f);
+        }
+    }
+}
+
+/// What a unit runs with.
+struct Unit<'a> {
+    opts: &'a CampaignOptions,
+    runner: CaseRunner,
+    cache: OptimumCache,
+    res: UnitResult,
+}
+
+impl Unit<'_> {
+    /// Runs case `k` of `pm` and adds everything it shows to the unit's result.
+    fn case(&mut self, pm: &PreparedMap, k: usize) -> Result<(), CampaignError> {
+        let m = &pm.map;
+        let (w, mode) = (m.width as usize, self.opts.mode);
+        let case = &m.cases[k];
+        let err =
+            |source| CampaignError::Case { map: format!("{}/{}", m.category, m.name), source };
+        self.res.stats.cases += 1;
+        let run = run_case(&mut self.runner, m, &pm.setup_costs, case, mode, None).map_err(err)?;
+        let (start, goal) = navfn_ends(mode, case);
+        let (si, gi) = (start.y * w + start.x, goal.y * w + goal.x);
+        let st = &mut self.res.stats;
+        st.max_buffer_occupancy = st.max_buffer_occupancy.max(run.max_occupancy as u64);
+        let goal_open = pm.setup_costs[gi] < OBSTACLE;
+        let connected = goal_open
+            .then(|| pm.components[si] != u32::MAX && pm.components[si] == pm.components[gi]);
+        let reached = self.runner.nav().potential()[si] < POT_HIGH;
+        // Outcome classes (as in golden/README.md: "truly unreachable" = not connected).
+        let outcome = if si == gi {
+            Outcome::StartIsGoal
+        } else if run.outcome.len > 0 {
+            Outcome::Found
+        } else if reached {
+            Outcome::PathFailed
+        } else if connected == Some(false) {
+            Outcome::Unreachable
+        } else {
+            Outcome::CycleLimit
+        };
+        st.outcomes.record(outcome);
+        let record = self.opts.per_case.then(|| CaseRecord {
+            global: pm.first_global + k as u64,
+            category: m.category.clone(),
+            map: m.name.clone(),
+            case: k as u64,
+            coords: [case.x0, case.y0, case.x1, case.y1],
+            outcome,
+            path_points: run.outcome.len,
+            ..CaseRecord::default()
+        });
+        let mut cx = CaseCtx { pm, k, case, record };
+        let cycle_limited = matches!(run.end, Some((PropagationEnd::CycleLimit, _)));
+        if let (false, Some(conn)) = (cycle_limited, connected) {
+            let ok = reached == conn || si == gi;
+            self.res.stats.check(Property::ReachabilityIsConnectivity, ok);
+            if !ok {
+                cx.failed(Failed::Property(Property::ReachabilityIsConnectivity));
+            }
+        }
+        self.properties(&mut cx, &run);
+        self.optimality(&mut cx, &run, (si, gi));
+        if self.opts.metamorphic && !pm.transformed.is_empty() {
+            self.metamorphic(&mut cx, &run, start, connected)?;
+        }
+        self.res.records.extend(cx.record);
+        Ok(())
+    }
+
+    /// Search-trace properties (observer) and final-state properties.
+    fn properties(&mut self, cx: &mut CaseCtx<'_>, run: &CaseRun) {
+        let st = &mut self.res.stats;
+        for p in Property::SEARCH_TRACE {
+            st.check(p, !run.violations.iter().any(|v| v.property == p));
+        }
+        let fin = plan_checks(self.runner.nav());
+        for p in Property::PLAN_CHECKS {
+            st.check(p, !fin.iter().any(|v| v.property == p));
+        }
+        for v in run.violations.iter().chain(fin.iter()) {
+            cx.failed(Failed::Property(v.property));
+            let detail = format!("{}: {}", v.property, v.detail);
+            self.res.findings.push(cx.finding(FindingKind::CheckFailed, detail, 1.0));
+        }
+    }
+
+    /// Optimality and path shape.
+    fn optimality(&mut self, cx: &mut CaseCtx<'_>, run: &CaseRun, (si, gi): (usize, usize)) {
+        let (pm, nav) = (cx.pm, self.runner.nav());
+        let m = &pm.map;
+        let st = &mut self.res.stats;
+        let shape_rec = path_shape(&to_pairs(nav.path_recorded()));
+        let oscillated = shape_rec.oscillations > 0;
+        if let Some(r) = cx.record.as_mut() {
+            r.oscillations = shape_rec.oscillations;
+        }
+        if oscillated {
+            st.optimality.oscillating_paths += 1;
+            let n = shape_rec.oscillations;
+            let detail = format!("{n} repeated points, path len {}", run.outcome.len);
+            self.res.findings.push(cx.finding(FindingKind::Oscillation, detail, f64::from(n)));
+        }
+        if run.outcome.len == 0 || si == gi {
+            return;
+        }
+        let path = to_pairs(nav.path());
+        let shape = path_shape(&path);
+        if let Some(r) = cx.record.as_mut() {
+            r.obtuse_turns = shape.obtuse_turns;
+            r.max_turn_deg = shape.max_turn_deg;
+        }
+        if !oscillated && shape.obtuse_turns > 0 {
+            st.optimality.obtuse_paths += 1;
+            let (n, deg) = (shape.obtuse_turns, shape.max_turn_deg);
+            let detail = format!("{n} obtuse turns, sharpest {deg:.1}°");
+            self.res.findings.push(cx.finding(FindingKind::Obtuse, detail, deg));
+        }
+        if !self.opts.optimality {
+            return;
+        }
+        let (w, h) = (m.width as usize, m.height as usize);
+        let best = self.cache.optimum(&pm.setup_costs, w, h, si, gi);
+        let cost = path_cost(&pm.setup_costs, m.width, m.height, &path);
+        if let Some(r) = cx.record.as_mut() {
+            r.navfn_cost = Some(cost);
+            r.optimal_cost = best.is_finite().then_some(best);
+            r.excess = best.is_finite().then_some(cost - best);
+        }
+        if best.is_finite() {
+            st.optimality.record(cost, best);
+            let ratio = if best > 0.0 { cost / best } else { 1.0 };
+            if ratio > self.opts.suboptimal_ratio {
+                st.optimality.suboptimal_paths += 1;
+                let detail = format!(
+                    "NavFn path cost {cost:.1}, optimum {best:.1} (+{:.1}, ×{ratio:.3})",
+                    cost - best
+                );
+                self.res.findings.push(cx.finding(FindingKind::Suboptimal, detail, ratio));
+            }
+        }
+    }
+
+    /// The metamorphic relations between this run and the runs on every transformed map.
+    fn metamorphic(
+        &mut self,
+        cx: &mut CaseCtx<'_>,
+        run: &CaseRun,
+        start: Cell,
+        connected: Option<bool>,
+    ) -> Result<(), CampaignError> {
+        let (pm, mode) = (cx.pm, self.opts.mode);
+        let m = &pm.map;
+        let o_dig = digest(run, &self.runner, start, &pm.setup_costs, m.width, m.height);
+        let o_pot = self.runner.nav().potential().to_vec();
+        let ctx = OriginalCtx { width: m.width, height: m.height, potential: &o_pot, connected };
+        for (t, tm, tcosts) in &pm.transformed {
+            let tc = tm.cases[cx.k];
+            let trun =
+                run_case(&mut self.runner, tm, tcosts, &tc, mode, None).map_err(|source| {
+                    CampaignError::Case { map: format!("{}/{}", tm.category, tm.name), source }
+                })?;
+            let (tstart, _) = navfn_ends(mode, &tc);
+            let tfin = plan_checks(self.runner.nav());
+            let mut t_dig = digest(&trun, &self.runner, tstart, tcosts, tm.width, tm.height);
+            t_dig.properties_ok &= tfin.is_empty();
+            let t_pot = self.runner.nav().potential();
+            for r in metamorphic::evaluate(*t, &ctx, &o_dig, &t_dig, t_pot) {
+                self.res.stats.relation(r.relation, r.held);
+                if r.held {
+                    continue;
+                }
+                let kind = if r.relation.exact() {
+                    cx.failed(Failed::Relation(r.relation));
+                    FindingKind::RelationFailed
+                } else {
+                    FindingKind::ApproxRelation
+                };
+                let detail = format!("{}: {}", r.relation, r.detail);
+                self.res.findings.push(cx.finding(kind, detail, 1.0));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -192,195 +399,21 @@ fn run_unit(
     pm: &PreparedMap,
     range: std::ops::Range<usize>,
     opts: &CampaignOptions,
-    bar: &indicatif::ProgressBar,
+    progress: &dyn Progress,
 ) -> Result<UnitResult, CampaignError> {
-    let m = &pm.map;
-    let (w, h) = (m.width as usize, m.height as usize);
-    let mut res = UnitResult { category: m.category.clone(), ..Default::default() };
-    let mut runner = CaseRunner::new();
-    let mut cache = OptimumCache { full: HashMap::new() };
+    let res = UnitResult { category: pm.map.category.clone(), ..Default::default() };
+    let mut unit = Unit { opts, runner: CaseRunner::new(), cache: OptimumCache::default(), res };
     let began = Instant::now();
     let mut done = 0u64;
-    let err = |source| CampaignError::Case { map: format!("{}/{}", m.category, m.name), source };
     for k in range {
-        if !opts.shard.owns(pm.first_global + k as u64) {
-            continue;
+        if opts.shard.owns(pm.first_global + k as u64) {
+            unit.case(pm, k)?;
+            done += 1;
         }
-        let case = &m.cases[k];
-        let st = &mut res.stats;
-        st.cases += 1;
-        done += 1;
-        let run = run_case(&mut runner, m, &pm.setup_costs, case, opts.mode, None).map_err(err)?;
-        let (start, goal) = navfn_ends(opts.mode, case);
-        let (si, gi) = (start.y * w + start.x, goal.y * w + goal.x);
-        st.max_buffer_occupancy = st.max_buffer_occupancy.max(run.max_occupancy as u64);
-
-        let goal_open = pm.setup_costs[gi] < OBSTACLE;
-        let connected = goal_open
-            .then(|| pm.components[si] != u32::MAX && pm.components[si] == pm.components[gi]);
-        let reached = runner.nav().potential()[si] < POT_HIGH;
-
-        // Outcome classes (as in golden/README.md: "truly unreachable" = not connected).
-        let o = &mut st.outcomes;
-        let outcome = if si == gi {
-            o.start_is_goal += 1;
-            "start_is_goal"
-        } else if run.outcome.len > 0 {
-            o.found += 1;
-            "found"
-        } else if reached {
-            o.path_failed += 1;
-            "path_failed"
-        } else if connected == Some(false) {
-            o.unreachable += 1;
-            "unreachable"
-        } else {
-            o.cycle_limit += 1;
-            "cycle_limit"
-        };
-        let mut rec = opts.per_case.then(|| CaseRecord {
-            global: pm.first_global + k as u64,
-            category: m.category.clone(),
-            map: m.name.clone(),
-            case: k as u64,
-            coords: [case.x0, case.y0, case.x1, case.y1],
-            outcome: outcome.into(),
-            path_points: run.outcome.len,
-            ..CaseRecord::default()
-        });
-
-        // Search-trace properties (observer) and final-state properties.
-        let names = ["obstacle_free_queues", "no_path_without_finite_potential"];
-        for n in names {
-            st.check(n, !run.violations.iter().any(|v| v.property == n));
-        }
-        let fin = plan_checks(runner.nav());
-        for n in PLAN_CHECKS {
-            st.check(n, !fin.iter().any(|v| v.property == n));
-        }
-        let cycle_limited = matches!(run.end, Some((PropagationEnd::CycleLimit, _)));
-        if let (false, Some(conn)) = (cycle_limited, connected) {
-            let ok = reached == conn || si == gi;
-            st.check("reachability_is_connectivity", ok);
-            if let (false, Some(r)) = (ok, rec.as_mut()) {
-                r.failed.push("reachability_is_connectivity".into());
-            }
-        }
-        for v in run.violations.iter().chain(fin.iter()) {
-            if let Some(r) = rec.as_mut() {
-                r.failed.push(v.property.clone());
-            }
-            res.findings.push(finding(
-                "check_failed",
-                m,
-                k,
-                case,
-                format!("{}: {}", v.property, v.detail),
-                1.0,
-            ));
-        }
-
-        // Optimality and path shape.
-        let recorded = to_pairs(runner.nav().path_recorded());
-        let shape_rec = path_shape(&recorded);
-        let oscillated = shape_rec.oscillations > 0;
-        if let Some(r) = rec.as_mut() {
-            r.oscillations = shape_rec.oscillations;
-        }
-        if oscillated {
-            st.optimality.oscillating_paths += 1;
-            res.findings.push(finding(
-                "oscillation",
-                m,
-                k,
-                case,
-                format!("{} repeated points, path len {}", shape_rec.oscillations, run.outcome.len),
-                f64::from(shape_rec.oscillations),
-            ));
-        }
-        if run.outcome.len > 0 && si != gi {
-            let path = to_pairs(runner.nav().path());
-            let shape = path_shape(&path);
-            if let Some(r) = rec.as_mut() {
-                r.obtuse_turns = shape.obtuse_turns;
-                r.max_turn_deg = shape.max_turn_deg;
-            }
-            if !oscillated && shape.obtuse_turns > 0 {
-                st.optimality.obtuse_paths += 1;
-                res.findings.push(finding(
-                    "obtuse",
-                    m,
-                    k,
-                    case,
-                    format!(
-                        "{} obtuse turns, sharpest {:.1}°",
-                        shape.obtuse_turns, shape.max_turn_deg
-                    ),
-                    shape.max_turn_deg,
-                ));
-            }
-            if opts.optimality {
-                let best = cache.optimum(&pm.setup_costs, w, h, si, gi);
-                let cost = path_cost(&pm.setup_costs, m.width, m.height, &path);
-                if let Some(r) = rec.as_mut() {
-                    r.navfn_cost = Some(cost);
-                    r.optimal_cost = best.is_finite().then_some(best);
-                    r.excess = best.is_finite().then_some(cost - best);
-                }
-                if best.is_finite() {
-                    st.optimality.record(cost, best);
-                    let ratio = if best > 0.0 { cost / best } else { 1.0 };
-                    if ratio > opts.suboptimal_ratio {
-                        st.optimality.suboptimal_paths += 1;
-                        res.findings.push(finding("suboptimal", m, k, case, format!("NavFn path cost {cost:.1}, optimum {best:.1} (+{:.1}, ×{ratio:.3})", cost - best), ratio));
-                    }
-                }
-            }
-        }
-
-        // Metamorphic relations.
-        if opts.metamorphic && !pm.transformed.is_empty() {
-            let o_dig = digest(&run, &runner, start, &pm.setup_costs, m.width, m.height, true);
-            let o_pot = runner.nav().potential().to_vec();
-            let ctx =
-                OriginalCtx { width: m.width, height: m.height, potential: &o_pot, connected };
-            for (t, tm, tcosts) in &pm.transformed {
-                let tc = tm.cases[k];
-                let trun = run_case(&mut runner, tm, tcosts, &tc, opts.mode, None).map_err(err)?;
-                let (tstart, _) = navfn_ends(opts.mode, &tc);
-                let tfin = plan_checks(runner.nav());
-                let mut t_dig = digest(&trun, &runner, tstart, tcosts, tm.width, tm.height, true);
-                t_dig.properties_ok &= tfin.is_empty();
-                for r in metamorphic::evaluate(*t, &ctx, &o_dig, &t_dig, runner.nav().potential()) {
-                    st.relation(&r.name, r.held);
-                    if let (false, false, Some(c)) =
-                        (r.held, r.name.starts_with("approx"), rec.as_mut())
-                    {
-                        c.failed.push(r.name.clone());
-                    }
-                    if !r.held {
-                        let kind = if r.name.starts_with("approx") {
-                            "approx_relation"
-                        } else {
-                            "relation_failed"
-                        };
-                        res.findings.push(finding(
-                            kind,
-                            m,
-                            k,
-                            case,
-                            format!("{}: {}", r.name, r.detail),
-                            1.0,
-                        ));
-                    }
-                }
-            }
-        }
-        res.records.extend(rec);
     }
-    res.stats.cpu_seconds = began.elapsed().as_secs_f64();
-    bar.inc(done);
-    Ok(res)
+    unit.res.stats.cpu_seconds = began.elapsed().as_secs_f64();
+    progress.advance(done);
+    Ok(unit.res)
 }
 
 /// Run the campaign over prepared maps.
@@ -388,27 +421,15 @@ pub fn run_prepared(
     suite_label: &str,
     maps: &[PreparedMap],
     opts: &CampaignOptions,
+    progress: &dyn Progress,
 ) -> Result<Report, CampaignError> {
     let began = Instant::now();
-    let owned: u64 = maps
-        .iter()
-        .map(|pm| {
-            (0..pm.map.cases.len() as u64).filter(|&k| opts.shard.owns(pm.first_global + k)).count()
-                as u64
-        })
-        .sum();
-    let bar = if opts.progress {
-        let b = indicatif::ProgressBar::new(owned);
-        b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {pos}/{len} cases ({per_sec}, eta {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
+    let owned_in = |pm: &PreparedMap| {
+        (0..pm.map.cases.len() as u64).filter(|&k| opts.shard.owns(pm.first_global + k)).count()
+            as u64
     };
+    let owned: u64 = maps.iter().map(owned_in).sum();
+    progress.start(owned);
     let units: Vec<(usize, std::ops::Range<usize>)> = maps
         .iter()
         .enumerate()
@@ -420,13 +441,11 @@ pub fn run_prepared(
         .collect();
     let results: Vec<UnitResult> = units
         .par_iter()
-        .map(|(i, r)| run_unit(&maps[*i], r.clone(), opts, &bar))
+        .map(|(i, r)| run_unit(&maps[*i], r.clone(), opts, progress))
         .collect::<Result<_, _>>()?;
-    bar.finish_and_clear();
-
     let mut report = Report {
         suite: suite_label.to_string(),
-        mode: opts.mode.name().to_string(),
+        mode: opts.mode,
         shards: vec![opts.shard],
         cases: owned,
         wall_seconds: Vec::new(),
@@ -434,9 +453,8 @@ pub fn run_prepared(
         ..Report::default()
     };
     for pm in maps {
-        let has = (0..pm.map.cases.len() as u64).any(|k| opts.shard.owns(pm.first_global + k));
         let e = report.categories.entry(pm.map.category.clone()).or_default();
-        e.maps += u64::from(has);
+        e.maps += u64::from(owned_in(pm) > 0);
     }
     for r in results {
         report.categories.entry(r.category).or_default().merge(&r.stats);
@@ -453,10 +471,11 @@ pub fn run_prepared(
 pub fn run_campaign(
     dir: &Path,
     opts: &CampaignOptions,
+    progress: &dyn Progress,
 ) -> Result<(Report, Vec<PreparedMap>), CampaignError> {
     let began = Instant::now();
     let maps = load_suite(dir, opts.metamorphic)?;
-    let mut report = run_prepared(&dir.display().to_string(), &maps, opts)?;
+    let mut report = run_prepared(&dir.display().to_string(), &maps, opts, progress)?;
     // Include loading in the wall time a user sees.
     if let Some(w) = report.wall_seconds.last_mut() {
         *w = began.elapsed().as_secs_f64();

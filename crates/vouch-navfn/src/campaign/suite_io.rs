@@ -10,14 +10,48 @@ use std::path::{Path, PathBuf};
 use crate::campaign::grid::{Case, SuiteMap};
 use crate::maps::{find_test_files, read_suite_file, MapError, SuiteFile};
 
-#[derive(Debug, thiserror::Error)]
+/// A suite that cannot be read into the campaign IR or written.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum SuiteIoError {
-    #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    /// A file or folder that cannot be written.
+    #[error("{}: {source}", path.display())]
+    #[diagnostic(code(navfn::E060))]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A test or map file that cannot be read.
     #[error(transparent)]
+    #[diagnostic(transparent)]
     Map(#[from] MapError),
-    #[error("{path}:{line}: case {number}: a point lies outside the {width}x{height} map")]
-    Outside { path: PathBuf, line: usize, number: usize, width: usize, height: usize },
+    /// A case point outside the map.
+    #[error("{}:{line}: case {number}: a point lies outside the {width}x{height} map", path.display())]
+    #[diagnostic(code(navfn::E061))]
+    Outside {
+        /// The test file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// Case number.
+        number: usize,
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+    },
+}
+
+impl SuiteIoError {
+    /// Whether a file could not be read or written.
+    pub fn is_io(&self) -> bool {
+        match self {
+            SuiteIoError::Io { .. } => true,
+            SuiteIoError::Map(m) => m.is_io(),
+            SuiteIoError::Outside { .. } => false,
+        }
+    }
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> SuiteIoError + '_ {
@@ -66,8 +100,11 @@ pub fn read_test_file(
 /// One map of a suite tree, not yet loaded.
 #[derive(Clone, Debug)]
 pub struct SuiteEntry {
+    /// Category folder name.
     pub category: String,
+    /// Map folder name.
     pub name: String,
+    /// The test file.
     pub test_txt: PathBuf,
 }
 

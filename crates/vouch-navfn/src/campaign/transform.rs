@@ -4,11 +4,14 @@
 
 use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
 
+/// A transform of a map and its cases.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Transform {
     /// Clockwise rotation by 90° (on screen, with y pointing down).
     Rot90,
+    /// Rotation by 180°.
     Rot180,
+    /// Clockwise rotation by 270°.
     Rot270,
     /// Left–right mirror (x → W−1−x).
     MirrorX,
@@ -16,11 +19,31 @@ pub enum Transform {
     MirrorY,
     /// Embed in a frame of `pad` obstacle cells on every side (offset `pad` in x and y).
     Embed {
+        /// Frame width in cells.
         pad: u32,
     },
 }
 
+impl std::str::FromStr for Transform {
+    type Err = String;
+    /// Parses a [`Transform::label`].
+    fn from_str(s: &str) -> Result<Self, String> {
+        Ok(match s {
+            "rot90" => Transform::Rot90,
+            "rot180" => Transform::Rot180,
+            "rot270" => Transform::Rot270,
+            "mirror_x" => Transform::MirrorX,
+            "mirror_y" => Transform::MirrorY,
+            _ => match s.strip_prefix("embed").and_then(|p| p.parse().ok()) {
+                Some(pad) => Transform::Embed { pad },
+                None => return Err(format!("unknown transform `{s}`")),
+            },
+        })
+    }
+}
+
 impl Transform {
+    /// The transforms every campaign case is run under.
     pub const ALL_BASIC: [Transform; 6] = [
         Transform::Rot90,
         Transform::Rot180,
@@ -30,6 +53,7 @@ impl Transform {
         Transform::Embed { pad: 3 },
     ];
 
+    /// The name in relation names (`rot90`, `mirror_x`, `embed3`, …).
     pub fn label(self) -> String {
         match self {
             Transform::Rot90 => "rot90".into(),

@@ -1,6 +1,16 @@
-//! ROS Costmap2D value → NavFn cost (`setCostmap(isROS=true)`, SEMANTICS.md §3).
+//! Cost constants and the ROS Costmap2D value → NavFn cost conversion
+//! (`setCostmap(isROS=true)`, SEMANTICS.md §3).
 
-use super::{COST_NEUTRAL, COST_OBS, COST_OBS_ROS, COST_UNKNOWN_ROS};
+/// Obstacle / border cost; also the ±254 pseudo-gradient.
+pub const COST_OBS: u8 = 254;
+/// ROS costmap values ≥ 253 are obstacles in the ROS conversion.
+pub const COST_OBS_ROS: u8 = 253;
+/// ROS "no information".
+pub const COST_UNKNOWN_ROS: u8 = 255;
+/// ROS free space (the value `clearRobotCell` writes).
+pub const FREE_SPACE_ROS: u8 = 0;
+/// Free-space cost; success threshold of path extraction; A* heuristic scale.
+pub const COST_NEUTRAL: u8 = 50;
 
 /// `trunc(50.0 + 0.8 * f64(v))` for `v < 253`, evaluated in double like the C++ (the int
 /// constant widened, `COST_FACTOR` a double literal); the clamp to 253 never triggers for

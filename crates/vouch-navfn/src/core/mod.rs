@@ -17,19 +17,14 @@ pub mod observer;
 mod path;
 mod propagate;
 
-pub use costs::{ros_to_navfn_cost, ROS_COST_TABLE};
+pub use costs::{
+    ros_to_navfn_cost, COST_NEUTRAL, COST_OBS, COST_OBS_ROS, COST_UNKNOWN_ROS, FREE_SPACE_ROS,
+    ROS_COST_TABLE,
+};
 pub use observer::{
     CycleView, NoObserver, PathStartView, PropagationEnd, PropagationEndView, SearchObserver,
 };
 
-/// Obstacle / border cost; also the ±254 pseudo-gradient.
-pub const COST_OBS: u8 = 254;
-/// ROS costmap values ≥ 253 are obstacles in the ROS conversion.
-pub const COST_OBS_ROS: u8 = 253;
-/// ROS "no information".
-pub const COST_UNKNOWN_ROS: u8 = 255;
-/// Free-space cost; success threshold of path extraction; A* heuristic scale.
-pub const COST_NEUTRAL: u8 = 50;
 /// Potential of unreached cells (exactly representable in float32, bits `0x501502f9`).
 pub const POT_HIGH: f32 = 1.0e10;
 /// Capacity of each of the three priority buffers.
@@ -62,16 +57,47 @@ impl Cell {
 }
 
 /// Errors of the core API (all caused by caller input, never by the search itself).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error, miette::Diagnostic)]
 pub enum CoreError {
+    /// The map size cannot hold NavFn's arrays.
     #[error(
         "map size {nx}x{ny} is not usable: NavFn needs at least 1x1 cells and fewer than 2^31"
     )]
-    BadSize { nx: usize, ny: usize },
+    #[diagnostic(code(navfn::E001))]
+    BadSize {
+        /// Columns.
+        nx: usize,
+        /// Rows.
+        ny: usize,
+    },
+    /// A start or goal cell outside the map.
     #[error("{what} cell ({x}, {y}) lies outside the {nx}x{ny} map")]
-    CellOutside { what: &'static str, x: usize, y: usize, nx: usize, ny: usize },
+    #[diagnostic(code(navfn::E002))]
+    CellOutside {
+        /// Which end (`NavFn start` or `NavFn goal`).
+        what: &'static str,
+        /// Column of the cell.
+        x: usize,
+        /// Row of the cell.
+        y: usize,
+        /// Columns of the map.
+        nx: usize,
+        /// Rows of the map.
+        ny: usize,
+    },
+    /// A cost array of the wrong length.
     #[error("cost array has {got} bytes, the {nx}x{ny} map needs {want}")]
-    CostLength { got: usize, want: usize, nx: usize, ny: usize },
+    #[diagnostic(code(navfn::E003))]
+    CostLength {
+        /// Bytes given.
+        got: usize,
+        /// Bytes needed.
+        want: usize,
+        /// Columns.
+        nx: usize,
+        /// Rows.
+        ny: usize,
+    },
 }
 
 /// A NavFn instance: the arrays of `navfn.cpp` for one map size, reused between plans.
@@ -185,6 +211,13 @@ impl NavFn {
         for (c, &v) in self.cost.iter_mut().zip(ros) {
             *c = ros_to_navfn_cost(v, allow_unknown);
         }
+        Ok(())
+    }
+
+    /// Overwrites the NavFn cost of one cell (after the conversion of the whole map).
+    pub fn set_cost(&mut self, c: Cell, cost: u8) -> Result<(), CoreError> {
+        self.check_cell("cost", c)?;
+        self.cost[c.y * self.nx + c.x] = cost;
         Ok(())
     }
 

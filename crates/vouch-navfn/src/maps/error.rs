@@ -1,26 +1,113 @@
-//! Located errors of the map readers.
+//! Located errors of the map and suite readers.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-/// A map or suite file that cannot be used, with the file (and line when there is one).
-#[derive(Debug, thiserror::Error)]
+use miette::{NamedSource, SourceSpan};
+
+use crate::diag::{field_span, named_source};
+
+/// A map, suite or parameter file that cannot be used. Text files are located by line and
+/// field (rendered with the offending line); binary files (images, map bytes) by file.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum MapError {
+    /// The file cannot be read.
     #[error("{}: cannot read: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
-    #[error("{}:{line}: {msg}", path.display())]
-    Line { path: PathBuf, line: usize, msg: String },
+    #[diagnostic(code(navfn::E010))]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A line of a text file (map YAML, suite test file, `params.txt`) that is not valid.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Syntax(Box<SyntaxError>),
+    /// A file whose content is not valid as a whole (image data, a missing key, a size).
     #[error("{}: {msg}", path.display())]
-    File { path: PathBuf, msg: String },
+    #[diagnostic(code(navfn::E012))]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        msg: String,
+    },
+}
+
+/// A line of a text file that is not valid, with the file's text for the rendering.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("{msg}")]
+#[diagnostic(code(navfn::E011))]
+pub struct SyntaxError {
+    /// The file.
+    pub path: PathBuf,
+    /// 1-based line.
+    pub line: usize,
+    /// What is wrong.
+    pub msg: String,
+    /// The file's text.
+    #[source_code]
+    pub src: NamedSource<String>,
+    /// The offending field (or line).
+    #[label("here")]
+    pub span: SourceSpan,
 }
 
 impl MapError {
-    pub fn line(path: &std::path::Path, line: usize, msg: impl Into<String>) -> Self {
-        MapError::Line { path: path.to_path_buf(), line, msg: msg.into() }
+    /// An error on `line` of `text` (the content of `path`), pointing at `field` on that line
+    /// (the whole line when `field` is empty).
+    pub fn syntax(
+        path: &Path,
+        text: &str,
+        line: usize,
+        field: &str,
+        msg: impl Into<String>,
+    ) -> Self {
+        MapError::Syntax(Box::new(SyntaxError {
+            path: path.to_path_buf(),
+            line,
+            msg: msg.into(),
+            src: named_source(path, text),
+            span: field_span(text, line, field),
+        }))
     }
-    pub fn file(path: &std::path::Path, msg: impl Into<String>) -> Self {
-        MapError::File { path: path.to_path_buf(), msg: msg.into() }
+
+    /// An error about the file as a whole.
+    pub fn file(path: &Path, msg: impl Into<String>) -> Self {
+        MapError::Invalid { path: path.to_path_buf(), msg: msg.into() }
     }
-    pub fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+
+    /// A read error.
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
         MapError::Io { path: path.to_path_buf(), source }
+    }
+
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            MapError::Io { path, .. } | MapError::Invalid { path, .. } => path,
+            MapError::Syntax(e) => &e.path,
+        }
+    }
+
+    /// The 1-based line, for errors located in a text file.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            MapError::Syntax(e) => Some(e.line),
+            _ => None,
+        }
+    }
+
+    /// Whether the file could not be read at all (an I/O problem rather than bad content).
+    pub fn is_io(&self) -> bool {
+        matches!(self, MapError::Io { .. })
+    }
+
+    /// `file:line: message` (or `file: message`), for logs and tests without a renderer.
+    pub fn located(&self) -> String {
+        match self {
+            MapError::Syntax(e) => format!("{}:{}: {}", e.path.display(), e.line, e.msg),
+            other => other.to_string(),
+        }
     }
 }

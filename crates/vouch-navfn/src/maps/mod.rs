@@ -6,13 +6,15 @@ pub mod pgm;
 mod png_image;
 pub mod ros_yaml;
 pub mod suite;
+pub mod world;
 
-pub use error::MapError;
+pub use error::{MapError, SyntaxError};
 pub use ros_yaml::{load_ros_map, parse_map_yaml, static_layer_value, MapMode, RosMap, RosMapMeta};
 pub use suite::{
     find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params,
     SuiteCase, SuiteFile,
 };
+pub use world::WorldParams;
 
 /// Largest map we accept (cells). Far above any nav2 map in practice, low enough that a
 /// corrupt header cannot make us allocate gigabytes.

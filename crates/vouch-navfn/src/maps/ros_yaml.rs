@@ -8,8 +8,8 @@
 use std::path::{Path, PathBuf};
 
 use super::pgm::{parse_pgm, GreyImage};
+use super::world::WorldParams;
 use super::MapError;
-use crate::planner::WorldParams;
 
 /// map_server's interpretation mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -91,8 +91,7 @@ pub fn load_ros_map(path: &Path, trinary_costmap: bool) -> Result<RosMap, MapErr
 /// Parse map_server YAML text (flat keys; `origin: [x, y, yaw]`).
 pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
     let mut meta = RosMapMeta::default();
-    let mut seen_image = false;
-    let mut seen_res = false;
+    let (mut seen_image, mut seen_res) = (false, false);
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -100,85 +99,15 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
             continue;
         }
         let Some((key, value)) = line.split_once(':') else {
-            return Err(MapError::line(path, ln, format!("expected `key: value`, found `{line}`")));
+            let msg = format!("expected `key: value`, found `{line}`");
+            return Err(MapError::syntax(path, text, ln, "", msg));
         };
         let value = value.trim().trim_matches(|c| c == '"' || c == '\'');
-        let num = |what: &str| -> Result<f64, MapError> {
-            value.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                MapError::line(path, ln, format!("{what} `{value}` is not a number"))
-            })
-        };
-        match key.trim() {
-            "image" => {
-                if value.is_empty() {
-                    return Err(MapError::line(path, ln, "image must name a file"));
-                }
-                meta.image = PathBuf::from(value);
-                seen_image = true;
-            }
-            "resolution" => {
-                meta.resolution = num("resolution")?;
-                if meta.resolution <= 0.0 {
-                    return Err(MapError::line(
-                        path,
-                        ln,
-                        format!("resolution {value} must be > 0"),
-                    ));
-                }
-                seen_res = true;
-            }
-            "origin" => {
-                let inner = value.trim_start_matches('[').trim_end_matches(']');
-                let parts: Vec<&str> = inner.split(',').map(str::trim).collect();
-                let nums: Option<Vec<f64>> =
-                    parts.iter().map(|p| p.parse::<f64>().ok().filter(|v| v.is_finite())).collect();
-                match nums {
-                    Some(v) if v.len() == 3 => meta.origin = [v[0], v[1], v[2]],
-                    _ => {
-                        return Err(MapError::line(
-                            path,
-                            ln,
-                            format!("origin must be `[x, y, yaw]`, found `{value}`"),
-                        ))
-                    }
-                }
-            }
-            "negate" => {
-                meta.negate = match value {
-                    "0" | "false" | "False" => false,
-                    "1" | "true" | "True" => true,
-                    _ => {
-                        return Err(MapError::line(
-                            path,
-                            ln,
-                            format!("negate must be 0 or 1, found `{value}`"),
-                        ))
-                    }
-                }
-            }
-            "occupied_thresh" => {
-                meta.occupied_thresh =
-                    threshold(path, ln, "occupied_thresh", num("occupied_thresh")?)?
-            }
-            "free_thresh" => {
-                meta.free_thresh = threshold(path, ln, "free_thresh", num("free_thresh")?)?
-            }
-            "mode" => {
-                meta.mode = match value {
-                    "trinary" => MapMode::Trinary,
-                    "scale" => MapMode::Scale,
-                    "raw" => MapMode::Raw,
-                    _ => {
-                        return Err(MapError::line(
-                            path,
-                            ln,
-                            format!("mode must be trinary, scale or raw, found `{value}`"),
-                        ))
-                    }
-                }
-            }
-            _ => {} // map_type and other keys do not affect the grid
-        }
+        let at = |msg: String| MapError::syntax(path, text, ln, value, msg);
+        let key = key.trim();
+        seen_image |= key == "image";
+        seen_res |= key == "resolution";
+        apply_key(&mut meta, key, value, at)?;
     }
     if !seen_image {
         return Err(MapError::file(path, "missing `image:`"));
@@ -198,12 +127,71 @@ pub fn parse_map_yaml(path: &Path, text: &str) -> Result<RosMapMeta, MapError> {
     Ok(meta)
 }
 
-fn threshold(path: &Path, ln: usize, what: &str, v: f64) -> Result<f64, MapError> {
-    if (0.0..=1.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err(MapError::line(path, ln, format!("{what} {v} is outside [0, 1]")))
+/// Sets one key of the metadata; `at` locates an error at the value.
+fn apply_key(
+    meta: &mut RosMapMeta,
+    key: &str,
+    value: &str,
+    at: impl Fn(String) -> MapError,
+) -> Result<(), MapError> {
+    let num = |what: &str| -> Result<f64, MapError> {
+        value
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| at(format!("{what} `{value}` is not a number")))
+    };
+    let threshold = |what: &str| -> Result<f64, MapError> {
+        let v = num(what)?;
+        if (0.0..=1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(at(format!("{what} {v} is outside [0, 1]")))
+        }
+    };
+    match key {
+        "image" if value.is_empty() => return Err(at("image must name a file".into())),
+        "image" => meta.image = PathBuf::from(value),
+        "resolution" => {
+            meta.resolution = num("resolution")?;
+            if meta.resolution <= 0.0 {
+                return Err(at(format!("resolution {value} must be > 0")));
+            }
+        }
+        "origin" => {
+            let inner = value.trim_start_matches('[').trim_end_matches(']');
+            let nums: Option<Vec<f64>> = inner
+                .split(',')
+                .map(|p| p.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect();
+            match nums {
+                Some(v) if v.len() == 3 => meta.origin = [v[0], v[1], v[2]],
+                _ => return Err(at(format!("origin must be `[x, y, yaw]`, found `{value}`"))),
+            }
+        }
+        "negate" => {
+            meta.negate = match value {
+                "0" | "false" | "False" => false,
+                "1" | "true" | "True" => true,
+                _ => return Err(at(format!("negate must be 0 or 1, found `{value}`"))),
+            }
+        }
+        "occupied_thresh" => meta.occupied_thresh = threshold("occupied_thresh")?,
+        "free_thresh" => meta.free_thresh = threshold("free_thresh")?,
+        "mode" => {
+            meta.mode = match value {
+                "trinary" => MapMode::Trinary,
+                "scale" => MapMode::Scale,
+                "raw" => MapMode::Raw,
+                _ => {
+                    let msg = format!("mode must be trinary, scale or raw, found `{value}`");
+                    return Err(at(msg));
+                }
+            }
+        }
+        _ => {} // map_type and other keys do not affect the grid
     }
+    Ok(())
 }
 
 /// Decode PGM or PNG into grey samples (+ alpha for PNG with an alpha channel).

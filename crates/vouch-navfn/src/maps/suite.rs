@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::world::WorldParams;
 use super::{MapError, MAX_CELLS};
 
 /// One case: a path *from* (x0, y0) *to* (x1, y1), numbers as read (doubles).
@@ -67,27 +68,41 @@ pub fn parse_suite_text(
     let dims: Vec<&str> = header.split_whitespace().collect();
     let parse_dim = |s: &str| -> Result<usize, MapError> {
         s.parse::<usize>().ok().filter(|&v| v > 0).ok_or_else(|| {
-            MapError::line(test_path, ln, format!("map size `{s}` is not a positive integer"))
+            MapError::syntax(
+                test_path,
+                text,
+                ln,
+                s,
+                format!("map size `{s}` is not a positive integer"),
+            )
         })
     };
     if dims.len() != 2 {
-        return Err(MapError::line(test_path, ln, format!("expected `W H`, found `{header}`")));
+        return Err(MapError::syntax(
+            test_path,
+            text,
+            ln,
+            "",
+            format!("expected `W H`, found `{header}`"),
+        ));
     }
     let (width, height) = (parse_dim(dims[0])?, parse_dim(dims[1])?);
     let cells = width.checked_mul(height).filter(|&c| c <= super::MAX_CELLS);
     let cells = cells.ok_or_else(|| {
-        MapError::line(
+        MapError::syntax(
             test_path,
+            text,
             ln,
+            "",
             format!("map size {width}x{height} exceeds {MAX_CELLS} cells"),
         )
     })?;
-    let (ln, name) = lines
-        .next()
-        .ok_or_else(|| MapError::line(test_path, ln, "missing line 2 (map file name)"))?;
+    let (ln, name) = lines.next().ok_or_else(|| {
+        MapError::syntax(test_path, text, ln, "", "missing line 2 (map file name)")
+    })?;
     let name = name.trim();
     if name.is_empty() {
-        return Err(MapError::line(test_path, ln, "line 2 must name the map file"));
+        return Err(MapError::syntax(test_path, text, ln, "", "line 2 must name the map file"));
     }
     let map_path = test_path.parent().unwrap_or(Path::new(".")).join(name);
     let _ignored_line_3 = lines.next();
@@ -103,16 +118,18 @@ pub fn parse_suite_text(
             continue;
         }
         if fields.len() < 4 {
-            return Err(MapError::line(
+            return Err(MapError::syntax(
                 test_path,
+                text,
                 ln,
+                "",
                 format!("expected `x0 y0 x1 y1`, found `{line}`"),
             ));
         }
         let mut coords = [0.0f64; 4];
         for (c, f) in coords.iter_mut().zip(&fields) {
             *c = f.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                MapError::line(test_path, ln, format!("`{f}` is not a finite number"))
+                MapError::syntax(test_path, text, ln, f, format!("`{f}` is not a finite number"))
             })?;
         }
         cases.push(SuiteCase { number: cases.len(), line: ln, coords });
@@ -160,36 +177,37 @@ fn walk(dir: &Path, file_name: &str, out: &mut Vec<PathBuf>) -> Result<(), MapEr
 }
 
 /// `params.txt` of `suite_ros/<map>/`: `--origin=X,Y --res=R`.
-pub fn read_world_params(path: &Path) -> Result<crate::planner::WorldParams, MapError> {
+pub fn read_world_params(path: &Path) -> Result<WorldParams, MapError> {
     let text = std::fs::read_to_string(path).map_err(|e| MapError::io(path, e))?;
     parse_world_params(path, &text)
 }
 
 /// Parse `--origin=X,Y --res=R` (both required, resolution > 0).
-pub fn parse_world_params(
-    path: &Path,
-    text: &str,
-) -> Result<crate::planner::WorldParams, MapError> {
+pub fn parse_world_params(path: &Path, text: &str) -> Result<WorldParams, MapError> {
     let mut origin = None;
     let mut res = None;
-    for tok in text.split_whitespace() {
-        let num = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
-        if let Some(v) = tok.strip_prefix("--origin=") {
-            let (x, y) = v.split_once(',').unwrap_or((v, ""));
-            origin = Some([
-                num(x).ok_or_else(|| MapError::file(path, format!("bad origin `{v}`")))?,
-                num(y).ok_or_else(|| MapError::file(path, format!("bad origin `{v}`")))?,
-            ]);
-        } else if let Some(v) = tok.strip_prefix("--res=") {
-            res = Some(num(v).filter(|r| *r > 0.0).ok_or_else(|| {
-                MapError::file(path, format!("resolution `{v}` must be a positive number"))
-            })?);
-        } else {
-            return Err(MapError::file(path, format!("unknown parameter `{tok}`")));
+    let num = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+    for (i, line) in text.lines().enumerate() {
+        let bad = |tok: &str, msg: String| MapError::syntax(path, text, i + 1, tok, msg);
+        for tok in line.split_whitespace() {
+            if let Some(v) = tok.strip_prefix("--origin=") {
+                let (x, y) = v.split_once(',').unwrap_or((v, ""));
+                match (num(x), num(y)) {
+                    (Some(x), Some(y)) => origin = Some([x, y]),
+                    _ => return Err(bad(tok, format!("bad origin `{v}` (expected X,Y)"))),
+                }
+            } else if let Some(v) = tok.strip_prefix("--res=") {
+                let r = num(v).filter(|r| *r > 0.0);
+                res = Some(r.ok_or_else(|| {
+                    bad(tok, format!("resolution `{v}` must be a positive number"))
+                })?);
+            } else {
+                return Err(bad(tok, format!("unknown parameter `{tok}`")));
+            }
         }
     }
     match (origin, res) {
-        (Some(origin), Some(resolution)) => Ok(crate::planner::WorldParams { origin, resolution }),
+        (Some(origin), Some(resolution)) => Ok(WorldParams { origin, resolution }),
         _ => Err(MapError::file(path, "expected `--origin=X,Y --res=R`")),
     }
 }

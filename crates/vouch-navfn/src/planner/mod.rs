@@ -2,20 +2,23 @@
 //! the robot-cell clearing, ROS cost conversion, the start/goal swap, the goal tolerance
 //! search, path reversal to world poses and `smoothApproachToGoal`.
 
-mod output;
-mod world;
+mod validate;
 
-pub use output::write_planner_case;
-pub use world::WorldParams;
+pub use validate::{End, PlanError, MAX_TOLERANCE_POINTS};
 
-use crate::core::{Cell, CoreError, NavFn, NoObserver, SearchObserver, POT_HIGH};
+use crate::core::{
+    ros_to_navfn_cost, Cell, NavFn, NoObserver, SearchObserver, FREE_SPACE_ROS, POT_HIGH,
+};
+pub use crate::maps::WorldParams;
 
 /// Planner parameters (nav2 defaults in `Default`).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct PlannerParams {
     /// Goal tolerance in metres (default 0.5).
     pub tolerance: f64,
+    /// A* instead of Dijkstra (default false).
     pub use_astar: bool,
+    /// Unknown cells (ROS 255) are traversable (default true).
     pub allow_unknown: bool,
     /// Path iteration limit is `max(nx, ny) * max_cycles_factor` (default 4).
     pub max_cycles_factor: usize,
@@ -36,13 +39,21 @@ impl Default for PlannerParams {
 /// which the real planner has undefined behaviour (a point rounding to index `size`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum PlanStatus {
+    /// A path was found.
     Ok,
+    /// NavFn found no path (also after the tolerance search).
     NoValidPathCouldBeFound,
+    /// The start is outside the costmap (truncation rule).
     StartOutsideMapBounds,
+    /// The goal is outside the costmap (truncation rule).
     GoalOutsideMapBounds,
+    /// The goal cell is lethal and the tolerance is 0.
     GoalOccupied,
+    /// Start and goal poses are equal.
     StartEqualsGoal,
+    /// The start rounds to index `size` (undefined behaviour in nav2).
     UbStartRoundsOutOfMap,
+    /// The goal rounds to index `size` (undefined behaviour in nav2).
     UbGoalRoundsOutOfMap,
 }
 
@@ -98,59 +109,53 @@ impl PlannerPlan {
 }
 
 /// A nav2 `NavfnPlanner` over one ROS costmap (Costmap2D byte values, row 0 = bottom).
-pub struct NavfnPlanner {
-    costmap: Vec<u8>,
+///
+/// The costmap is borrowed and never written: nav2's `clearRobotCell` (the robot cell becomes
+/// free space in the shared costmap) is applied to NavFn's own cost array after the conversion,
+/// which gives the same costs without copying the map. Every plan therefore starts from the
+/// caller's map, as the goldens do.
+pub struct NavfnPlanner<'m> {
+    costmap: &'m [u8],
     nx: usize,
     ny: usize,
     world: WorldParams,
     params: PlannerParams,
     nav: NavFn,
-    /// nav2 clears the robot cell in the shared costmap for good; the goldens plan every
-    /// case on the pristine map, so by default we restore it after each plan.
-    persistent_clearing: bool,
-    pristine: Vec<u8>,
 }
 
-impl NavfnPlanner {
+impl<'m> NavfnPlanner<'m> {
+    /// A planner over `costmap` (`nx`×`ny` Costmap2D values). Rejects sizes NavFn cannot hold,
+    /// a cost array of the wrong length, an unusable world frame, and parameters whose
+    /// tolerance search would not finish in reasonable time ([`MAX_TOLERANCE_POINTS`]).
     pub fn new(
-        costmap: Vec<u8>,
+        costmap: &'m [u8],
         nx: usize,
         ny: usize,
         world: WorldParams,
         params: PlannerParams,
-    ) -> Result<Self, CoreError> {
+    ) -> Result<Self, PlanError> {
+        validate::check_setup(costmap.len(), nx, ny, world, params)?;
         let nav = NavFn::new(nx, ny)?;
-        if costmap.len() != nx * ny {
-            return Err(CoreError::CostLength { got: costmap.len(), want: nx * ny, nx, ny });
-        }
-        Ok(NavfnPlanner {
-            pristine: costmap.clone(),
-            costmap,
-            nx,
-            ny,
-            world,
-            params,
-            nav,
-            persistent_clearing: false,
-        })
+        Ok(NavfnPlanner { costmap, nx, ny, world, params, nav })
     }
 
-    /// Keep nav2's persistent side effect of `clearRobotCell` across plans.
-    pub fn set_persistent_clearing(&mut self, on: bool) {
-        self.persistent_clearing = on;
-    }
+    /// The NavFn of the last plan (potential, costs, path).
     pub fn nav(&self) -> &NavFn {
         &self.nav
     }
+    /// The costmap planned on.
     pub fn costmap(&self) -> &[u8] {
-        &self.costmap
+        self.costmap
     }
+    /// The world frame.
     pub fn world(&self) -> WorldParams {
         self.world
     }
+    /// The planner parameters.
     pub fn params(&self) -> PlannerParams {
         self.params
     }
+    /// Columns and rows.
     pub fn size(&self) -> (usize, usize) {
         (self.nx, self.ny)
     }
@@ -184,11 +189,7 @@ impl NavfnPlanner {
             p.world.push(start);
             return p;
         }
-        let plan = self.make_plan(start, goal, obs);
-        if !self.persistent_clearing {
-            self.costmap.copy_from_slice(&self.pristine);
-        }
-        plan
+        self.make_plan(start, goal, obs)
     }
 
     /// `makePlan`: NavFn set-up with the swap, propagation, tolerance search, extraction.
@@ -202,15 +203,16 @@ impl NavfnPlanner {
         let Some(start_cell) = w.planner_world_to_map(start, nx, ny) else {
             return PlannerPlan::rejected(PlanStatus::UbStartRoundsOutOfMap);
         };
-        // clearRobotCell: the robot cell becomes FREE_SPACE in the (shared) costmap
-        self.costmap[start_cell.y * nx + start_cell.x] = 0;
         let Some(goal_cell) = w.planner_world_to_map(goal, nx, ny) else {
             return PlannerPlan::rejected(PlanStatus::UbGoalRoundsOutOfMap);
         };
         let nav = &mut self.nav;
         // sizes and cells were validated above, so these cannot fail
         let _ = nav.resize(nx, ny);
-        let _ = nav.set_costs_ros(&self.costmap, self.params.allow_unknown);
+        let allow_unknown = self.params.allow_unknown;
+        let _ = nav.set_costs_ros(self.costmap, allow_unknown);
+        // clearRobotCell: the robot cell is FREE_SPACE when the costmap is converted
+        let _ = nav.set_cost(start_cell, ros_to_navfn_cost(FREE_SPACE_ROS, allow_unknown));
         let _ = nav.set_start(goal_cell);
         let _ = nav.set_goal(start_cell);
         let last_path_cost = if self.params.use_astar {

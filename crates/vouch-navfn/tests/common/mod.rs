@@ -3,15 +3,10 @@
 
 use std::path::PathBuf;
 
-/// `shared/navfn`, or `None` (the caller prints a skip message) when the data is absent.
+/// `../shared/navfn`: `None` with a skip message when absent, a failure when
+/// `VOUCH_REQUIRE_SHARED=1`.
 pub fn shared_navfn() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/navfn");
-    if p.join("SEMANTICS.md").is_file() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
+    vouch_testkit::shared("navfn", "SEMANTICS.md")
 }
 
 /// Lines of a golden file that our runner must reproduce (CASE, PATH, WORLD).

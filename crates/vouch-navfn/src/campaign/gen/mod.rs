@@ -10,19 +10,26 @@ mod categories;
 pub use cases::sample_cases;
 pub use categories::CATEGORIES;
 
+use std::path::PathBuf;
+
+use crate::campaign::error::{CampaignError, GenError};
 use crate::campaign::grid::{Case, SuiteMap};
 use crate::campaign::rng::SplitMix64;
+use crate::campaign::ros_import::import_ros_map;
 
 /// What to generate.
 #[derive(Clone, Debug)]
 pub struct GenOptions {
+    /// The seed: the same seed always gives the same suite.
     pub seed: u64,
     /// Subset of [`CATEGORIES`]; empty = all nine.
     pub categories: Vec<String>,
     pub maps_per_category: u32,
-    /// Inclusive range of map widths/heights, border included (≥ 5).
+    /// Smallest map width/height, border included (≥ 5).
     pub min_size: u32,
+    /// Largest map width/height (inclusive).
     pub max_size: u32,
+    /// Cases per map (all ordered pairs when the map has fewer).
     pub cases_per_map: usize,
 }
 
@@ -39,15 +46,6 @@ impl Default for GenOptions {
     }
 }
 
-/// Errors in generator options (the CLI maps them to exit code 2).
-#[derive(Debug, thiserror::Error)]
-pub enum GenError {
-    #[error("unknown category `{0}` (expected one of: {list})", list = CATEGORIES.join(", "))]
-    UnknownCategory(String),
-    #[error("bad size range {0}..{1}: sizes must satisfy 5 <= min <= max <= 4096")]
-    BadSize(u32, u32),
-}
-
 /// Generate the suite in memory (maps in category order, then index order).
 pub fn generate(opts: &GenOptions) -> Result<Vec<SuiteMap>, GenError> {
     if opts.min_size < 5 || opts.min_size > opts.max_size || opts.max_size > 4096 {
@@ -60,7 +58,12 @@ pub fn generate(opts: &GenOptions) -> Result<Vec<SuiteMap>, GenError> {
         for c in &opts.categories {
             match CATEGORIES.iter().find(|k| **k == c.as_str()) {
                 Some(k) => v.push(*k),
-                None => return Err(GenError::UnknownCategory(c.clone())),
+                None => {
+                    return Err(GenError::UnknownCategory {
+                        name: c.clone(),
+                        expected: CATEGORIES.join(", "),
+                    })
+                }
             }
         }
         v
@@ -89,6 +92,27 @@ pub fn generate(opts: &GenOptions) -> Result<Vec<SuiteMap>, GenError> {
             }
             maps.push(m);
         }
+    }
+    Ok(maps)
+}
+
+/// [`generate`], then import nav2 maps (map_server YAML + PGM) as category `ROS` with
+/// `ros_cases` sampled cases each (deterministic for the seed).
+pub fn generate_with_ros(
+    opts: &GenOptions,
+    ros_maps: &[PathBuf],
+    ros_cases: usize,
+) -> Result<Vec<SuiteMap>, CampaignError> {
+    let mut maps = generate(opts)?;
+    for (i, yaml) in ros_maps.iter().enumerate() {
+        let name = yaml
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| format!("ros{i}"));
+        let mut m = import_ros_map(yaml, &name, None)?;
+        let mut rng = SplitMix64::derive(opts.seed, "ROS", i as u64);
+        m.cases = sample_cases(&m, &mut rng, ros_cases);
+        maps.push(m);
     }
     Ok(maps)
 }

@@ -1,0 +1,166 @@
+//! `vouch navfn plan`: one nav2 plan on a ROS map, checked; a summary by default, the poses on
+//! request.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use vouch_navfn::checks::{check_plan, CheckReport, PlanView};
+use vouch_navfn::maps::load_ros_map;
+use vouch_navfn::picture::{save_png, PictureInput};
+use vouch_navfn::planner::{End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, PlannerPlan};
+
+use super::{map_failure, parse_pair, write_file, AlgoArg};
+use crate::contract::{CmdResult, Ctx, Exit, Failure};
+
+/// Arguments of `vouch navfn plan`.
+#[derive(Args)]
+#[command(
+    after_help = "Example:\n  vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --png plan.png"
+)]
+pub struct PlanArgs {
+    /// Map: map_server YAML (naming a PGM/PNG), or a PGM/PNG image (resolution 1, origin 0)
+    map: PathBuf,
+    /// Robot start X,Y (metres in the map frame; column,row with --cells)
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
+    start: [f64; 2],
+    /// Robot goal X,Y (metres in the map frame; column,row with --cells)
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
+    goal: [f64; 2],
+    /// Start and goal are cell indices (column,row; row 0 = bottom of the image)
+    #[arg(long)]
+    cells: bool,
+    /// Propagation
+    #[arg(long, value_enum, default_value = "dijkstra")]
+    algo: AlgoArg,
+    /// Goal tolerance in metres (nav2 default 0.5)
+    #[arg(long, default_value_t = 0.5)]
+    tolerance: f64,
+    /// Treat unknown cells as obstacles (nav2 allow_unknown=false)
+    #[arg(long)]
+    no_unknown: bool,
+    /// Print one JSON document (summary and checks; the poses too with --poses)
+    #[arg(long)]
+    json: bool,
+    /// Also print every pose of the path (`x y` in metres, one per line)
+    #[arg(long)]
+    poses: bool,
+    /// Write the poses (`x y` in metres, one per line) to this file
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+    /// Write a picture to this PNG file: map, potential heat map, path
+    #[arg(long, value_name = "FILE")]
+    png: Option<PathBuf>,
+    /// A plan-check violation is a finding (exit 3) instead of a note
+    #[arg(long)]
+    checked: bool,
+}
+
+/// Runs `vouch navfn plan`.
+pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
+    let map = load_ros_map(&a.map, true).map_err(map_failure)?;
+    let params = PlannerParams {
+        tolerance: a.tolerance,
+        use_astar: a.algo == AlgoArg::Astar,
+        allow_unknown: !a.no_unknown,
+        ..PlannerParams::default()
+    };
+    let mut planner = NavfnPlanner::new(&map.costmap, map.width, map.height, map.world(), params)
+        .map_err(Failure::rejected)?;
+    let (start, goal) = if a.cells {
+        let s = planner.cell_point(End::Start, a.start).map_err(Failure::rejected)?;
+        (s, planner.cell_point(End::Goal, a.goal).map_err(Failure::rejected)?)
+    } else {
+        (a.start, a.goal)
+    };
+    let t0 = Instant::now();
+    let plan = planner.plan_checked(start, goal).map_err(Failure::rejected)?;
+    let elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let nav = planner.nav();
+    let ran_navfn = plan.navfn_goal.is_some();
+    let report = if ran_navfn { check_plan(&PlanView::of(nav)) } else { CheckReport::default() };
+    if let Some(png) = &a.png {
+        if ran_navfn {
+            let mut pic = PictureInput::of(nav, true);
+            // robot start in green, robot goal in blue (NavFn runs them swapped)
+            pic.plan.start = nav.goal();
+            pic.plan.goal = nav.start();
+            save_png(png, &pic).map_err(|e| Failure::io(png, &e))?;
+        } else {
+            ctx.note(format_args!("no picture: NavFn did not run ({})", plan.status.name()));
+        }
+    }
+    if let Some(path) = &a.output {
+        write_file(path, poses_text(&plan).as_bytes())?;
+    }
+    if a.json {
+        ctx.out.json(&json_summary(&a, start, goal, &plan, &report, elapsed_ms))?;
+    } else {
+        print_summary(ctx, &a, &plan, &report, elapsed_ms)?;
+    }
+    if !report.is_ok() && a.checked {
+        return Ok(Exit::Findings);
+    }
+    if plan.status != PlanStatus::Ok {
+        return Err(Failure::rejected(PlanError::NoPlan { status: plan.status }));
+    }
+    Ok(Exit::Ok)
+}
+
+fn poses_text(plan: &PlannerPlan) -> String {
+    let mut s = String::new();
+    for p in &plan.world {
+        let _ = writeln!(s, "{:.6} {:.6}", p[0], p[1]);
+    }
+    s
+}
+
+fn json_summary(
+    a: &PlanArgs,
+    start: [f64; 2],
+    goal: [f64; 2],
+    plan: &PlannerPlan,
+    report: &CheckReport,
+    elapsed_ms: f64,
+) -> serde_json::Value {
+    let mut v = serde_json::json!({
+        "status": plan.status.name(),
+        "start": start, "goal": goal,
+        "algo": if a.algo == AlgoArg::Astar { "astar" } else { "dijkstra" },
+        "navfn_start": plan.navfn_start, "navfn_goal": plan.navfn_goal,
+        "tolerance_used": plan.tol_used, "best_goal": plan.best,
+        "navfn_points": plan.navfn_len, "pose_count": plan.world.len(),
+        "checks": report, "time_ms": (elapsed_ms * 1e3).round() / 1e3,
+    });
+    if a.poses {
+        v["poses"] = serde_json::json!(plan.world);
+    }
+    v
+}
+
+fn print_summary(
+    ctx: &mut Ctx,
+    a: &PlanArgs,
+    plan: &PlannerPlan,
+    report: &CheckReport,
+    elapsed_ms: f64,
+) -> Result<(), Failure> {
+    let checks =
+        if report.is_ok() { "ok".to_string() } else { format!("{} violations", report.count()) };
+    writeln!(
+        ctx.out,
+        "status {}  poses {}  navfn points {}  tolerance used {}  checks {checks}  {elapsed_ms:.3} ms",
+        plan.status.name(),
+        plan.world.len(),
+        plan.navfn_len,
+        if plan.tol_used { "yes" } else { "no" },
+    )?;
+    for v in &report.violations {
+        writeln!(ctx.out, "violation: {v}")?;
+    }
+    if a.poses {
+        ctx.out.write_all(poses_text(plan).as_bytes())?;
+    }
+    Ok(())
+}

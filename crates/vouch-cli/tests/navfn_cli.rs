@@ -1,0 +1,281 @@
+//! The `vouch navfn` commands as a user runs them: exit codes (0 ok, 1 rejected, 2 usage or I/O,
+//! 3 findings), what they print, help for every subcommand, and a closed pipe. Inputs are the
+//! bundled examples under `examples/navfn/` and files written here.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn vouch(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vouch"))
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .expect("the vouch binary runs")
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("exited, not killed")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("navfn_cli");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    dir.join(name)
+}
+
+const MAP: &str = "examples/navfn/warehouse.yaml";
+const SUITE: &str = "examples/navfn/suite";
+
+#[test]
+fn every_subcommand_has_help_with_an_example() {
+    for cmd in [
+        &["plan"][..],
+        &["suite", "run"],
+        &["suite", "gen"],
+        &["suite", "diff"],
+        &["bench"],
+        &["campaign"],
+        &["report", "merge"],
+    ] {
+        let mut args = vec!["navfn"];
+        args.extend_from_slice(cmd);
+        args.push("-h");
+        let o = vouch(&args);
+        let out = text(&o.stdout);
+        assert_eq!(code(&o), 0, "{cmd:?}");
+        assert!(out.contains("Example:\n  vouch navfn"), "{cmd:?} has no example:\n{out}");
+        // every argument has a help text: on its line, or on the next one
+        let lines: Vec<&str> = out.lines().collect();
+        for (i, line) in lines.iter().enumerate() {
+            let t = line.trim();
+            if !(t.starts_with('-') || t.starts_with('<')) || !line.starts_with("  ") {
+                continue;
+            }
+            let next = lines.get(i + 1).map_or("", |l| l.trim());
+            let helped = t.contains("  ") || !(next.is_empty() || next.starts_with('-'));
+            assert!(helped, "{cmd:?}: `{t}` has no help");
+        }
+    }
+}
+
+#[test]
+fn plan_prints_a_summary_and_poses_only_on_request() {
+    let o = vouch(&["navfn", "plan", MAP, "--start", "1,1", "--goal", "8.5,6.5"]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert_eq!(out.lines().count(), 1, "a one-line summary: {out}");
+    assert!(out.starts_with("status OK  poses ") && out.contains("checks ok"), "{out}");
+    let poses: usize = out.split_whitespace().nth(3).and_then(|n| n.parse().ok()).expect("count");
+
+    let file = tmp("poses.txt");
+    let o = vouch(&[
+        "navfn",
+        "plan",
+        MAP,
+        "--start",
+        "1,1",
+        "--goal",
+        "8.5,6.5",
+        "--poses",
+        "-o",
+        file.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(code(&o), 0);
+    assert_eq!(text(&o.stdout).lines().count(), 1 + poses);
+    let written = std::fs::read_to_string(&file).expect("poses written");
+    assert_eq!(written.lines().count(), poses);
+    assert_eq!(written.lines().last(), Some("8.500000 6.500000"), "the path ends at the goal");
+
+    let o = vouch(&["navfn", "plan", MAP, "--start", "1,1", "--goal", "8.5,6.5", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    assert_eq!(v["status"], "OK");
+    assert_eq!(v["pose_count"], poses);
+    assert!(v.get("poses").is_none(), "poses only with --poses");
+}
+
+#[test]
+fn plan_rejects_bad_requests_with_coded_errors() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["--start", "1,1", "--goal", "50,1"], "navfn::E024"),
+        (&["--start", "1,1", "--goal", "1.5,1.5"], "navfn::E025"),
+        (&["--start", "1,1", "--goal", "8,6", "--tolerance", "1e9"], "navfn::E021"),
+        (&["--start", "1,1", "--goal", "8,6", "--tolerance=-1"], "navfn::E021"),
+        (&["--start", "1.5,1", "--goal", "8,6", "--cells"], "navfn::E023"),
+    ];
+    for (args, want) in cases {
+        let mut all = vec!["--message-format", "short", "navfn", "plan", MAP];
+        all.extend_from_slice(args);
+        let o = vouch(&all);
+        let err = text(&o.stderr);
+        assert_eq!(code(&o), 1, "{args:?}: {err}");
+        assert!(err.contains(&format!("error[{want}]")), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "printed once: {err}");
+    }
+}
+
+#[test]
+fn map_errors_are_located_and_unreadable_files_are_io_errors() {
+    let yaml = tmp("bad.yaml");
+    std::fs::write(&yaml, "image: warehouse.pgm\nresolution: fast\n").expect("written");
+    let o = vouch(&[
+        "--message-format",
+        "short",
+        "navfn",
+        "plan",
+        yaml.to_str().expect("utf-8"),
+        "--start",
+        "1,1",
+        "--goal",
+        "2,2",
+    ]);
+    let err = text(&o.stderr);
+    assert_eq!(code(&o), 1, "{err}");
+    assert!(err.contains("bad.yaml:2:13: error[navfn::E011]"), "{err}");
+    let o = vouch(&["navfn", "plan", "/nonexistent/map.yaml", "--start", "1,1", "--goal", "2,2"]);
+    assert_eq!(code(&o), 2, "{}", text(&o.stderr));
+}
+
+#[test]
+fn suite_run_checks_and_modes() {
+    let o =
+        vouch(&["navfn", "suite", "run", SUITE, "--mode", "navfn", "--algo", "astar", "--check"]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert_eq!(out.lines().filter(|l| l.starts_with("MAP ")).count(), 3);
+    assert_eq!(out.lines().filter(|l| l.starts_with("CASE ")).count(), 220);
+    assert!(text(&o.stderr).contains("plan checks: 0 violations"));
+    // one scheme of mode names: cell-level commands refuse planner mode
+    let o = vouch(&["navfn", "suite", "run", SUITE, "--mode", "planner", "--pot"]);
+    assert_eq!(code(&o), 2);
+    let o = vouch(&["navfn", "campaign", SUITE, "--mode", "planner"]);
+    assert_eq!(code(&o), 2);
+}
+
+#[test]
+fn suite_run_into_a_closed_pipe_ends_quietly() {
+    // `vouch navfn suite run … | head -1`: far more output than the pipe holds
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vouch"))
+        .args(["navfn", "suite", "run", SUITE, "--trace", "cells", "--pot"])
+        .current_dir(repo())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    let mut first = String::new();
+    let stdout = child.stdout.take().expect("piped");
+    BufReader::new(stdout).read_line(&mut first).expect("one line");
+    // the reader goes away here, like `head -1`
+    let o = child.wait_with_output().expect("ends");
+    assert!(!first.is_empty());
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn campaign_report_and_merge_follow_the_conventions() {
+    let (a, b, merged) = (tmp("shard0.json"), tmp("shard1.json"), tmp("merged.json"));
+    for (i, p) in [(0, &a), (1, &b)] {
+        let shard = format!("{i}/2");
+        let o = vouch(&[
+            "navfn",
+            "campaign",
+            SUITE,
+            "--mode",
+            "navfn",
+            "--algo",
+            "astar",
+            "--shard",
+            &shard,
+            "-o",
+            p.to_str().expect("utf-8"),
+        ]);
+        assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+        assert!(text(&o.stdout).contains("TOTAL"));
+    }
+    let o = vouch(&[
+        "navfn",
+        "report",
+        "merge",
+        "--json",
+        "-o",
+        merged.to_str().expect("utf-8"),
+        a.to_str().expect("utf-8"),
+        b.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    assert_eq!(v["cases"], 220);
+    assert_eq!(v["mode"], "navfn-astar");
+    assert!(v["categories"]["lanes"]["checks"]["obstacle_free_queues"]["pass"].is_u64());
+    // a report that is not one is rejected with its position
+    std::fs::write(&a, "{\"suite\": 1}").expect("written");
+    let o = vouch(&["navfn", "report", "merge", "-o", "/dev/null", a.to_str().expect("utf-8")]);
+    assert_eq!(code(&o), 1, "{}", text(&o.stderr));
+}
+
+#[test]
+fn bench_prints_vouch_figures_only() {
+    let o = vouch(&[
+        "navfn",
+        "bench",
+        SUITE,
+        "--repeat",
+        "1",
+        "--plan-map",
+        MAP,
+        "--start",
+        "1,1",
+        "--goal",
+        "8.5,6.5",
+        "--repeat-plan",
+        "2",
+    ]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(out.contains("measured in this run"), "{out}");
+    assert!(!out.contains("C++"), "no quoted figures: {out}");
+    assert_eq!(out.lines().filter(|l| l.contains("µs/path")).count(), 3, "{out}");
+    assert_eq!(out.lines().filter(|l| l.contains("ms/plan")).count(), 2, "{out}");
+    let o = vouch(&["navfn", "bench"]);
+    assert_eq!(code(&o), 2, "the suite must be given");
+}
+
+#[test]
+fn suite_diff_exit_codes_follow_the_contract() {
+    let me = env!("CARGO_BIN_EXE_vouch");
+    let itself = format!("{me} -q navfn suite run");
+    let o = vouch(&["navfn", "suite", "diff", SUITE, "--oracle", &itself, "--mode", "navfn"]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    assert!(text(&o.stdout).starts_with("3 files, 220 cases: 220 equal, 0 different"));
+    let perturbed = format!("{itself} --perturb-pri-inc 90");
+    let report = tmp("diff.json");
+    let o = vouch(&[
+        "navfn",
+        "suite",
+        "diff",
+        SUITE,
+        "--oracle",
+        &perturbed,
+        "--json",
+        "-o",
+        report.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(code(&o), 3, "a disagreement is a finding: {}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    assert!(v["different"].as_u64().is_some_and(|d| d > 0));
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).expect("written")).expect("json");
+    assert_eq!(written, v);
+    let o = vouch(&["navfn", "suite", "diff", SUITE, "--oracle", "/nonexistent/oracle"]);
+    assert_eq!(code(&o), 2, "an oracle that cannot run is an I/O error");
+}
