@@ -34,6 +34,10 @@ pub struct GuardArgs {
     /// Drop violating messages and answer the sender instead of only reporting
     #[arg(long)]
     pub enforce: bool,
+    /// Let frames of message ids the dialect does not know pass unchecked (by default they
+    /// cannot be verified and are dropped in enforce mode)
+    #[arg(long)]
+    pub pass_unknown_ids: bool,
     /// Send a STATUSTEXT to the GCS for each violation (at most 5 per second)
     #[arg(long)]
     pub alert_gcs: bool,
@@ -78,7 +82,7 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
         let names: Vec<&str> =
             monitor.protocols().protocols.iter().map(|p| p.name.as_str()).collect();
         let what = format!("{} protocol(s): {}", names.len(), names.join(", "));
-        (Box::new(MonitorInspector::new(monitor)), what)
+        (Box::new(MonitorInspector::new(monitor).pass_unknown_ids(a.pass_unknown_ids)), what)
     };
     let stop = guard::stop_on_signals()
         .map_err(|e| Failure::usage(format_args!("cannot install signal handlers: {e}")))?;
