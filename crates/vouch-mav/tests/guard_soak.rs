@@ -203,6 +203,10 @@ fn soak(target_frames: u64) {
     let dialect = Dialect::default_dialect().expect("embedded dialect");
     let mut vehicle = Peer::new(true);
     let v_addr = vehicle.sock.local_addr().unwrap();
+    let state = std::env::temp_dir()
+        .join(format!("vouch-soak-{}-{target_frames}", std::process::id()))
+        .join("signing.json");
+    let _ = std::fs::remove_file(&state);
     let cfg = GuardConfig {
         enforce: true,
         alert_gcs: true,
@@ -210,6 +214,8 @@ fn soak(target_frames: u64) {
             key: SigningKey(key_0_to_31()),
             sign_to_vehicle: false,
             link_id: 0,
+            // the replay state is kept on disk meanwhile (written every second)
+            state_file: Some(state.clone()),
         }),
         ..GuardConfig::new(
             "udpin:127.0.0.1:0".parse().unwrap(),

@@ -16,6 +16,7 @@ pub(super) struct Counters {
     pub(super) dropped_malformed: AtomicU64,
     pub(super) junk_bytes: AtomicU64,
     pub(super) signing_rejected: AtomicU64,
+    pub(super) signing_state_failures: AtomicU64,
     pub(super) setup_signing_dropped: AtomicU64,
     pub(super) replies_sent: AtomicU64,
     pub(super) alerts_sent: AtomicU64,
@@ -48,6 +49,8 @@ pub struct CounterSnapshot {
     pub junk_bytes: u64,
     /// Frames from the GCS side that failed the signing check.
     pub signing_rejected: u64,
+    /// Writes of the signing state file that failed (retried every second).
+    pub signing_state_write_failures: u64,
     /// SETUP_SIGNING frames dropped (never forwarded).
     pub setup_signing_dropped: u64,
     /// Answers sent in enforce mode.
@@ -60,7 +63,7 @@ pub struct CounterSnapshot {
 
 impl CounterSnapshot {
     /// (name, value) in the order they are printed at shutdown.
-    pub fn rows(&self) -> [(&'static str, u64); 15] {
+    pub fn rows(&self) -> [(&'static str, u64); 16] {
         [
             ("frames from gcs", self.frames_from_gcs),
             ("forwarded to vehicle", self.forwarded_to_vehicle),
@@ -73,6 +76,7 @@ impl CounterSnapshot {
             ("dropped malformed", self.dropped_malformed),
             ("junk bytes", self.junk_bytes),
             ("signing rejected", self.signing_rejected),
+            ("signing state failed", self.signing_state_write_failures),
             ("SETUP_SIGNING dropped", self.setup_signing_dropped),
             ("replies sent", self.replies_sent),
             ("alerts sent", self.alerts_sent),
@@ -98,6 +102,7 @@ impl Counters {
             dropped_malformed: g(&c.dropped_malformed),
             junk_bytes: g(&c.junk_bytes),
             signing_rejected: g(&c.signing_rejected),
+            signing_state_write_failures: g(&c.signing_state_failures),
             setup_signing_dropped: g(&c.setup_signing_dropped),
             replies_sent: g(&c.replies_sent),
             alerts_sent: g(&c.alerts_sent),

@@ -22,6 +22,7 @@ use crate::codec::split::{split_datagram, split_datagram_resync, Piece};
 use crate::codec::FrameRef;
 use crate::monitor::{Reply, Verdict, Violation};
 use crate::side::Side;
+use crate::signing::state::{resume, StateSaver};
 use crate::signing::{timestamp_now, Signer, Verifier, SETUP_SIGNING_ID};
 
 /// Most STATUSTEXT alerts per second: a violation flood must not flood the pilot's link too.
@@ -33,8 +34,11 @@ struct Core {
     enforce: bool,
     alert_gcs: bool,
     inspector: Mutex<Box<dyn Inspector>>,
-    verifier: Option<Mutex<Verifier>>,
+    verifier: Option<Arc<Mutex<Verifier>>>,
+    /// Signs what the guard sends toward the vehicle: its own replies whenever a key is set,
+    /// forwarded frames too with `sign_forwarded` (`--sign-to-vehicle`).
     signer: Option<Mutex<Signer>>,
+    sign_forwarded: bool,
     egress: [OnceLock<Arc<Egress>>; 2],
     counters: Counters,
     log: Option<Mutex<BufWriter<File>>>,
@@ -144,7 +148,7 @@ impl Core {
                 true
             }
         });
-        let resign = side == Side::Gcs && self.signer.is_some();
+        let resign = side == Side::Gcs && self.sign_forwarded;
         for &(a, b) in keep.iter() {
             self.forward(side, &d[a..b], resign);
         }
@@ -154,7 +158,7 @@ impl Core {
     /// (re-signed toward the vehicle when configured), counted per frame.
     fn forward(&self, from: Side, bytes: &[u8], framed: bool) {
         let Some(out) = self.out(from.other()) else { return };
-        if from == Side::Gcs && framed {
+        if from == Side::Gcs && framed && self.sign_forwarded {
             if let Some(signer) = &self.signer {
                 let mut buf = Vec::with_capacity(bytes.len() + 16 * 13);
                 let mut one = Vec::with_capacity(280);
@@ -344,6 +348,7 @@ pub struct RunningGuard {
     core: Arc<Core>,
     stop: Arc<AtomicBool>,
     threads: Vec<JoinHandle<()>>,
+    saver: Option<StateSaver>,
     /// Local address of the GCS endpoint (useful with port 0).
     pub gcs_addr: Option<SocketAddr>,
     /// Local address of the vehicle endpoint.
@@ -362,6 +367,9 @@ impl RunningGuard {
         for t in self.threads {
             let _ = t.join();
         }
+        if self.saver.is_some_and(|s| s.finish().is_err()) {
+            self.core.counters.signing_state_failures.fetch_add(1, Ordering::Relaxed);
+        }
         for w in [&self.core.tlog, &self.core.log].into_iter().flatten() {
             let _ = lock(w).flush();
         }
@@ -374,16 +382,21 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
     let create = |p: &Option<PathBuf>| -> io::Result<Option<Mutex<BufWriter<File>>>> {
         p.as_ref().map(|p| File::create(p).map(|f| Mutex::new(BufWriter::new(f)))).transpose()
     };
+    // With a state file, signed frames accepted before a restart stay refused after it.
+    let verifier = match &cfg.signing {
+        Some(s) => Some(Arc::new(Mutex::new(match &s.state_file {
+            Some(p) => resume(s.key.clone(), p).map_err(|e| io::Error::other(e.to_string()))?,
+            None => Verifier::new(s.key.clone()),
+        }))),
+        None => None,
+    };
     let core = Arc::new(Core {
         enforce: cfg.enforce,
         alert_gcs: cfg.alert_gcs,
         inspector: Mutex::new(inspector),
-        verifier: cfg.signing.as_ref().map(|s| Mutex::new(Verifier::new(s.key.clone()))),
-        signer: cfg
-            .signing
-            .as_ref()
-            .filter(|s| s.sign_to_vehicle)
-            .map(|s| Mutex::new(Signer::new(s.key.clone(), s.link_id))),
+        verifier: verifier.clone(),
+        signer: cfg.signing.as_ref().map(|s| Mutex::new(Signer::new(s.key.clone(), s.link_id))),
+        sign_forwarded: cfg.signing.as_ref().is_some_and(|s| s.sign_to_vehicle),
         egress: [OnceLock::new(), OnceLock::new()],
         counters: Counters::default(),
         log: create(&cfg.log_path)?,
@@ -393,6 +406,16 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
         alert_window: Mutex::new((Instant::now(), 0)),
         events: Events::new(cfg.events.clone()),
     });
+    let saver = match (&verifier, cfg.signing.as_ref().and_then(|s| s.state_file.clone())) {
+        (Some(v), Some(path)) => {
+            let c = core.clone();
+            let failed = move |_: &_| {
+                c.counters.signing_state_failures.fetch_add(1, Ordering::Relaxed);
+            };
+            Some(StateSaver::start(v.clone(), path, failed)?)
+        }
+        _ => None,
+    };
     let stop = Arc::new(AtomicBool::new(false));
     let mut threads = vec![];
     let mut addrs = [None, None];
@@ -416,5 +439,5 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
         addrs[side.index()] = opened.local_addr;
         threads.extend(opened.threads);
     }
-    Ok(RunningGuard { core, stop, threads, gcs_addr: addrs[0], vehicle_addr: addrs[1] })
+    Ok(RunningGuard { core, stop, threads, saver, gcs_addr: addrs[0], vehicle_addr: addrs[1] })
 }
