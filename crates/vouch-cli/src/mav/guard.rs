@@ -11,7 +11,7 @@ use vouch_mav::guard::{
     self, CounterSnapshot, Endpoint, GuardConfig, GuardEvent, Inspector, MonitorInspector,
     PassThrough, SigningConfig,
 };
-use vouch_mav::signing::SigningKey;
+use vouch_mav::signing::{state, SigningKey};
 
 use super::{load_failure, MonitorOpts};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
@@ -57,6 +57,11 @@ pub struct GuardArgs {
     /// Link id the guard signs with toward the vehicle
     #[arg(long, default_value_t = 0, value_name = "ID")]
     pub signing_link_id: u8,
+    /// Replay state file of the signing key (with --signing-key; default
+    /// $STATE_DIRECTORY, else $XDG_STATE_HOME/vouch, else ~/.local/state/vouch, file
+    /// mav-signing-<key fingerprint>.json): signed frames accepted before a restart stay refused
+    #[arg(long, value_name = "FILE", requires = "signing_key")]
+    pub signing_state: Option<PathBuf>,
     /// Stop by itself after this many seconds
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub duration: Option<Duration>,
@@ -87,11 +92,20 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
     let stop = guard::stop_on_signals()
         .map_err(|e| Failure::usage(format_args!("cannot install signal handlers: {e}")))?;
     let (events, received) = mpsc::sync_channel(64);
-    let signing = a.signing_key.clone().map(|key| SigningConfig {
-        key,
-        sign_to_vehicle: a.sign_to_vehicle,
-        link_id: a.signing_link_id,
-    });
+    let signing = match a.signing_key.clone() {
+        Some(key) => Some(SigningConfig {
+            state_file: Some(match &a.signing_state {
+                Some(p) => p.clone(),
+                None => {
+                    state::default_path(&key).map_err(|e| Failure::Usage(miette::Report::new(e)))?
+                }
+            }),
+            key,
+            sign_to_vehicle: a.sign_to_vehicle,
+            link_id: a.signing_link_id,
+        }),
+        None => None,
+    };
     let cfg = GuardConfig {
         enforce: a.enforce,
         alert_gcs: a.alert_gcs,
