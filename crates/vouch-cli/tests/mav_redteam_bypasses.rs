@@ -10,35 +10,8 @@ mod mav_redteam_support;
 use mav_redteam_support::*;
 use serde_json::{json, Value};
 
-/// ArduPilot-like vehicle state in which a parachute release is unsafe: armed, 50 m above home
-/// but climbing at 2 m/s; PX4-like pitch gains (MC_PITCHRATE_MAX must stay below 6.5 × 0.5).
-const UNSAFE_VEHICLE: &[&str] = &[
-    "--armed",
-    "1",
-    "--alt",
-    "50",
-    "--climb",
-    "2",
-    "--param",
-    "CHUTE_ALT_MIN=10",
-    "--param",
-    "MC_PITCH_P=6.5",
-    "--param",
-    "MC_PITCHRATE_FF=0.5",
-    "--param",
-    "MC_PITCHRATE_MAX=3",
-];
-
 /// MAVLink signing key used by the legitimate ground station (bytes 0..=31).
 const KEY: &str = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f";
-
-fn markers_received(v: &Value) -> Vec<f64> {
-    received(v, "COMMAND_LONG")
-        .iter()
-        .filter(|m| m["fields"]["command"] == 512)
-        .map(|m| m["fields"]["param2"].as_f64().expect("param2"))
-        .collect()
-}
 
 /// Bypass 1, fractional command selectors: DO_PARACHUTE with `param1 = 2.5` while the vehicle
 /// climbs. ArduPilot switches on `(uint16_t)param1`, i.e. RELEASE. Before the fix the standard
@@ -47,12 +20,9 @@ fn markers_received(v: &Value) -> Vec<f64> {
 #[test]
 fn fractional_parachute_selector_is_read_as_the_autopilot_reads_it() {
     let Some(py) = python() else { return };
-    let dir = scratch("bypass-fractional");
-    let vehicle = Vehicle::start(&py, &dir, UNSAFE_VEHICLE);
-    let guard = Guard::start(&dir, vehicle.port, &["--enforce"]);
-    let g = gcs(&py, &dir, &guard, "fractional", &["--value", "2.5"]);
-    let counters = guard.stop();
-    let v = vehicle.finish();
+    let value = ["--value", "2.5"];
+    let o = attack(&py, "bypass-fractional", UNSAFE_VEHICLE, &["--enforce"], "fractional", &value);
+    let (g, counters, v) = (o.gcs, o.counters, o.vehicle);
     assert_eq!(v["parachute_param1"], json!([]), "the vehicle received a parachute release");
     assert_eq!(g["command_acks"], json!([[208, 2]]), "GCS answered DENIED: {g}");
     assert_eq!(counters["dropped_violations"], 1, "{counters}");
@@ -67,12 +37,8 @@ fn fractional_parachute_selector_is_read_as_the_autopilot_reads_it() {
 #[test]
 fn vehicle_state_forged_on_the_gcs_side_is_dropped_and_never_believed() {
     let Some(py) = python() else { return };
-    let dir = scratch("bypass-spoof");
-    let vehicle = Vehicle::start(&py, &dir, UNSAFE_VEHICLE);
-    let guard = Guard::start(&dir, vehicle.port, &["--enforce"]);
-    let g = gcs(&py, &dir, &guard, "spoof", &[]);
-    let counters = guard.stop();
-    let v = vehicle.finish();
+    let o = attack(&py, "bypass-spoof", UNSAFE_VEHICLE, &["--enforce"], "spoof", &[]);
+    let (g, counters, v) = (o.gcs, o.counters, o.vehicle);
     assert_eq!(v["parachute_param1"], json!([]), "a parachute release reached the vehicle");
     assert_eq!(v["param_sets"], json!([]), "an unsafe PARAM_SET reached the vehicle");
     let spoofed: Vec<&Value> =
@@ -93,7 +59,7 @@ fn unknown_ids_are_dropped_and_never_swallow_the_frame_behind_them() {
     let dir = scratch("bypass-unknown");
     let vehicle = Vehicle::start(&py, &dir, &["--quiet-state"]);
     let guard = Guard::start(&dir, vehicle.port, &["--enforce"]);
-    gcs(&py, &dir, &guard, "flood", &[]);
+    gcs(&py, &dir, &guard, "random", &[]);
     let g = gcs(&py, &dir, &guard, "stray", &[]);
     let counters = guard.stop();
     let v = vehicle.finish();

@@ -5,6 +5,7 @@
 //! back; the guard's own counters are checked only beside that.
 #![allow(dead_code)]
 
+use std::io::{BufRead, BufReader, Write};
 use std::net::{TcpListener, UdpSocket};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -187,6 +188,12 @@ impl Guard {
         })
     }
 
+    /// The guard's peak resident set so far (Linux `/proc`), in kB.
+    pub fn peak_rss_kb(&self) -> Option<u64> {
+        let s = std::fs::read_to_string(format!("/proc/{}/status", self.proc.0.id())).ok()?;
+        s.lines().find(|l| l.starts_with("VmHWM:"))?.split_whitespace().nth(1)?.parse().ok()
+    }
+
     /// Kills the guard with SIGKILL (no shutdown code runs: a crash or power loss).
     pub fn kill(mut self) {
         let _ = self.proc.0.kill();
@@ -209,6 +216,32 @@ pub fn gcs(py: &Path, dir: &Path, guard: &Guard, scenario: &str, args: &[&str]) 
         .expect("gcs.py runs");
     assert!(status.success(), "gcs.py {scenario} failed ({status}); guard: {}", guard.log());
     read_json(&summary, "gcs.py")
+}
+
+/// What one attack left behind: the attacker's summary, the guard's final counters, and what the
+/// vehicle received.
+pub struct Outcome {
+    pub gcs: Value,
+    pub counters: Value,
+    pub vehicle: Value,
+}
+
+/// One attack against a fresh guard (UDP): the vehicle started with `vehicle_args`, the guard
+/// with `guard_args`, then `gcs.py --scenario scenario gcs_args`.
+pub fn attack(
+    py: &Path,
+    tag: &str,
+    vehicle_args: &[&str],
+    guard_args: &[&str],
+    scenario: &str,
+    gcs_args: &[&str],
+) -> Outcome {
+    let dir = scratch(tag);
+    let vehicle = Vehicle::start(py, &dir, vehicle_args);
+    let guard = Guard::start(&dir, vehicle.port, guard_args);
+    let gcs = gcs(py, &dir, &guard, scenario, gcs_args);
+    let counters = guard.stop();
+    Outcome { gcs, counters, vehicle: vehicle.finish() }
 }
 
 /// The messages of type `ty` the vehicle decoded.
@@ -238,4 +271,89 @@ pub fn datagrams(vehicle: &Value) -> Vec<Vec<u8>> {
 
 pub fn hex(s: &str) -> Vec<u8> {
     (0..s.len() / 2).map(|i| u8::from_str_radix(&s[2 * i..2 * i + 2], 16).expect("hex")).collect()
+}
+
+/// ArduPilot-like vehicle state in which a parachute release is unsafe: armed, 50 m above home
+/// but climbing at 2 m/s; PX4-like pitch gains (MC_PITCHRATE_MAX must stay below 6.5 × 0.5).
+pub const UNSAFE_VEHICLE: &[&str] = &[
+    "--armed",
+    "1",
+    "--alt",
+    "50",
+    "--climb",
+    "2",
+    "--param",
+    "CHUTE_ALT_MIN=10",
+    "--param",
+    "MC_PITCH_P=6.5",
+    "--param",
+    "MC_PITCHRATE_FF=0.5",
+    "--param",
+    "MC_PITCHRATE_MAX=3",
+];
+
+/// The markers (param2) of the harmless MAV_CMD_REQUEST_MESSAGE commands the vehicle received,
+/// in order.
+pub fn markers_received(v: &Value) -> Vec<f64> {
+    received(v, "COMMAND_LONG")
+        .iter()
+        .filter(|m| m["fields"]["command"] == 512)
+        .map(|m| m["fields"]["param2"].as_f64().expect("param2"))
+        .collect()
+}
+
+/// Runs MAVProxy (a real ground station) against the guard: waits for the vehicle, types
+/// `commands` one per second, and returns what it printed once every text in `expect` appeared
+/// (or after `timeout`).
+pub fn mavproxy(
+    py: &Path,
+    dir: &Path,
+    guard: &Guard,
+    commands: &[&str],
+    expect: &[&str],
+    timeout: Duration,
+) -> String {
+    let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
+    let mut child = Command::new(py)
+        .arg(mavproxy)
+        .arg(format!("--master={}", guard.gcs_url))
+        .args(["--target-system=1", "--target-component=1"])
+        .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("MAVProxy starts");
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    let out = child.stdout.take().expect("stdout");
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let mut stdin = child.stdin.take().expect("stdin");
+    let _mp = Proc(child);
+    let end = Instant::now() + timeout;
+    let mut text = String::new();
+    let mut pending: Vec<&str> = commands.to_vec();
+    let mut next_at: Option<Instant> = None;
+    while Instant::now() < end && !expect.iter().all(|e| text.contains(e)) {
+        if let Ok(line) = rx.recv_timeout(Duration::from_millis(50)) {
+            text += &line;
+            text.push('\n');
+        }
+        if next_at.is_none() && text.contains("Detected vehicle") {
+            next_at = Some(Instant::now() + Duration::from_secs(2));
+        }
+        if next_at.is_some_and(|t| Instant::now() >= t) && !pending.is_empty() {
+            let c = pending.remove(0);
+            let _ = writeln!(stdin, "{c}");
+            let _ = stdin.flush();
+            next_at = Some(Instant::now() + Duration::from_secs(1));
+        }
+    }
+    let _ = writeln!(stdin, "exit");
+    text
 }

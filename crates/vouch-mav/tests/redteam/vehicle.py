@@ -29,6 +29,8 @@ p.add_argument("--alt", type=float, default=50.0, help="metres above home")
 p.add_argument("--climb", type=float, default=2.0, help="m/s, positive up")
 p.add_argument("--param", action="append", default=[], help="NAME=VALUE (repeatable)")
 p.add_argument("--quiet-state", action="store_true", help="send heartbeats only")
+p.add_argument("--stale-answers", action="store_true",
+               help="once connected, answer requests that were never sent (a guard joining mid-stream)")
 a = p.parse_args()
 
 params = {}
@@ -96,6 +98,9 @@ while time.time() < deadline and not os.path.exists(a.stop_file):
         if peer is not None and not announced:
             for name in params:
                 send_param(name)
+            if a.stale_answers:
+                send(mav.command_ack_encode(C.MAV_CMD_COMPONENT_ARM_DISARM, C.MAV_RESULT_ACCEPTED, 0, 0, 255, 190))
+                send(mav.mission_item_int_encode(255, 190, 3, 0, 16, 0, 1, 0, 0, 0, 0, 1, 2, 30.0, 0))
             announced = True
         last_state = now
     try:
