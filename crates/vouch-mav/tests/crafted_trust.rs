@@ -1,7 +1,7 @@
 //! The trust boundary of the tracked vehicle state: what refinements read about the vehicle is
 //! learned only from frames on the vehicle side, from a system that side has shown to be a
-//! vehicle; a live frame from the GCS side that claims a vehicle's identity is a violation of its
-//! own; offline, sides are derived from heartbeats.
+//! vehicle; a live frame from the GCS side that claims the ids of a component the vehicle side
+//! has shown is a violation of its own; offline, sides are derived from heartbeats.
 
 mod common;
 use common::*;
@@ -49,14 +49,14 @@ fn release(l: &mut Live) -> Verdict {
 #[test]
 fn state_forged_from_the_gcs_side_is_a_violation_and_is_not_believed() {
     let Some(mut l) = climbing() else { return };
-    // the vehicle's ids from the GCS side, any component: forgeries
+    // the ids of the vehicle's autopilot (or its component 0) from the GCS side: forgeries
     assert!(forgery(&l.send(Side::Gcs, UAV, "VFR_HUD", &[("climb", -1.0)])));
-    assert!(forgery(&l.send(
-        Side::Gcs,
-        (1, 250),
-        "GLOBAL_POSITION_INT",
-        &[("relative_alt", 100_000.0), ("vz", 100.0)]
-    )));
+    let high_and_sinking = [("relative_alt", 100_000.0), ("vz", 100.0)];
+    assert!(forgery(&l.send(Side::Gcs, UAV, "GLOBAL_POSITION_INT", &high_and_sinking)));
+    // a component of the vehicle's system that the vehicle side never showed (a companion
+    // computer on a ground endpoint): a ground sender like any other — not a forgery, and
+    // never believed about the vehicle (the release below still sees the real climb)
+    assert!(!forgery(&l.send(Side::Gcs, (1, 250), "GLOBAL_POSITION_INT", &high_and_sinking)));
     assert!(forgery(&l.send(
         Side::Gcs,
         (1, 0),
