@@ -17,6 +17,8 @@ pub mod observer;
 mod path;
 mod propagate;
 
+use propagate::PriorityBuf;
+
 pub use costs::{
     ros_to_navfn_cost, COST_NEUTRAL, COST_OBS, COST_OBS_ROS, COST_UNKNOWN_ROS, FREE_SPACE_ROS,
     ROS_COST_TABLE,
@@ -112,9 +114,9 @@ pub struct NavFn {
     pub(crate) pending: Vec<bool>,
     /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
     pub(crate) grad_touched: Vec<u32>,
-    pub(crate) cur: Vec<i32>,
-    pub(crate) next: Vec<i32>,
-    pub(crate) over: Vec<i32>,
+    pub(crate) cur: PriorityBuf,
+    pub(crate) next: PriorityBuf,
+    pub(crate) over: PriorityBuf,
     pub(crate) cur_t: f32,
     pub(crate) start: Cell,
     pub(crate) goal: Cell,
@@ -141,9 +143,9 @@ impl NavFn {
             gy: vec![0.0; ns],
             pending: vec![false; ns],
             grad_touched: Vec::new(),
-            cur: Vec::with_capacity(PRIORITY_BUF_SIZE),
-            next: Vec::with_capacity(PRIORITY_BUF_SIZE),
-            over: Vec::with_capacity(PRIORITY_BUF_SIZE),
+            cur: PriorityBuf::new(),
+            next: PriorityBuf::new(),
+            over: PriorityBuf::new(),
             cur_t: CUR_T_INIT,
             start: Cell::new(0, 0),
             goal: Cell::new(0, 0),
@@ -165,14 +167,13 @@ impl NavFn {
         self.nx = nx;
         self.ny = ny;
         self.ns = ns;
-        for v in [&mut self.pot, &mut self.gx, &mut self.gy] {
-            v.clear();
-            v.resize(ns, 0.0);
-        }
-        self.cost.clear();
-        self.cost.resize(ns, COST_NEUTRAL);
-        self.pending.clear();
-        self.pending.resize(ns, false);
+        // fresh zeroed allocations rather than a fill: pages of the gradient and `pending`
+        // arrays that a plan never touches then take no memory (most of them on large maps)
+        self.pot = vec![POT_HIGH; ns];
+        self.gx = vec![0.0; ns];
+        self.gy = vec![0.0; ns];
+        self.cost = vec![COST_NEUTRAL; ns];
+        self.pending = vec![false; ns];
         self.grad_touched.clear();
         self.cur.clear();
         self.next.clear();
