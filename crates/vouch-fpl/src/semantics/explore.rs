@@ -6,14 +6,14 @@
 //! integer values branch on [`VALUE_CHOICES`] (a small sample: the value domain is unbounded).
 //!
 //! Answers are encoded as the numbers of the shared oracle convention
-//! ([`crate::semantics::oracle`]): a condition is `0`/`1`, a value `v` is `2 * v`, so the same
+//! ([`super::oracle`]): a condition is `0`/`1`, a value `v` is `2 * v`, so the same
 //! answer list drives the C stub and the interpreter.
 //!
 //! The validator and the model checker both build on this, so they explore the same tree.
 
-use crate::semantics::oracle::{literal_value, Oracle};
-use crate::semantics::trace::{Event, Observation};
-use crate::semantics::{Interp, State, StepError};
+use super::oracle::{literal_value, Oracle};
+use super::trace::{Event, Observation};
+use super::{Interp, Item, State, StepError};
 
 /// Values tried for a non-literal integer (a `for` bound).
 pub const VALUE_CHOICES: [i64; 3] = [0, 1, 3];
@@ -135,8 +135,7 @@ pub fn enumerate_call<'p>(
 /// A hashable, exact summary of an interpreter state: the stage number of every item of both
 /// continuation stacks (which identifies each item: a stage, its loop test, its loop-back and
 /// its navigation main step all have distinct numbers), both blocks, and the `for` counters.
-/// Stage numbers are read through the public [`Interp::observe`] on one-item stacks, so the
-/// numbering is the interpreter's own.
+/// Stage numbers are the interpreter's own ([`Interp::item_number`]).
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct StateKey {
     pub obs: (usize, usize, usize, usize),
@@ -145,42 +144,16 @@ pub struct StateKey {
     pub counters: Vec<((usize, usize), (i8, i8))>,
 }
 
-fn numbers<'p>(
-    interp: &mut Interp<'p>,
-    block: usize,
-    stack: &[crate::semantics::Item<'p>],
-) -> Vec<usize> {
-    stack
-        .iter()
-        .map(|item| {
-            interp.state.block = block;
-            interp.state.remaining.clear();
-            interp.state.remaining.push(*item);
-            interp.observe().stage
-        })
-        .collect()
-}
-
-pub fn state_key<'p>(interp: &mut Interp<'p>, state: &State<'p>) -> StateKey {
-    let empty = State {
-        block: state.block,
-        remaining: Vec::new(),
-        last_block: state.last_block,
-        last_remaining: Vec::new(),
-        counters: Default::default(),
-    };
-    let saved = std::mem::replace(&mut interp.state, empty);
-    let remaining = numbers(interp, state.block, &state.remaining);
-    let last_remaining = numbers(interp, state.last_block, &state.last_remaining);
-    interp.state = state.clone();
-    let o = interp.observe();
-    interp.state = saved;
+/// The key of `state`, with the interpreter's own stage numbering.
+pub fn state_key<'p>(interp: &Interp<'p>, state: &State<'p>) -> StateKey {
+    let numbers = |stack: &[Item<'p>]| stack.iter().map(|i| interp.item_number(i)).collect();
+    let o = interp.observe_state(state);
     let mut counters: Vec<_> = state.counters.iter().map(|(k, v)| (*k, *v)).collect();
     counters.sort();
     StateKey {
         obs: (o.block, o.stage, o.last_block, o.last_stage),
-        remaining,
-        last_remaining,
+        remaining: numbers(&state.remaining),
+        last_remaining: numbers(&state.last_remaining),
         counters,
     }
 }
@@ -212,10 +185,10 @@ mod tests {
         let cut = enumerate_call(&mut interp, &init, 2).expect("runs");
         assert!(cut.cut && cut.paths.len() == 2);
         // equal states have equal keys, different ones differ
-        let k0 = state_key(&mut interp, &tree.paths[0].state);
-        let k1 = state_key(&mut interp, &tree.paths[1].state);
+        let k0 = state_key(&interp, &tree.paths[0].state);
+        let k1 = state_key(&interp, &tree.paths[1].state);
         assert_eq!(k0.obs.0, 1);
         assert_ne!(k0, k1);
-        assert_eq!(k1, state_key(&mut interp, &init), "f() true stays on the call stage");
+        assert_eq!(k1, state_key(&interp, &init), "f() true stays on the call stage");
     }
 }

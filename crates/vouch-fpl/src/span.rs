@@ -1,7 +1,9 @@
-//! Source positions. Every node of the AST carries a [`Span`] into one of the files of the
+//! Source positions. Every node of the plan carries a [`Span`] into one of the files of the
 //! plan's [`SourceMap`] (the main plan plus every included procedure file).
 
-use serde::Serialize;
+use std::sync::Arc;
+
+use serde::{Serialize, Serializer};
 
 /// Index of a file in [`SourceMap::files`]; `FileId(0)` is always the main plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Default)]
@@ -11,14 +13,20 @@ pub struct FileId(pub u32);
 /// (column counted in characters, as editors do).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Default)]
 pub struct Span {
+    /// The file the range is in.
     pub file: FileId,
+    /// First byte.
     pub start: u32,
+    /// One past the last byte.
     pub end: u32,
+    /// 1-based line of `start`.
     pub line: u32,
+    /// 1-based column of `start`, in characters.
     pub col: u32,
 }
 
 impl Span {
+    /// The byte range, for slicing the file's text.
     pub fn range(&self) -> std::ops::Range<usize> {
         self.start as usize..self.end as usize
     }
@@ -29,27 +37,41 @@ impl Span {
 pub struct SourceFile {
     /// Path as given (main plan) or as found by the include search.
     pub path: String,
-    /// Full original text (before the tolerant pre-pass), so spans index into it directly.
+    /// Full original text (before any rewriting), so spans index into it directly.
     #[serde(skip)]
     pub text: String,
 }
 
-/// All files read for one plan; spans refer to them by [`FileId`].
+/// All files read for one plan; spans refer to them by [`FileId`]. Files are shared, so cloning
+/// the map (into a diagnostic, a later pass) does not copy their text.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct SourceMap {
-    pub files: Vec<SourceFile>,
+    /// The files, main plan first.
+    #[serde(serialize_with = "serialize_files")]
+    pub files: Vec<Arc<SourceFile>>,
+}
+
+fn serialize_files<S: Serializer>(files: &[Arc<SourceFile>], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(files.iter().map(|f| f.as_ref()))
 }
 
 impl SourceMap {
+    /// Adds a file and returns its id.
     pub fn add(&mut self, path: String, text: String) -> FileId {
-        self.files.push(SourceFile { path, text });
+        self.files.push(Arc::new(SourceFile { path, text }));
         FileId((self.files.len() - 1) as u32)
     }
-    pub fn get(&self, id: FileId) -> Option<&SourceFile> {
+    /// The file with that id, if any.
+    pub fn get(&self, id: FileId) -> Option<&Arc<SourceFile>> {
         self.files.get(id.0 as usize)
     }
+    /// The path of a file (`<unknown>` for an id of another map).
     pub fn path(&self, id: FileId) -> &str {
         self.get(id).map(|f| f.path.as_str()).unwrap_or("<unknown>")
+    }
+    /// The text of a file (empty for an id of another map).
+    pub fn text(&self, id: FileId) -> &str {
+        self.get(id).map(|f| f.text.as_str()).unwrap_or("")
     }
     /// The source text covered by `span` (empty when out of range).
     pub fn snippet(&self, span: Span) -> &str {

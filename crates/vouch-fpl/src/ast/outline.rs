@@ -3,9 +3,11 @@
 
 use std::fmt::Write;
 
-use crate::ast::*;
+use super::*;
 use crate::expr::print_upstream;
+use crate::ids::WpId;
 
+/// The outline text, one line per item.
 pub fn outline(p: &FlightPlan) -> String {
     let mut s = String::new();
     let _ = writeln!(

@@ -1,13 +1,13 @@
-//! `vouch fpl sim`: runs the reference interpreter and prints the table of the VFPG paper's
-//! Fig. 2 (call, current block, stage, code executed with conditions and their values), the
-//! shared trace format, or JSON.
+//! `vouch fpl sim`: runs the reference interpreter; the table of the VFPG paper's Fig. 2 (call,
+//! current block, stage, code executed with conditions and their values) and the JSON document
+//! of a run (the shared trace format is [`super::trace::Run::to_text`]).
 
 use serde::Serialize;
 
+use super::oracle::Oracle;
+use super::trace::{Event, Run};
+use super::{Interp, StepError};
 use crate::passes::fp::Fp;
-use crate::semantics::oracle::Oracle;
-use crate::semantics::trace::{Event, Run};
-use crate::semantics::{Interp, StepError};
 
 /// Runs `steps` calls of `auto_nav` from the initial state.
 pub fn simulate(fp: &Fp, oracle: &mut dyn Oracle, steps: usize) -> Result<Run, StepError> {
@@ -55,15 +55,18 @@ pub fn table(fp: &Fp, run: &Run) -> String {
     out
 }
 
-#[derive(Serialize)]
-struct JsonRun<'a> {
-    blocks: Vec<&'a str>,
+/// The JSON document of `vouch fpl sim --json`: block names plus the run (init events, steps
+/// with before/after states).
+#[derive(Debug, Serialize)]
+pub struct Document<'a> {
+    /// Block names by number.
+    pub blocks: Vec<&'a str>,
+    /// The run.
     #[serde(flatten)]
-    run: &'a Run,
+    pub run: &'a Run,
 }
 
-/// JSON for tools: block names plus the run (init events, steps with before/after states).
-pub fn json(fp: &Fp, run: &Run) -> String {
-    let j = JsonRun { blocks: fp.blocks.iter().map(|b| b.name.as_str()).collect(), run };
-    serde_json::to_string_pretty(&j).unwrap_or_default()
+/// The JSON document of a run.
+pub fn document<'a>(fp: &'a Fp, run: &'a Run) -> Document<'a> {
+    Document { blocks: fp.blocks.iter().map(|b| b.name.as_str()).collect(), run }
 }
