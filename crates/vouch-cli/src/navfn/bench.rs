@@ -105,9 +105,12 @@ pub struct BenchArgs {
     /// Repetitions of the planner request
     #[arg(long, default_value_t = 50)]
     repeat_plan: usize,
-    /// Print the figures as one JSON document (every sample included)
+    /// Print the figures as one JSON document (every sample included) instead of the table
     #[arg(long)]
     json: bool,
+    /// Also write the JSON document to FILE (e.g. for scripts/navfn-scale-plot.py)
+    #[arg(long, value_name = "FILE")]
+    json_out: Option<PathBuf>,
     /// Timing extension of the oracle contract: print `TIME` lines (planning only, best of R)
     #[arg(long, hide = true, value_name = "R")]
     time_planning: Option<usize>,
@@ -167,6 +170,11 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
         b.planner_rows(path)?;
     }
     let rows = b.rows;
+    if let Some(path) = &a.json_out {
+        let text = serde_json::to_string_pretty(&rows)
+            .map_err(|e| Failure::usage(format_args!("JSON: {e}")))?;
+        super::write_file(path, text.as_bytes())?;
+    }
     if a.json {
         ctx.out.json(&rows)?;
         return Ok(Exit::Ok);

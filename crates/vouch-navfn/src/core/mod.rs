@@ -1,8 +1,9 @@
 //! The NavFn numeric core: potential propagation (Dijkstra with the `atStart` stop, and A*)
 //! and path extraction, bit-exact with nav2's `navfn.cpp` (see `shared/navfn/SEMANTICS.md`).
 //!
-//! Memory layout: one flat array per quantity (`cost: Vec<u8>`, `pot/gx/gy: Vec<f32>`,
-//! `pending: Vec<bool>`) and three `Vec<i32>` priority buffers of fixed capacity. Nothing is
+//! Memory layout: one flat array per quantity (`cost: Vec<u8>`, `pot: Vec<f32>`, the gradient
+//! pairs `grad: Vec<[f32; 2]>` (x and y side by side: path extraction reads them together),
+//! `pending: Vec<bool>`) and three priority buffers of fixed capacity. Nothing is
 //! allocated during a plan; a [`NavFn`] keeps its arrays between plans of the same map size.
 //!
 //! Float discipline: every operation is written in the exact order and width of
@@ -109,8 +110,8 @@ pub struct NavFn {
     pub(crate) ns: usize,
     pub(crate) cost: Vec<u8>,
     pub(crate) pot: Vec<f32>,
-    pub(crate) gx: Vec<f32>,
-    pub(crate) gy: Vec<f32>,
+    /// Cached normalised gradient `(gx, gy)` of each cell (`gradx`/`grady` upstream).
+    pub(crate) grad: Vec<[f32; 2]>,
     pub(crate) pending: Vec<bool>,
     /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
     pub(crate) grad_touched: Vec<u32>,
@@ -139,8 +140,7 @@ impl NavFn {
             ns,
             cost: vec![COST_NEUTRAL; ns],
             pot: vec![POT_HIGH; ns],
-            gx: vec![0.0; ns],
-            gy: vec![0.0; ns],
+            grad: vec![[0.0; 2]; ns],
             pending: vec![false; ns],
             grad_touched: Vec::new(),
             cur: PriorityBuf::new(),
@@ -170,8 +170,7 @@ impl NavFn {
         // fresh zeroed allocations rather than a fill: pages of the gradient and `pending`
         // arrays that a plan never touches then take no memory (most of them on large maps)
         self.pot = vec![POT_HIGH; ns];
-        self.gx = vec![0.0; ns];
-        self.gy = vec![0.0; ns];
+        self.grad = vec![[0.0; 2]; ns];
         self.cost = vec![COST_NEUTRAL; ns];
         self.pending = vec![false; ns];
         self.grad_touched.clear();

@@ -172,8 +172,7 @@ impl NavFn {
         self.pot.fill(POT_HIGH);
         // gradients: only the cells the last path extraction cached are non-zero
         for &n in &self.grad_touched {
-            self.gx[n as usize] = 0.0;
-            self.gy[n as usize] = 0.0;
+            self.grad[n as usize] = [0.0; 2];
         }
         self.grad_touched.clear();
         let (nx, ny) = (self.nx, self.ny);
