@@ -5,7 +5,7 @@ usage: navfn-scale-plot.py BENCH.json OUT.png
 
 Needs matplotlib (not used by any test). Left: planning time per plan against map size (median
 of the passes), right: peak resident-set growth over the process start against map size, and
-an inset-free third panel: time against explored cells on one map. vouch solid, the oracle
+a third panel: time against explored cells on one map. vouch solid, the oracle
 dashed.
 """
 import json
