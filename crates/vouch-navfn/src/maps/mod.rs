@@ -2,6 +2,7 @@
 //! (YAML + PGM/PNG, read as map_server reads them). Every reader returns located [`MapError`]s, never panics on input.
 
 pub mod error;
+pub mod grey;
 pub mod pgm;
 mod png_image;
 pub mod ros_yaml;
@@ -10,9 +11,8 @@ pub mod world;
 pub mod yaml_meta;
 
 pub use error::{MapError, SyntaxError};
-pub use ros_yaml::{
-    decode_image, load_ros_map, occupancy_grid, static_layer_value, MapImage, RosMap,
-};
+pub use grey::MapImage;
+pub use ros_yaml::{decode_image, load_ros_map, occupancy_grid, static_layer_value, RosMap};
 pub use suite::{
     find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params,
     SuiteCase, SuiteFile,

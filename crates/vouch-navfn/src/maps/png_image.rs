@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
+use super::grey::{quantum_to_char, sample_to_quantum, MapImage};
 use super::pgm::GreyImage;
-use super::ros_yaml::{quantum_to_char, sample_to_quantum, MapImage};
 use super::{MapError, MAX_CELLS};
 
 pub(crate) fn decode_png(path: &Path, data: &[u8]) -> Result<MapImage, MapError> {
