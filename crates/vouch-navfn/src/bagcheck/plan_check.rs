@@ -315,7 +315,7 @@ fn draw(
     let unreached = vec![POT_HIGH; costs.len()];
     let path: Vec<[f32; 2]> = cells.iter().map(|p| [p[0] as f32, p[1] as f32]).collect();
     let cell_of = |p: &Pose| {
-        cm.world.costmap_world_to_map(p.xy(), cm.width, cm.height).unwrap_or(Cell::new(0, 0))
+        cm.world.planner_world_to_map(p.xy(), cm.width, cm.height).unwrap_or(Cell::new(0, 0))
     };
     let view = PlanView {
         nx: cm.width,

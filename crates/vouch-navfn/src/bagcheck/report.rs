@@ -128,6 +128,29 @@ pub enum PathViolation {
     Potential(Violation),
 }
 
+impl PathViolation {
+    /// The property's name (the JSON variant name).
+    pub fn kind(&self) -> &'static str {
+        use PathViolation::*;
+        match self {
+            NoCostmap => "NoCostmap",
+            WrongFrame { .. } => "WrongFrame",
+            EmptyPath => "EmptyPath",
+            Unplannable { .. } => "Unplannable",
+            OffMap { .. } => "OffMap",
+            PoseInObstacle { .. } => "PoseInObstacle",
+            SegmentThroughObstacle { .. } => "SegmentThroughObstacle",
+            PoseOnUnreachedCell { .. } => "PoseOnUnreachedCell",
+            Jump { .. } => "Jump",
+            TurnsBack { .. } => "TurnsBack",
+            Detour { .. } => "Detour",
+            StartMismatch { .. } => "StartMismatch",
+            GoalMismatch { .. } => "GoalMismatch",
+            Potential(_) => "Potential",
+        }
+    }
+}
+
 impl fmt::Display for PathViolation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         use PathViolation::*;
