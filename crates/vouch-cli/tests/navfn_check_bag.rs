@@ -116,7 +116,7 @@ fn the_example_bag_has_one_failing_plan_and_its_picture() {
     assert_eq!(code(&o), 3);
     let v: Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
     assert_eq!(v["summary"]["replay_equal"].as_u64(), Some(2));
-    assert_eq!(v["plans"][2]["violations"][0]["PoseInObstacle"]["index"].is_u64(), true);
+    assert!(v["plans"][2]["violations"][0]["PoseInObstacle"]["index"].is_u64());
 }
 
 #[test]
