@@ -1,0 +1,216 @@
+//! A C program compiled with the system's `cc` against `include/vouch_navfn.h` and the cdylib
+//! plans on the five nav2 maps: as ROS costmaps (`suite_ros`) its status, NavFn path length,
+//! potential hash, NavFn path and world poses equal the original C++ planner's goldens — the
+//! lines `vouch navfn suite run --mode planner` reproduces — for every world case; as map_server
+//! maps (YAML) its poses and orientations equal the library's (what `vouch navfn plan` prints);
+//! every error comes back as a code and a message.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use vouch_navfn::maps::load_ros_map;
+use vouch_navfn::planner::{NavfnPlanner, PlannerParams, Pose};
+
+/// The folder holding the cdylib (`libvouch_navfn_c.so`) built with this test.
+fn lib_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("test path");
+    let deps = exe.parent().expect("deps folder").to_path_buf();
+    for dir in [deps.clone(), deps.parent().expect("profile folder").to_path_buf()] {
+        if dir.join("libvouch_navfn_c.so").exists() || dir.join("libvouch_navfn_c.dylib").exists() {
+            return dir;
+        }
+    }
+    panic!("libvouch_navfn_c not found next to {}", exe.display());
+}
+
+/// Compiles the C program once per test process.
+fn program(cc: &str) -> PathBuf {
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("plan_maps-{}", std::process::id()));
+    if out.exists() {
+        return out;
+    }
+    let lib = lib_dir();
+    let o = Command::new(cc)
+        .args(["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic", "-I"])
+        .arg(crate_dir.join("include"))
+        .arg(crate_dir.join("tests/c/plan_maps.c"))
+        .arg("-L")
+        .arg(&lib)
+        .arg(format!("-Wl,-rpath,{}", lib.display()))
+        .args(["-lvouch_navfn_c", "-o"])
+        .arg(&out)
+        .output()
+        .expect("cc runs");
+    assert!(o.status.success(), "cc failed:\n{}", String::from_utf8_lossy(&o.stderr));
+    out
+}
+
+fn run(prog: &Path, args: &[&str], stdin: &str) -> String {
+    let mut child = Command::new(prog)
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("program starts");
+    child.stdin.take().expect("stdin").write_all(stdin.as_bytes()).expect("cases sent");
+    let o = child.wait_with_output().expect("program ends");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8(o.stdout).expect("utf-8")
+}
+
+/// Cases of a test_world.txt (after its 3-line header; a line whose first number is exactly
+/// −1 is a comment, as in the golden runs).
+fn world_cases(dir: &Path) -> String {
+    let text = std::fs::read_to_string(dir.join("test_world.txt")).expect("test_world.txt");
+    let case = |l: &&str| {
+        let first = l.split_whitespace().next().and_then(|t| t.parse::<f64>().ok());
+        l.split_whitespace().count() == 4 && first != Some(-1.0)
+    };
+    text.lines().skip(3).filter(case).map(|l| format!("{l}\n")).collect()
+}
+
+fn field<'a>(line: &'a str, key: &str) -> &'a str {
+    line.split_whitespace()
+        .find_map(|t| t.strip_prefix(key).and_then(|r| r.strip_prefix('=')))
+        .unwrap_or_else(|| panic!("{key} in {line}"))
+}
+
+#[test]
+fn the_c_program_reproduces_the_cpp_planner_on_every_nav2_costmap() {
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
+    let Some(cc) = vouch_testkit::c_compiler() else { return };
+    let prog = program(&cc);
+    let mut compared = 0;
+    for (name, w, h, origin, res) in [
+        ("400x400_ros", 400, 400, "0.0", "1.0"),
+        ("empty_room", 200, 200, "-10.0", "0.1"),
+        ("keepout_mask", 384, 384, "-10.0", "0.05"),
+        ("map_circular", 384, 384, "-10.0", "0.05"),
+        ("speed_mask", 384, 384, "-10.0", "0.05"),
+    ] {
+        let dir = shared.join("suite_ros").join(name);
+        let bin = dir.join("map.bin");
+        let (ws, hs) = (w.to_string(), h.to_string());
+        let args = ["bin", bin.to_str().expect("utf-8"), &ws, &hs, origin, origin, res];
+        let out = run(&prog, &args, &world_cases(&dir));
+        let golden_path = shared.join(format!("golden/ros/ros_{name}_planner_dijkstra.hex.txt"));
+        let golden = std::fs::read_to_string(golden_path).expect("golden");
+        let g: Vec<&str> = golden.lines().filter(|l| !l.starts_with("MAP")).collect();
+        let c: Vec<&str> = out.lines().filter(|l| !l.starts_with("CHECK")).collect();
+        assert_eq!(c.len(), g.len(), "{name}: line count");
+        for (gl, cl) in g.iter().zip(&c) {
+            if gl.starts_with("CASE") {
+                for key in ["status", "len", "pot_fnv"] {
+                    assert_eq!(field(cl, key), field(gl, key), "{name}: {key}\n{gl}\n{cl}");
+                }
+                compared += 1;
+            } else {
+                assert_eq!(cl.trim_end(), gl.trim_end(), "{name}");
+            }
+        }
+        assert!(
+            out.lines().filter(|l| l.starts_with("CHECK")).all(|l| l == "CHECK 0"),
+            "{name}: checks"
+        );
+    }
+    eprintln!("{compared} world cases equal to the C++ goldens");
+    assert!(compared > 250);
+}
+
+#[test]
+fn the_c_program_reads_map_server_maps_like_the_library() {
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
+    let Some(cc) = vouch_testkit::c_compiler() else { return };
+    let prog = program(&cc);
+    for (yaml, folder) in [
+        ("empty_room.yaml", "empty_room"),
+        ("keepout_mask.yaml", "keepout_mask"),
+        ("map_circular.yaml", "map_circular"),
+        ("speed_mask.yaml", "speed_mask"),
+    ] {
+        let path = shared.join("nav2_maps").join(yaml);
+        let cases: String = world_cases(&shared.join("suite_ros").join(folder))
+            .lines()
+            .rev()
+            .take(5)
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let out = run(&prog, &["yaml", path.to_str().expect("utf-8")], &cases);
+        // the same requests through the library (vouch navfn plan's code path)
+        let map = load_ros_map(&path, true).expect("map");
+        let mut p = NavfnPlanner::new(
+            &map.costmap,
+            map.width,
+            map.height,
+            map.world(),
+            PlannerParams::default(),
+        )
+        .expect("planner");
+        let mut expected: Vec<Vec<f64>> = Vec::new();
+        for l in cases.lines() {
+            let v: Vec<f64> = l.split_whitespace().map(|t| t.parse().expect("number")).collect();
+            let start = Pose::from_xy_yaw(v[0], v[1], 0.0);
+            let goal = Pose { position: [v[2], v[3], 0.0], orientation: [0.0, 0.0, 0.6, 0.8] };
+            let poses = p.create_plan_poses(&start, &goal).poses;
+            expected.push(vec![poses.len() as f64]);
+            for q in &poses {
+                expected.push(vec![
+                    q.position[0],
+                    q.position[1],
+                    q.orientation[2],
+                    q.orientation[3],
+                ]);
+            }
+            expected.push(vec![0.0]);
+        }
+        // %.17g prints every double exactly: parsed back, the values must be bit-identical
+        let got: Vec<Vec<f64>> = out
+            .lines()
+            .map(|l| l.split_whitespace().filter_map(|t| t.parse::<f64>().ok()).collect())
+            .collect();
+        let bits = |rows: &[Vec<f64>]| -> Vec<Vec<u64>> {
+            rows.iter().map(|r| r.iter().map(|x| x.to_bits()).collect()).collect()
+        };
+        assert!(
+            bits(&got) == bits(&expected),
+            "{yaml}: the C program's poses differ from the library's"
+        );
+        assert!(got.len() > 50, "{yaml}: too few poses compared");
+    }
+}
+
+#[test]
+fn errors_come_back_as_codes_and_messages() {
+    let Some(cc) = vouch_testkit::c_compiler() else { return };
+    let out = run(&program(&cc), &["errors"], "");
+    let line = |key: &str| {
+        out.lines()
+            .find(|l| l.starts_with(key))
+            .unwrap_or_else(|| panic!("{key}\n{out}"))
+            .to_string()
+    };
+    assert!(line("null_costs ").starts_with("null_costs 1 costs is NULL"), "{out}");
+    assert!(line("bad_resolution ").starts_with("bad_resolution 2 world frame"), "{out}");
+    assert!(line("bad_tolerance ").starts_with("bad_tolerance 2 tolerance -1"), "{out}");
+    assert!(
+        line("missing_map ").starts_with("missing_map 3 ")
+            && line("missing_map ").contains("no/such/map.yaml"),
+        "{out}"
+    );
+    assert_eq!(line("created "), "created 0");
+    assert!(
+        line("world_on_navfn_costs ").starts_with("world_on_navfn_costs 2 world plans need"),
+        "{out}"
+    );
+    assert!(line("cell_off_map ").starts_with("cell_off_map 2 goal cell (7, 7)"), "{out}");
+    assert!(
+        line("no_result ").starts_with("no_result 0"),
+        "an empty result is not an error: {out}"
+    );
+    assert!(line("null_planner ").starts_with("null_planner 1 planner is NULL"), "{out}");
+    assert!(line("short_costmap ").starts_with("short_costmap 2 4 costs given"), "{out}");
+}
