@@ -6,6 +6,7 @@ import json
 import os
 import pathlib
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -154,3 +155,9 @@ def test_nav2_maps_load_and_plan_like_the_cli():
             assert np.array_equal(r["poses"], expected), name
             compared += 1
     assert compared >= 4
+
+
+def test_the_readme_python_example_runs():
+    out = subprocess.run([sys.executable, str(EXAMPLES / "plan_warehouse.py")], capture_output=True,
+                         text=True, cwd=REPO, check=True).stdout
+    assert out.startswith("OK: 181 poses, last (8.500, 6.500)") and "0 violations" in out
