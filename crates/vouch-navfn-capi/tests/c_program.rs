@@ -247,12 +247,8 @@ fn the_readme_c_example_runs() {
         .output()
         .expect("cc runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = Command::new(&exe)
-        .arg("examples/navfn/warehouse.yaml")
-        .current_dir(&repo)
-        .output()
-        .expect("runs");
-    assert!(o.status.success());
+    let yaml = repo.join("examples/navfn/warehouse.yaml");
+    let out = run(&exe, &[yaml.to_str().expect("utf-8")], "");
     let map = load_ros_map(&repo.join("examples/navfn/warehouse.yaml"), true).expect("map");
     let params = PlannerParams { use_final_approach_orientation: true, ..Default::default() };
     let mut p = NavfnPlanner::new(&map.costmap, map.width, map.height, map.world(), params)
@@ -269,5 +265,5 @@ fn the_readme_c_example_runs() {
         last.orientation[2],
         last.orientation[3]
     );
-    assert_eq!(String::from_utf8_lossy(&o.stdout), expected);
+    assert_eq!(out, expected);
 }
