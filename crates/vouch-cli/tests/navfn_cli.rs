@@ -39,6 +39,7 @@ const SUITE: &str = "examples/navfn/suite";
 fn every_subcommand_has_help_with_an_example() {
     for cmd in [
         &["plan"][..],
+        &["check-bag"],
         &["suite", "run"],
         &["suite", "gen"],
         &["suite", "diff"],
