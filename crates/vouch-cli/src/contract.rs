@@ -7,8 +7,6 @@
 //! `--message-format`, and maps it to the exit code. Libraries never print; they return data and
 //! typed errors that implement [`miette::Diagnostic`].
 
-#![allow(dead_code)] // parts of the contract are adopted family by family
-
 use std::fmt;
 use std::io::{self, BufWriter, IsTerminal, StdoutLock, Write};
 use std::process::ExitCode;

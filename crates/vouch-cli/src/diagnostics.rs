@@ -87,11 +87,20 @@ fn json_object(d: &dyn Diagnostic, default: Severity) -> serde_json::Value {
     })
 }
 
+/// `line(d)`, then `line(r)` for each diagnostic related to `d`, joined by newlines.
+fn one_per_line(d: &dyn Diagnostic, line: &dyn Fn(&dyn Diagnostic) -> String) -> String {
+    let mut lines = vec![line(d)];
+    lines.extend(d.related().into_iter().flatten().map(line));
+    lines.join("\n")
+}
+
 /// Prints one diagnostic on stderr (errors of stderr itself are ignored: nowhere to report them).
 pub fn print(format: MessageFormat, d: &dyn Diagnostic, default: Severity) {
     let text = match format {
-        MessageFormat::Short => short_line(d, default),
-        MessageFormat::Json => json_object(d, default).to_string(),
+        // One line per message: the related diagnostics (the other errors of a rejected
+        // input, notes) follow on their own lines; the human format draws them itself.
+        MessageFormat::Short => one_per_line(d, &|x| short_line(x, default)),
+        MessageFormat::Json => one_per_line(d, &|x| json_object(x, default).to_string()),
         MessageFormat::Human => {
             let theme = if io::stderr().is_terminal() {
                 GraphicalTheme::unicode()

@@ -101,11 +101,3 @@ fn finish(result: CmdResult, ctx: &mut Ctx) -> Exit {
         }
     }
 }
-
-/// Adapts a command that still prints for itself and returns a bare exit code.
-pub(crate) fn legacy(code: ExitCode) -> CmdResult {
-    Ok([Exit::Ok, Exit::Rejected, Exit::Usage, Exit::Findings]
-        .into_iter()
-        .find(|e| ExitCode::from(*e) == code)
-        .unwrap_or(Exit::Usage))
-}

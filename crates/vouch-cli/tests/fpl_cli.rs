@@ -1,9 +1,11 @@
 //! The `vouch fpl` commands as a user runs them: exit codes (0 success, 1 plan rejected,
-//! 2 usage or I/O error) and what they print. Cases that need the corpus in `../shared` skip
-//! cleanly when it is absent; the demo under `examples/` is always there.
+//! 2 usage or I/O error, 3 findings) and what they print. Cases that need the corpus in
+//! `../shared` get it through vouch-testkit (skipped when absent, failing under
+//! `VOUCH_REQUIRE_SHARED=1`); the demo under `examples/` is always there.
 
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 fn vouch(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_vouch")).args(args).output().expect("the vouch binary runs")
@@ -18,17 +20,11 @@ fn stderr(o: &Output) -> String {
 }
 
 fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    vouch_testkit::repo_root()
 }
 
 fn corpus() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    if dir.join("INDEX.tsv").is_file() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: {} not found", dir.display());
-        None
-    }
+    vouch_testkit::shared("fpl/corpus", "INDEX.tsv")
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -164,7 +160,58 @@ fn lint_reports_a_warning_code() {
     let o = vouch(&["fpl", "lint", s(&plan)]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let all = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
-    assert!(all.contains("FPL-W001"), "unreachable block reported: {all}");
+    assert!(all.contains("fpl::W001"), "unreachable block reported: {all}");
     let strict = vouch(&["fpl", "lint", "--strict", s(&plan)]);
     assert_eq!(code(&strict), 3, "--strict turns warnings into exit 3");
+}
+
+#[test]
+fn errors_are_printed_once_in_the_chosen_format() {
+    let plan = tmp("two_errors.xml");
+    std::fs::write(
+        &plan,
+        "<flight_plan name=\"x\">\n<waypoints><waypoint name=\"A\" x=\"zz\" y=\"0\"/></waypoints>\n</flight_plan>\n",
+    )
+    .expect("write plan");
+    let o = vouch(&["--message-format", "short", "fpl", "parse", s(&plan)]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let err = stderr(&o);
+    let bad_number: Vec<&str> = err.lines().filter(|l| l.contains("fpl::E014")).collect();
+    assert_eq!(bad_number.len(), 1, "the bad number is reported once: {err}");
+    assert!(bad_number[0].contains("two_errors.xml:2:"), "{err}");
+    assert!(err.contains("error[fpl::E009]"), "every error is listed: {err}");
+    let human = vouch(&["fpl", "parse", s(&plan)]);
+    let err = stderr(&human);
+    assert_eq!(err.matches("float expected").count(), 1, "one box per error: {err}");
+}
+
+#[test]
+fn sim_on_an_answer_file_that_is_not_numbers_is_rejected_at_the_word() {
+    let demo = repo().join("examples/fpl/demo.xml");
+    let answers = tmp("answers.txt");
+    std::fs::write(&answers, "1 0 x 3\n").expect("write answers");
+    let o =
+        vouch(&["--message-format", "short", "fpl", "sim", s(&demo), "--conditions", s(&answers)]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("fpl::E041") && stderr(&o).contains("'x'"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_long_output_into_head_ends_with_exit_0() {
+    // `vouch fpl sim --trace … | head -1`: the reader goes away after one line.
+    let demo = repo().join("examples/fpl/demo.xml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vouch"))
+        .args(["fpl", "sim", s(&demo), "--trace", "--seed", "1", "--steps", "200000"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("vouch runs");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut first).expect("one line");
+    assert_eq!(first, "init\n");
+    let status = child.wait().expect("vouch ends");
+    let mut err = String::new();
+    child.stderr.take().expect("stderr").read_to_string(&mut err).expect("stderr readable");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(status.code(), Some(0), "stderr: {err}");
 }

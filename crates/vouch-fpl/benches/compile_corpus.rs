@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn corpus_plans() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
+    let Some(dir) = vouch_testkit::shared("fpl/corpus", "INDEX.tsv") else { return Vec::new() };
     let Ok(index) = std::fs::read_to_string(dir.join("INDEX.tsv")) else { return Vec::new() };
     index
         .lines()
@@ -21,7 +21,6 @@ fn corpus_plans() -> Vec<PathBuf> {
 fn bench(c: &mut Criterion) {
     let plans = corpus_plans();
     if plans.is_empty() {
-        eprintln!("../shared/fpl/corpus not found: nothing to benchmark");
         return;
     }
     c.bench_function("compile_corpus_104_plans", |b| {
@@ -29,7 +28,7 @@ fn bench(c: &mut Criterion) {
             let mut bytes = 0usize;
             for p in &plans {
                 if let Ok(h) =
-                    vouch_fpl::emit::compile_file(p, &vouch_fpl::emit::EmitOptions::default())
+                    vouch_fpl::pipeline::compile_file(p, &vouch_fpl::emit::EmitOptions::default())
                 {
                     bytes += h.len();
                 }

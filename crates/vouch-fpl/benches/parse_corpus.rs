@@ -1,18 +1,20 @@
-//! Criterion benchmark: parse all 116 XML files of `shared/fpl/corpus` (106 flight plans with
-//! their includes expanded and names resolved, 10 procedure files that stop at the root check).
-//! Run: `cargo bench -p vouch-fpl --bench parse_corpus`. Skips when the corpus is absent.
+//! Criterion benchmark: parse every file of `../shared/fpl/corpus/INDEX.tsv` (the flight plans
+//! with their includes expanded and names resolved, and the procedure files, which stop at the
+//! root check). Run: `cargo bench -p vouch-fpl --bench parse_corpus`. Skips when the corpus is absent.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
+/// Every file of the corpus index (flight plans and procedures).
+fn corpus_files(dir: &Path) -> Vec<PathBuf> {
+    let index = std::fs::read_to_string(dir.join("INDEX.tsv")).unwrap_or_default();
+    index.lines().skip(1).filter_map(|l| l.split('\t').next()).map(|p| dir.join(p)).collect()
+}
+
 fn corpus_parse(c: &mut Criterion) {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    let files = vouch_fpl::front::bench::xml_files(&dir);
-    if files.is_empty() {
-        eprintln!("skipping: no corpus at {}", dir.display());
-        return;
-    }
+    let Some(dir) = vouch_testkit::shared("fpl/corpus", "INDEX.tsv") else { return };
+    let files = corpus_files(&dir);
     c.bench_function(&format!("parse all {} corpus files", files.len()), |b| {
         b.iter(|| {
             let mut ok = 0usize;

@@ -1,20 +1,34 @@
-//! vouch-fpl: the Paparazzi flight-plan (FPL) family of vouch.
+//! vouch-fpl: the Paparazzi flight-plan (FPL) family of vouch — a compiler from flight-plan XML
+//! to `flight_plan.h`, and the evidence that the C does what the plan says.
 //!
-//! * [`front`] reads flight-plan XML the way upstream Paparazzi does (tolerant reader over
-//!   roxmltree, includes/procedures, paths, relative waypoints, name resolution) and produces the
-//!   typed, resolved [`ast::FlightPlan`] or located [`front::Diagnostics`].
-//! * [`expr`] is the Paparazzi expression language: lexer, parser and the upstream-exact printer.
+//! Layers, lowest first (a module only uses its own layer or lower ones):
 //!
-//! Entry point: [`front::parse_file`]. The AST contract is described in `docs/fpl-ast-contract.md`.
+//! * [`span`], [`ids`], [`diag`]: positions, block/waypoint ids, located diagnostics;
+//! * [`expr`], [`ast`]: the expression language and the typed, resolved plan (the IR of the
+//!   front end; no XML in it);
+//! * [`front`]: XML → [`ast::FlightPlan`] or [`diag::Diagnostics`];
+//! * [`passes`]: AST → FP → FPE → FPS (the three passes of the compiler);
+//! * [`semantics`] and [`lint`], beside the IR: the reference interpreter and its exploration,
+//!   mission-level warnings on the AST;
+//! * [`emit`] and [`graph`], the back ends: the C header, upstream's dump, the SVG block graph;
+//! * [`evidence`] and [`model_check`]: translation validation of the C against the semantics,
+//!   the static work bound, model checking of the plan's state space;
+//! * [`pipeline`]: whole-file conveniences (parse, then compile).
+//!
+//! Entry points: [`front::parse_file`], [`passes::compile`], [`emit::compile_plan`],
+//! [`pipeline::compile_file`].
 
 pub mod ast;
+pub mod diag;
 pub mod emit;
 pub mod evidence;
 pub mod expr;
 pub mod front;
 pub mod graph;
+pub mod ids;
 pub mod lint;
 pub mod model_check;
 pub mod passes;
+pub mod pipeline;
 pub mod semantics;
-pub mod sim;
+pub mod span;

@@ -77,7 +77,10 @@ fn operator_jumps_reach_every_block() {
 fn property_errors_are_reported() {
     let fp = fp_of("pingpong.xml");
     let g = build(&fp, 10_000, false).expect("builds");
-    assert!(check::check_text(&g, "always block(Nowhere)").unwrap_err().contains("unknown block"));
+    assert!(check::check_text(&g, "always block(Nowhere)")
+        .unwrap_err()
+        .message
+        .contains("unknown block"));
     assert!(check::check_text(&g, "sometimes block(Land)").is_err());
     assert!(check::check_text(&g, "always (block(Land)").is_err());
 }

@@ -4,7 +4,8 @@
 mod common;
 
 use common::{corpus_dir, corpus_plans};
-use vouch_fpl::emit::{compile_file, unwrap_instrumented, EmitOptions, Flavor};
+use vouch_fpl::emit::{unwrap_instrumented, EmitOptions, Flavor};
+use vouch_fpl::pipeline::compile_file;
 
 #[test]
 fn every_upstream_compilable_plan_compiles_and_instrumentation_is_faithful() {
@@ -17,7 +18,7 @@ fn every_upstream_compilable_plan_compiles_and_instrumentation_is_faithful() {
         let dropin = match compile_file(p, &opts) {
             Ok(h) => h,
             Err(e) => {
-                failures.push(format!("{}: {}", p.display(), e.diagnostics()));
+                failures.push(format!("{}: {}", p.display(), e.listing()));
                 continue;
             }
         };
@@ -37,8 +38,7 @@ fn every_upstream_compilable_plan_compiles_and_instrumentation_is_faithful() {
 #[test]
 fn demo_compiles() {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml");
-    let h = compile_file(&p, &EmitOptions::default())
-        .map_err(|e| e.diagnostics().to_string())
-        .expect("demo compiles");
+    let h =
+        compile_file(&p, &EmitOptions::default()).map_err(|e| e.listing()).expect("demo compiles");
     assert!(h.contains("static inline void auto_nav(void) {"), "the demo header defines auto_nav");
 }

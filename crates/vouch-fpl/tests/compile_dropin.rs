@@ -7,15 +7,15 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use vouch_fpl::emit::{compile_file, EmitOptions};
+use vouch_fpl::emit::EmitOptions;
+use vouch_fpl::pipeline::compile_file;
 
 #[test]
 fn demo_dropin_header_compiles_and_runs() {
     let Some(cc) = common::c_compiler() else { return };
     let plan = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml");
-    let header = compile_file(&plan, &EmitOptions::default())
-        .map_err(|e| e.diagnostics().to_string())
-        .expect("compiles");
+    let header =
+        compile_file(&plan, &EmitOptions::default()).map_err(|e| e.listing()).expect("compiles");
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("dropin_demo");
     std::fs::create_dir_all(&work).expect("tmp dir");
     std::fs::write(work.join("flight_plan.h"), header).expect("write header");

@@ -1,4 +1,4 @@
-//! Issue 3's "every generated header compiles": the *drop-in* header (not the instrumented test
+//! Every generated header compiles: the *drop-in* header (not the instrumented test
 //! flavour) of every corpus plan upstream compiles, and of the demo, is built with
 //! `cc -std=c99 -Wall -Wextra -Werror -O2` against the project's stub runtime (`tests/stub/`),
 //! the no-op navigation API and the module environment the plans' own C texts name
@@ -12,12 +12,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use rayon::prelude::*;
-use vouch_fpl::emit::{compile_file, EmitOptions};
+use vouch_fpl::emit::EmitOptions;
+use vouch_fpl::pipeline::compile_file;
 
 /// Builds and runs the drop-in header of `plan` in `work`; the driver's output on success.
 fn build_and_run(cc: &str, plan: &Path, work: &Path) -> Result<String, String> {
     let header = compile_file(plan, &EmitOptions::default())
-        .map_err(|e| format!("compile: {}", e.diagnostics()))?;
+        .map_err(|e| format!("compile: {}", e.listing()))?;
     std::fs::create_dir_all(work).map_err(|e| e.to_string())?;
     std::fs::write(work.join("flight_plan.h"), &header).map_err(|e| e.to_string())?;
     let stub = common::stub_dir();

@@ -3,13 +3,14 @@
 
 mod common;
 
-use vouch_fpl::emit::{compile_file, compile_plan, EmitOptions};
+use vouch_fpl::emit::{compile_plan, EmitOptions};
+use vouch_fpl::pipeline::compile_file;
 
 fn header(rel: &str) -> Option<String> {
     let dir = common::corpus_dir()?;
     Some(
         compile_file(&dir.join(rel), &EmitOptions::default())
-            .map_err(|e| e.diagnostics().to_string())
+            .map_err(|e| e.listing())
             .expect("compiles"),
     )
 }

@@ -77,6 +77,6 @@ fn loop_stages_count_toward_the_limit() {
 fn the_cli_error_is_located_at_the_block() {
     let p = vouch_fpl::front::parse_str("gen.xml", &plan(&one_block(300))).expect("parses");
     let err = compile(&p).expect_err("too many stages");
-    let rendered = err.to_diagnostics(&p).to_string();
+    let rendered = err.to_diagnostics(&p.sources).listing();
     assert!(rendered.contains("gen.xml:4"), "error should point at the block line: {rendered}");
 }

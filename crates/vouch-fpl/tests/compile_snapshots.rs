@@ -4,17 +4,14 @@
 
 mod common;
 
-use vouch_fpl::emit::{compile_file, EmitOptions};
+use vouch_fpl::emit::EmitOptions;
+use vouch_fpl::pipeline::compile_file;
 
 fn snap(rel: &str) -> Option<String> {
     let dir = common::corpus_dir()?;
     let opts =
         EmitOptions { source_path: format!("conf/flight_plans/{rel}"), ..EmitOptions::default() };
-    Some(
-        compile_file(&dir.join(rel), &opts)
-            .map_err(|e| e.diagnostics().to_string())
-            .expect("compiles"),
-    )
+    Some(compile_file(&dir.join(rel), &opts).map_err(|e| e.listing()).expect("compiles"))
 }
 
 macro_rules! snapshot_test {
@@ -38,7 +35,6 @@ fn demo() {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml");
     let opts =
         EmitOptions { source_path: "examples/fpl/demo.xml".into(), ..EmitOptions::default() };
-    let h =
-        compile_file(&p, &opts).map_err(|e| e.diagnostics().to_string()).expect("demo compiles");
+    let h = compile_file(&p, &opts).map_err(|e| e.listing()).expect("demo compiles");
     insta::assert_snapshot!("demo", h);
 }

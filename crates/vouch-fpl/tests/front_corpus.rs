@@ -6,7 +6,8 @@
 use std::path::Path;
 
 use vouch_fpl::ast::{FlightPlan, Stage, StageKind};
-use vouch_fpl::front::{parse_file, ErrorKind};
+use vouch_fpl::diag::ErrorKind;
+use vouch_fpl::front::parse_file;
 
 mod common;
 use common::corpus_dir as corpus;
@@ -87,7 +88,7 @@ fn corpus_flight_plans_parse_like_upstream() {
                 assert_eq!(p.blocks.last().map(|b| b.name.value.as_str()), Some("HOME"));
             }
             (Err(d), true) => {
-                failures.push(format!("{}: unexpected failure:\n{}", r.path, d.render(false)))
+                failures.push(format!("{}: unexpected failure:\n{}", r.path, d.listing()))
             }
             (Ok(_), false) => failures.push(format!("{}: parsed but upstream rejects it", r.path)),
             (Err(_), false) => {}

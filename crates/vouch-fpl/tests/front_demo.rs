@@ -4,7 +4,8 @@
 use std::path::PathBuf;
 
 use vouch_fpl::ast::StageKind;
-use vouch_fpl::front::{parse_file, parse_file_with, ErrorKind, Options};
+use vouch_fpl::diag::ErrorKind;
+use vouch_fpl::front::{parse_file, parse_file_with, Options};
 
 fn demo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml")
@@ -12,7 +13,7 @@ fn demo() -> PathBuf {
 
 #[test]
 fn demo_plan_parses_with_forbidden_deroute() {
-    let p = parse_file(demo()).unwrap_or_else(|d| panic!("{}", d.render(false)));
+    let p = parse_file(demo()).unwrap_or_else(|d| panic!("{}", d.listing()));
     let names: Vec<&str> = p.blocks.iter().map(|b| b.name.value.as_str()).collect();
     assert_eq!(names, ["Wait GPS", "Takeoff", "Standby", "Survey", "Land", "HOME"]);
     assert_eq!(p.forbidden_deroutes.len(), 1);

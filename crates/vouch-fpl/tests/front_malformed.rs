@@ -4,7 +4,8 @@
 
 use std::path::PathBuf;
 
-use vouch_fpl::front::{parse_file, ErrorKind};
+use vouch_fpl::diag::ErrorKind;
+use vouch_fpl::front::parse_file;
 
 fn kind_named(s: &str) -> ErrorKind {
     match s {
@@ -54,14 +55,14 @@ fn every_malformed_plan_fails_with_the_expected_kind_and_line() {
             continue;
         };
         let Some(e) = d.errors().find(|e| e.kind == kind) else {
-            problems.push(format!("{file}: no {kind:?} error; got:\n{}", d.render(false)));
+            problems.push(format!("{file}: no {kind:?} error; got:\n{}", d.listing()));
             continue;
         };
         if e.line != Some(want_line) {
             problems.push(format!(
                 "{file}: {kind:?} at line {:?}, expected {want_line}\n{}",
                 e.line,
-                d.render(false)
+                d.listing()
             ));
         }
         if let Some(holder) = f.get(3) {
@@ -70,9 +71,14 @@ fn every_malformed_plan_fails_with_the_expected_kind_and_line() {
                 problems.push(format!("{file}: error located in {path}, expected {holder}"));
             }
         }
-        // Rendering never fails and shows the location.
-        let text = d.render(false);
+        // The short form shows the location; miette's rendering of the excerpt never fails.
+        let text = d.listing();
         assert!(text.contains(&format!(":{want_line}:")) || e.span.is_none(), "{file}: {text}");
+        let mut boxed = String::new();
+        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+            .render_report(&mut boxed, &d)
+            .expect("renders");
+        assert!(boxed.contains(e.kind.code()), "{file}: {boxed}");
     }
     assert!(n >= 25, "the catalogue must hold at least 25 plans, has {n}");
     assert!(problems.is_empty(), "{} problems:\n{}", problems.len(), problems.join("\n\n"));

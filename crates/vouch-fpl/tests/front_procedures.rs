@@ -2,19 +2,13 @@
 //! checked on the corpus: renaming, deroute rewriting, re-printed procedure texts, appended
 //! lists, header concatenation; plus paths and relative waypoints (section 12).
 
-use std::path::PathBuf;
-
 use vouch_fpl::ast::{FlightPlan, StageKind, WaypointOrigin};
 use vouch_fpl::expr::print_upstream;
 use vouch_fpl::front::parse_file;
 
 fn load(rel: &str) -> Option<FlightPlan> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus").join(rel);
-    if !p.is_file() {
-        eprintln!("skipping: {} not found", p.display());
-        return None;
-    }
-    Some(parse_file(&p).unwrap_or_else(|d| panic!("{rel}: {}", d.render(false))))
+    let p = vouch_testkit::shared("fpl/corpus", "INDEX.tsv")?.join(rel);
+    Some(parse_file(&p).unwrap_or_else(|d| panic!("{rel}: {}", d.listing())))
 }
 
 #[test]

@@ -8,13 +8,7 @@ use vouch_fpl::front::tolerant::sanitize;
 use vouch_fpl::front::{parse_file, parse_str};
 
 fn corpus() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
+    vouch_testkit::shared("fpl/corpus", "INDEX.tsv")
 }
 
 const HEAD: &str = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="250" ground_alt="185" security_height="25" max_dist_from_home="1000">"#;
@@ -108,7 +102,7 @@ fn undeclared_attributes_are_errors_only_in_validated_plans() {
     let validated = format!("<!DOCTYPE flight_plan SYSTEM \"flight_plan.dtd\">\n{text}");
     let d = parse_str("t.xml", &validated).expect_err("rejected with DOCTYPE");
     let e = d.first().unwrap();
-    assert_eq!(e.kind, vouch_fpl::front::ErrorKind::UnknownAttribute);
+    assert_eq!(e.kind, vouch_fpl::diag::ErrorKind::UnknownAttribute);
     // Lines: DOCTYPE, flight_plan, waypoints, waypoint, /waypoints, blocks, then the block.
     assert_eq!(e.line, Some(7));
 }

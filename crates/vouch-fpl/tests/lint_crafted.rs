@@ -5,7 +5,7 @@ mod common;
 
 use std::path::Path;
 
-use vouch_fpl::lint::{counts, lint, render, CODES};
+use vouch_fpl::lint::{counts, lint, render, Rule};
 
 fn lint_plan(name: &str) -> (vouch_fpl::ast::FlightPlan, Vec<vouch_fpl::lint::Warning>) {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans").join(name);
@@ -15,7 +15,7 @@ fn lint_plan(name: &str) -> (vouch_fpl::ast::FlightPlan, Vec<vouch_fpl::lint::Wa
 }
 
 fn codes_at(w: &[vouch_fpl::lint::Warning]) -> Vec<(&'static str, u32)> {
-    w.iter().map(|w| (w.code, w.span.line)).collect()
+    w.iter().map(|w| (w.rule.code(), w.span.line)).collect()
 }
 
 #[test]
@@ -23,11 +23,11 @@ fn return_after_deroute_is_found() {
     let (plan, w) = lint_plan("pingpong.xml");
     // the <return/> of Refuel is on line 19; the dead <go> after Patrol's deroute on line 15;
     // Land (line 21) is never entered: Refuel only returns, Patrol never reaches its end
-    assert_eq!(codes_at(&w), vec![("FPL-W008", 15), ("FPL-W004", 19), ("FPL-W001", 21)]);
+    assert_eq!(codes_at(&w), vec![("fpl::W008", 15), ("fpl::W004", 19), ("fpl::W001", 21)]);
     assert_eq!(w[1].notes.len(), 1);
     assert_eq!(w[1].notes[0].span.line, 14, "the note points at the deroute");
     let text = render(&plan, &w);
-    assert!(text.contains("pingpong.xml:19:7: warning[FPL-W004]"), "{text}");
+    assert!(text.contains("pingpong.xml:19:7: warning[fpl::W004]"), "{text}");
 }
 
 #[test]
@@ -37,7 +37,7 @@ fn blocked_forbidden_deroutes_are_found() {
     // Survey); line 18: Takeoff's deroute (always); line 22: Survey's deroute (only_when)
     assert_eq!(
         codes_at(&w),
-        vec![("FPL-W002", 13), ("FPL-W003", 13), ("FPL-W002", 18), ("FPL-W003", 22)]
+        vec![("fpl::W002", 13), ("fpl::W003", 13), ("fpl::W002", 18), ("fpl::W003", 22)]
     );
     assert_eq!(w[2].notes[0].span.line, 30, "points at the forbidden_deroute declaration");
 }
@@ -48,11 +48,11 @@ fn other_rules_are_found() {
     let mut got = codes_at(&w);
     got.sort();
     let mut want = vec![
-        ("FPL-W001", 22),
-        ("FPL-W005", 16),
-        ("FPL-W006", 15),
-        ("FPL-W007", 10),
-        ("FPL-W008", 29),
+        ("fpl::W001", 22),
+        ("fpl::W005", 16),
+        ("fpl::W006", 15),
+        ("fpl::W007", 10),
+        ("fpl::W008", 29),
     ];
     want.sort();
     assert_eq!(got, want);
@@ -66,14 +66,15 @@ fn corpus_lint_summary() {
         let plan = vouch_fpl::front::parse_file(&p).expect("corpus plan parses");
         let w = lint(&plan);
         for x in &w {
-            assert!(CODES.iter().any(|c| c.0 == x.code));
+            assert!(Rule::ALL.contains(&x.rule));
             assert!(x.span.line > 0, "{}: warning not located", p.display());
             assert!(!plan.sources.snippet(x.span).is_empty(), "{}: empty span", p.display());
         }
         // The corpus has no forbidden deroutes (a VFPG extension), so W002/W003 cannot fire.
-        assert!(w.iter().all(|x| x.code != "FPL-W002" && x.code != "FPL-W003"));
+        assert!(w.iter().all(|x| !matches!(x.rule, Rule::AlwaysForbidden | Rule::ForbiddenWhen)));
         all.extend(w);
     }
-    let summary: Vec<String> = counts(&all).iter().map(|(c, n)| format!("{c}={n}")).collect();
+    let summary: Vec<String> =
+        counts(&all).iter().map(|(c, n)| format!("{}={n}", c.code())).collect();
     eprintln!("corpus lint: {} warnings: {}", all.len(), summary.join(" "));
 }

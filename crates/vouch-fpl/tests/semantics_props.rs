@@ -4,11 +4,12 @@
 //! stage numbers it reports are those the extend pass assigns (always a stage of the block).
 
 use proptest::prelude::*;
-use vouch_fpl::ast::Span;
+use vouch_fpl::ast::Resume;
 use vouch_fpl::passes::extend::extend;
-use vouch_fpl::passes::fp::{Code, Fp, FpBlock, FpException, FpStage, NavStage};
+use vouch_fpl::passes::fp::{Code, Fp, FpBlock, FpException, FpStage, NavKind, NavStage, Reset};
 use vouch_fpl::semantics::oracle::Scripted;
 use vouch_fpl::semantics::Interp;
+use vouch_fpl::span::Span;
 
 fn stage(n_blocks: usize) -> impl Strategy<Value = FpStage> {
     let leaf = prop_oneof![
@@ -21,11 +22,15 @@ fn stage(n_blocks: usize) -> impl Strategy<Value = FpStage> {
             span: Span::default()
         }),
         (0..n_blocks).prop_map(|t| FpStage::Deroute { target: t, span: Span::default() }),
-        prop_oneof![Just("0"), Just("1")]
-            .prop_map(|r| FpStage::Return { reset: r.into(), span: Span::default() }),
+        prop_oneof![Just(("0", Resume::SavedStage)), Just(("1", Resume::FirstStage))].prop_map(
+            |(text, resume)| FpStage::Return {
+                reset: Reset { text: text.into(), resume },
+                span: Span::default()
+            }
+        ),
         (any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(init, appr, until)| FpStage::Nav(
             Box::new(NavStage {
-                kind: "nav",
+                kind: NavKind::Go,
                 init: init.then(|| vec![Code::stmt("init()")]),
                 pre_call: None,
                 before: vec![],

@@ -126,12 +126,12 @@ fn forbidden_deroutes_block_the_change() {
     p.forbidden_deroutes.push(vouch_fpl::ast::ForbiddenDeroute {
         from: vouch_fpl::ast::BlockRef {
             name: "a".into(),
-            id: vouch_fpl::ast::BlockId(0),
+            id: vouch_fpl::ids::BlockId(0),
             span: p.span,
         },
         to: vouch_fpl::ast::BlockRef {
             name: "c".into(),
-            id: vouch_fpl::ast::BlockId(2),
+            id: vouch_fpl::ids::BlockId(2),
             span: p.span,
         },
         only_when: None,

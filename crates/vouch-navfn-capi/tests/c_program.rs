@@ -12,6 +12,13 @@ use std::process::{Command, Stdio};
 use vouch_navfn::maps::load_ros_map;
 use vouch_navfn::planner::{NavfnPlanner, PlannerParams, Pose};
 
+/// The tests compile and run programs; one at a time, so that no test forks while another's
+/// freshly linked program is being started (Linux answers that with "text file busy").
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// The folder holding the cdylib (`libvouch_navfn_c.so`) built with this test.
 fn lib_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("test path");
@@ -92,6 +99,7 @@ fn field<'a>(line: &'a str, key: &str) -> &'a str {
 
 #[test]
 fn the_c_program_reproduces_the_cpp_planner_on_every_nav2_costmap() {
+    let _one_at_a_time = serial();
     let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     let Some(cc) = vouch_testkit::c_compiler() else { return };
     let prog = program(&cc);
@@ -134,6 +142,7 @@ fn the_c_program_reproduces_the_cpp_planner_on_every_nav2_costmap() {
 
 #[test]
 fn the_c_program_reads_map_server_maps_like_the_library() {
+    let _one_at_a_time = serial();
     let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     let Some(cc) = vouch_testkit::c_compiler() else { return };
     let prog = program(&cc);
@@ -196,6 +205,7 @@ fn the_c_program_reads_map_server_maps_like_the_library() {
 
 #[test]
 fn errors_come_back_as_codes_and_messages() {
+    let _one_at_a_time = serial();
     let Some(cc) = vouch_testkit::c_compiler() else { return };
     let out = run(&program(&cc), &["errors"], "");
     let line = |key: &str| {
@@ -229,6 +239,7 @@ fn errors_come_back_as_codes_and_messages() {
 /// README's C example compiles against the header and prints what the library computes.
 #[test]
 fn the_readme_c_example_runs() {
+    let _one_at_a_time = serial();
     let Some(cc) = vouch_testkit::c_compiler() else { return };
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -14,8 +14,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use vouch_navfn::bagcheck::{check_bag_file, BagCheckOptions, ReplayMode};
-use vouch_navfn::campaign::report::Shard;
 use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::checks::{check_plan, PlanView};
 use vouch_navfn::core::{Algo, Cell};
 use vouch_navfn::maps::{load_ros_map, read_suite_file, MapError, WorldParams};
@@ -255,8 +255,8 @@ fn run_suite(
     Ok(out)
 }
 
-/// Runs shard `index` of `count` of the verification campaign on a suite folder and returns
-/// its report as a dict (merge shards with `vouch navfn report merge`).
+/// Runs shard `index` of `count` (whole maps per shard) of the verification campaign on a suite
+/// folder and returns its report as a dict (merge shards with `vouch navfn report merge`).
 #[pyfunction]
 #[pyo3(signature = (suite_dir, *, index=0, count=1, mode="paper", algo="dijkstra",
     metamorphic=true, optimality=true))]
@@ -283,12 +283,12 @@ fn run_campaign_shard<'py>(
         RunMode::new(suite_mode, parse_algo(algo)?).ok_or_else(|| value_error("mode"))?;
     let opts = CampaignOptions {
         mode: run_mode,
-        shard: Shard { index, count },
+        shard: Shard { index, count, by: ShardBy::default() },
         metamorphic,
         optimality,
         ..CampaignOptions::default()
     };
-    let (report, _) = run_campaign(&suite_dir, &opts, &()).map_err(|e| {
+    let report = run_campaign(&suite_dir, &opts, &(), None).map_err(|e| {
         if e.is_io() {
             PyOSError::new_err(e.to_string())
         } else {

@@ -130,7 +130,6 @@ def test_campaign_shards_add_up():
     a = vouch.run_campaign_shard(suite, index=0, count=2, metamorphic=False, optimality=False)
     b = vouch.run_campaign_shard(suite, index=1, count=2, metamorphic=False, optimality=False)
     assert a["cases"] + b["cases"] == whole["cases"] > 0
-    assert a["shards"] == [{"index": 0, "count": 2}] or a["shards"][0]["index"] == 0
     with pytest.raises(ValueError):
         vouch.run_campaign_shard(suite, index=2, count=2)
 

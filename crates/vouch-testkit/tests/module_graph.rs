@@ -18,6 +18,21 @@ use syn::visit::Visit;
 /// list are in the same layer (they may import each other as long as no cycle appears).
 const LAYERS: &[(&str, &[&[&str]])] = &[
     (
+        "vouch-fpl",
+        &[
+            &["span", "ids"],
+            &["diag"],
+            &["expr"],
+            &["ast"],
+            &["front"],
+            &["passes"],
+            &["semantics", "lint"],
+            &["emit", "graph"],
+            &["evidence", "model_check"],
+            &["pipeline"],
+        ],
+    ),
+    (
         "vouch-mav",
         &[
             &["side", "dialect", "codec", "signing"],

@@ -10,10 +10,12 @@ fuzz_target!(|data: &[u8]| {
     let path = std::path::Path::new("/nonexistent-vouch-fuzz/plan.xml");
     match vouch_fpl::front::parse_str_at(path, text, &vouch_fpl::front::Options::default()) {
         Ok(plan) => {
-            let _ = vouch_fpl::front::outline::outline(&plan);
+            let _ = vouch_fpl::ast::outline::outline(&plan);
         }
         Err(d) => {
-            let _ = d.render(false);
+            let _ = d.listing();
+            let mut s = String::new();
+            let _ = miette::GraphicalReportHandler::new().render_report(&mut s, &d);
         }
     }
 });

@@ -1,6 +1,7 @@
-//! The typed, resolved flight plan produced by [`crate::front`].
+//! The typed, resolved flight plan produced by the front end. It is plain data with spans: no
+//! XML type appears here.
 //!
-//! What "resolved" means here (see `docs/fpl-ast-contract.md`):
+//! What "resolved" means here (see also the fpl section of `ARCHITECTURE.md`):
 //! * includes are expanded exactly as upstream's `fp_proc` does (procedure blocks renamed
 //!   `Name.block`, parameters substituted, raw texts of procedure stages re-printed);
 //! * `<path>` stages are expanded into `go` stages and relative waypoints (`wp_qdr`/`wp_dist`)
@@ -8,19 +9,21 @@
 //! * the implicit `HOME` block (one `home` stage) is appended as the last block;
 //! * every block reference is a [`BlockRef`] carrying the block's index, every waypoint
 //!   reference a [`WpRef`] carrying the waypoint's index, and `IndexOfBlock(x)` in expressions is
-//!   [`crate::expr::ExprKind::BlockIndex`].
+//!   [`crate::expr::Expr::BlockIndex`].
 //!
 //! Nothing is lost: every element keeps all its attributes as written in [`Attrs`].
 
-mod span;
+pub mod outline;
 mod stage;
 
-pub use span::{line_col, FileId, SourceFile, SourceMap, Span};
 pub use stage::*;
 
 use serde::Serialize;
 
+use crate::diag::Diagnostic;
 use crate::expr::Expr;
+use crate::ids::{BlockId, WpId};
+use crate::span::{FileId, SourceMap, Span};
 
 /// An attribute value kept exactly as written (after upstream's only processing: backslash
 /// escapes; entities are *not* decoded) with the span of the value.
@@ -66,23 +69,6 @@ impl Attrs {
     /// Case-insensitive lookup (names are stored lower-case).
     pub fn get(&self, name: &str) -> Option<&RawAttr> {
         self.0.iter().find(|a| a.name.eq_ignore_ascii_case(name))
-    }
-}
-
-/// Index of a block in [`FlightPlan::blocks`]; equals upstream's block number.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-pub struct BlockId(pub usize);
-
-/// Index of a waypoint in [`FlightPlan::waypoints`] (0-based, user waypoints only).
-/// Upstream's `WP_` number is `index + 1` because upstream prepends the implicit `dummy`
-/// waypoint: use [`WpId::upstream_index`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-pub struct WpId(pub usize);
-
-impl WpId {
-    /// The number upstream prints (`WP_<name>`, stage arguments): dummy waypoint is 0.
-    pub fn upstream_index(self) -> usize {
-        self.0 + 1
     }
 }
 
@@ -151,7 +137,7 @@ pub struct FlightPlan {
     /// VFPG extension: `<forbidden_deroutes><forbidden_deroute from to [only_when]/>`.
     pub forbidden_deroutes: Vec<ForbiddenDeroute>,
     /// Non-fatal findings (duplicate attributes dropped, duplicate waypoint names, ...).
-    pub warnings: Vec<crate::front::Diagnostic>,
+    pub warnings: Vec<Diagnostic>,
 }
 
 impl FlightPlan {

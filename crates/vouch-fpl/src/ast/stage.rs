@@ -5,7 +5,8 @@
 
 use serde::Serialize;
 
-use super::{Attrs, BlockRef, ExprAttr, Span, Spanned, Text, WpRef};
+use super::{Attrs, BlockRef, ExprAttr, Spanned, Text, WpRef};
+use crate::span::Span;
 
 /// One stage. `span` is the element's start tag; for stages produced from a `<path>` it is the
 /// path's span.
@@ -167,8 +168,38 @@ pub struct Deroute {
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Return {
-    /// Raw; upstream default `0`.
+    /// Raw C argument of `Return(x)`; upstream default `0`.
     pub reset_stage: Option<Text>,
+}
+
+/// Where `Return(x)` resumes the block it returns to. The runtime restarts the block when `x`
+/// equals 1 (`TRUE` is 1); any other value resumes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Resume {
+    /// At the stage where the block was left (`reset_stage` absent or not 1).
+    SavedStage,
+    /// At the block's first stage (`reset_stage` is 1 or `TRUE`).
+    FirstStage,
+}
+
+impl Return {
+    /// The argument printed in `Return(x)` (`0` when the attribute is absent).
+    pub fn reset_text(&self) -> &str {
+        self.reset_stage.as_ref().map_or("0", |t| t.value.as_str())
+    }
+
+    /// What the argument does. Only a plain literal is known at compile time; any other C text
+    /// is taken as "not 1", as the reference semantics does.
+    pub fn resume(&self) -> Resume {
+        let t = self.reset_text().trim();
+        let literal_one =
+            t.starts_with(|c: char| c.is_ascii_digit() || c == '-') && t.parse::<i64>() == Ok(1);
+        if literal_one || t == "TRUE" || t == "true" {
+            Resume::FirstStage
+        } else {
+            Resume::SavedStage
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -224,7 +224,7 @@ fn stage(w: &mut Writer, s: &ExtStage<StageNo, BlockNo>, checked: bool) {
         }
         ExtKind::Return { reset } => {
             w.line(&format!("Stage({k})"));
-            w.line(&format!("  Return({reset});"));
+            w.line(&format!("  Return({});", reset.text));
             w.line("  break;");
         }
         ExtKind::NavInit { lines } => {

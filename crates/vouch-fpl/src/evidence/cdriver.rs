@@ -7,7 +7,7 @@
 //! without the source tree; the runtime is therefore the same one the compiler's own tests use.
 
 use std::io::{BufRead, BufReader, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
 pub const DRIVER_C: &str = include_str!("c/explore_driver.c");
@@ -41,6 +41,18 @@ pub enum CPath {
     Crashed { status: i64, answers: Vec<i64> },
 }
 
+impl CPath {
+    /// The answers the path consumed.
+    pub fn answers(&self) -> &[i64] {
+        match self {
+            CPath::Done { answers, .. }
+            | CPath::TooLong { answers }
+            | CPath::Crashed { answers, .. } => answers,
+        }
+    }
+}
+
+/// What the driver reported for one request.
 #[derive(Debug, Clone, Default)]
 pub struct Explored {
     /// Events of `auto_nav_init()` (only for requests at call 0).
@@ -59,8 +71,47 @@ fn next_unique_dir() -> PathBuf {
     std::env::temp_dir().join(format!("vouch-fpl-validate-{}-{n}", std::process::id()))
 }
 
-fn io_err(what: &str, e: impl std::fmt::Display) -> String {
-    format!("{what}: {e}")
+/// Why the C side of the validation could not run.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub enum DriverError {
+    /// The C compiler cannot be started.
+    #[error("cannot run the C compiler '{cc}': {source}")]
+    #[diagnostic(code(fpl::E050), help("set CC to a C99 compiler"))]
+    NoCompiler {
+        /// The compiler command (`$CC` or `cc`).
+        cc: String,
+        /// Why it could not start.
+        source: std::io::Error,
+    },
+    /// The generated header does not compile with the stub runtime (a defect of the
+    /// generator or of the stub).
+    #[error("the generated header does not compile with the stub runtime:\n{log}")]
+    #[diagnostic(code(fpl::E051))]
+    HeaderRejected {
+        /// The first lines of the compiler's messages.
+        log: String,
+    },
+    /// A temporary file or the driver process could not be written, read or started.
+    #[error("{what}: {source}")]
+    #[diagnostic(code(fpl::E052))]
+    Io {
+        /// What was being done.
+        what: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The driver said something that does not follow its line protocol.
+    #[error("the C driver: {0}")]
+    #[diagnostic(code(fpl::E053))]
+    Protocol(String),
+}
+
+fn io_err(what: &str) -> impl FnOnce(std::io::Error) -> DriverError + '_ {
+    move |source| DriverError::Io { what: what.to_string(), source }
+}
+
+fn protocol(msg: impl Into<String>) -> DriverError {
+    DriverError::Protocol(msg.into())
 }
 
 impl Driver {
@@ -72,18 +123,15 @@ impl Driver {
         header: &str,
         leaf_budget: usize,
         question_limit: usize,
-    ) -> Result<Driver, String> {
+    ) -> Result<Driver, DriverError> {
         let dir = next_unique_dir();
-        std::fs::create_dir_all(dir.join("include/generated"))
-            .map_err(|e| io_err("temp dir", e))?;
-        std::fs::create_dir_all(dir.join("include/modules/core"))
-            .map_err(|e| io_err("temp dir", e))?;
+        std::fs::create_dir_all(dir.join("include/generated")).map_err(io_err("temp dir"))?;
+        std::fs::create_dir_all(dir.join("include/modules/core")).map_err(io_err("temp dir"))?;
         for (rel, text) in STUB_FILES {
-            std::fs::write(dir.join(rel), text).map_err(|e| io_err(rel, e))?;
+            std::fs::write(dir.join(rel), text).map_err(io_err(rel))?;
         }
-        std::fs::write(dir.join("flight_plan.h"), header)
-            .map_err(|e| io_err("flight_plan.h", e))?;
-        std::fs::write(dir.join("explore_driver.c"), DRIVER_C).map_err(|e| io_err("driver", e))?;
+        std::fs::write(dir.join("flight_plan.h"), header).map_err(io_err("flight_plan.h"))?;
+        std::fs::write(dir.join("explore_driver.c"), DRIVER_C).map_err(io_err("driver"))?;
         let cc = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
         let out = Command::new(&cc)
             .current_dir(&dir)
@@ -94,21 +142,28 @@ impl Driver {
                 "-Dfp_value=vouch_stub_fp_value",
             ])
             .args(["fp_stub.c", "explore_driver.c", "-o", "driver"])
-            .output()
-            .map_err(|e| io_err(&format!("cannot run the C compiler '{cc}'"), e))?;
+            .output();
+        let out = match out {
+            Ok(o) => o,
+            Err(source) => {
+                let _ = std::fs::remove_dir_all(&dir);
+                return Err(DriverError::NoCompiler { cc, source });
+            }
+        };
         if !out.status.success() {
             let _ = std::fs::remove_dir_all(&dir);
             let msg = String::from_utf8_lossy(&out.stderr);
             let first: Vec<&str> = msg.lines().take(20).collect();
-            return Err(format!(
-                "the generated header does not compile with the stub runtime:\n{}",
-                first.join("\n")
-            ));
+            return Err(DriverError::HeaderRejected { log: first.join("\n") });
         }
         Self::start(dir, leaf_budget, question_limit)
     }
 
-    fn start(dir: PathBuf, leaf_budget: usize, question_limit: usize) -> Result<Driver, String> {
+    fn start(
+        dir: PathBuf,
+        leaf_budget: usize,
+        question_limit: usize,
+    ) -> Result<Driver, DriverError> {
         let mut child = Command::new(dir.join("driver"))
             .arg(leaf_budget.to_string())
             .arg(question_limit.to_string())
@@ -116,32 +171,29 @@ impl Driver {
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
-            .map_err(|e| io_err("cannot start the driver", e))?;
-        let stdin = child.stdin.take().ok_or("driver stdin")?;
-        let stdout = BufReader::new(child.stdout.take().ok_or("driver stdout")?);
+            .map_err(io_err("cannot start the driver"))?;
+        let stdin = child.stdin.take().ok_or_else(|| protocol("no standard input"))?;
+        let stdout =
+            BufReader::new(child.stdout.take().ok_or_else(|| protocol("no standard output"))?);
         Ok(Driver { dir, child, stdin, stdout })
     }
 
-    pub fn dir(&self) -> &Path {
-        &self.dir
-    }
-
-    fn send(&mut self, kind: char, calls: usize, answers: &[i64]) -> Result<(), String> {
-        let mut line = format!("{kind} {calls} {}", answers.len());
+    fn send(&mut self, request: char, calls: usize, answers: &[i64]) -> Result<(), DriverError> {
+        let mut line = format!("{request} {calls} {}", answers.len());
         for a in answers {
             line.push(' ');
             line.push_str(&a.to_string());
         }
         line.push('\n');
-        self.stdin.write_all(line.as_bytes()).map_err(|e| io_err("driver write", e))?;
-        self.stdin.flush().map_err(|e| io_err("driver write", e))
+        self.stdin.write_all(line.as_bytes()).map_err(io_err("driver write"))?;
+        self.stdin.flush().map_err(io_err("driver write"))
     }
 
-    fn read_line(&mut self) -> Result<String, String> {
+    fn read_line(&mut self) -> Result<String, DriverError> {
         let mut l = String::new();
-        let n = self.stdout.read_line(&mut l).map_err(|e| io_err("driver read", e))?;
+        let n = self.stdout.read_line(&mut l).map_err(io_err("driver read"))?;
         if n == 0 {
-            return Err("the driver ended unexpectedly".into());
+            return Err(protocol("the driver ended unexpectedly"));
         }
         if l.ends_with('\n') {
             l.pop();
@@ -150,7 +202,7 @@ impl Driver {
     }
 
     /// Replays `calls` calls with `answers`, then explores every path of the next call.
-    pub fn explore(&mut self, calls: usize, answers: &[i64]) -> Result<Explored, String> {
+    pub fn explore(&mut self, calls: usize, answers: &[i64]) -> Result<Explored, DriverError> {
         self.send('E', calls, answers)?;
         let mut ex = Explored::default();
         let mut cur: Option<(Vec<i64>, Vec<String>)> = None;
@@ -169,13 +221,15 @@ impl Driver {
                 }
                 "P" => cur = Some((parse_answers(rest)?, Vec::new())),
                 "S" => {
-                    let (answers, events) = cur.take().ok_or("S line outside a path")?;
+                    let (answers, events) =
+                        cur.take().ok_or_else(|| protocol("S line outside a path"))?;
                     ex.paths.push(CPath::Done { answers, events, after: parse_state(rest)? });
                 }
                 "L" => ex.paths.push(CPath::TooLong { answers: parse_answers(rest)? }),
                 "A" => {
                     let (st, rest) = rest.split_once(' ').unwrap_or((rest, "0"));
-                    let status = st.parse::<i64>().map_err(|_| format!("bad driver line '{l}'"))?;
+                    let status =
+                        st.parse::<i64>().map_err(|_| protocol(format!("bad line '{l}'")))?;
                     ex.paths.push(CPath::Crashed { status, answers: parse_answers(rest)? });
                 }
                 "done" => {
@@ -190,7 +244,7 @@ impl Driver {
                             i.push(l);
                         }
                     } else {
-                        return Err(format!("unexpected driver line '{l}'"));
+                        return Err(protocol(format!("unexpected line '{l}'")));
                     }
                 }
             }
@@ -199,7 +253,7 @@ impl Driver {
 
     /// One plain run of `calls` calls; returns the trace text (format of `Run::to_text`) and
     /// whether the process ended normally.
-    pub fn walk(&mut self, calls: usize, answers: &[i64]) -> Result<(String, bool), String> {
+    pub fn walk(&mut self, calls: usize, answers: &[i64]) -> Result<(String, bool), DriverError> {
         self.send('W', calls, answers)?;
         let mut out = String::new();
         let mut ok = true;
@@ -226,25 +280,25 @@ impl Drop for Driver {
     }
 }
 
-fn parse_answers(rest: &str) -> Result<Vec<i64>, String> {
+fn parse_answers(rest: &str) -> Result<Vec<i64>, DriverError> {
     let mut it = rest.split_whitespace();
     let n: usize = it
         .next()
         .and_then(|w| w.parse().ok())
-        .ok_or_else(|| format!("bad answer list '{rest}'"))?;
+        .ok_or_else(|| protocol(format!("bad answer list '{rest}'")))?;
     let v = it
-        .map(|w| w.parse::<i64>().map_err(|_| format!("bad answer '{w}'")))
+        .map(|w| w.parse::<i64>().map_err(|_| protocol(format!("bad answer '{w}'"))))
         .collect::<Result<Vec<_>, _>>()?;
     if v.len() != n {
-        return Err(format!("answer count mismatch in '{rest}'"));
+        return Err(protocol(format!("answer count mismatch in '{rest}'")));
     }
     Ok(v)
 }
 
-fn parse_state(rest: &str) -> Result<[usize; 4], String> {
+fn parse_state(rest: &str) -> Result<[usize; 4], DriverError> {
     let v: Vec<usize> = rest.split_whitespace().filter_map(|w| w.parse().ok()).collect();
     match v.as_slice() {
         [a, b, c, d] => Ok([*a, *b, *c, *d]),
-        _ => Err(format!("bad state line '{rest}'")),
+        _ => Err(protocol(format!("bad state line '{rest}'"))),
     }
 }

@@ -24,11 +24,27 @@ pub struct BlockBound {
     pub events: usize,
 }
 
+/// The bound of every block, and the largest ones.
 #[derive(Debug, Clone, Serialize)]
 pub struct PlanBound {
     pub blocks: Vec<BlockBound>,
     pub max_stages: usize,
     pub max_events: usize,
+}
+
+impl PlanBound {
+    /// One line per block: number, name, stage items and events of one call.
+    pub fn render(&self) -> String {
+        self.blocks
+            .iter()
+            .map(|b| {
+                format!(
+                    "  {:>3} {:<30} stages <= {:>3}  events <= {:>4}\n",
+                    b.block, b.name, b.stages, b.events
+                )
+            })
+            .collect()
+    }
 }
 
 /// One stage item of the flattened block, with the events it may produce and its in-call

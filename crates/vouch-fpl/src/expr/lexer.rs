@@ -4,7 +4,7 @@
 //! single-quoted identifiers; C operators plus their `@` spellings. `<`, `<=`, `!=`, `&`, `|`
 //! and string literals are not lexed.
 
-use super::parser::{ExprError, ExprErrorKind};
+use super::error::{ExprError, ExprErrorKind};
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum TokenKind {

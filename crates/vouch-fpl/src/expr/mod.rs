@@ -4,21 +4,23 @@
 //! * [`parse`] turns a text into an [`Expr`] or an [`ExprError`] with a byte offset;
 //! * [`print_upstream`] prints it as upstream's generator does (fully parenthesised binary
 //!   operations, `%f` floats, `$v` as `_var_v`, resolved `IndexOfBlock` as the block number);
-//! * [`subst`] is upstream's procedure parameter substitution.
+//! * [`subst_procedure`] is upstream's procedure parameter substitution.
 
+mod error;
 mod lexer;
 mod parser;
 mod print;
 mod subst;
 
+pub use error::{ExprError, ExprErrorKind};
 pub use lexer::{lex, Token, TokenKind};
-pub use parser::{parse, ExprError, ExprErrorKind};
+pub use parser::parse;
 pub use print::{format_g, ocaml_float_text, print_upstream};
 pub use subst::{subst_procedure, ProcEnv};
 
 use serde::Serialize;
 
-use crate::ast::BlockId;
+use crate::ids::BlockId;
 
 /// A parsed expression. Identifiers keep their spelling (`$i` keeps its `$`; a quoted
 /// identifier `'a b'` is stored without its quotes, as upstream's lexer does).

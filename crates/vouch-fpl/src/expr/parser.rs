@@ -4,32 +4,9 @@
 //! parenthesised expressions. The whole text must be one expression (trailing tokens are an
 //! error, as with upstream's end-of-input token).
 
+use super::error::{ExprError, ExprErrorKind};
 use super::lexer::{lex, Token, TokenKind};
 use super::{BinOp, Expr, UnOp};
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum ExprErrorKind {
-    /// A character no lexical rule accepts (or an out-of-range number).
-    Lexing,
-    /// Tokens that do not form an expression.
-    Parsing,
-}
-
-/// An error in an expression, with the byte range (in the expression text) of the offending
-/// character or token.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExprError {
-    pub kind: ExprErrorKind,
-    pub message: String,
-    pub start: usize,
-    pub end: usize,
-}
-
-impl std::fmt::Display for ExprError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.message)
-    }
-}
 
 /// Parses one expression.
 pub fn parse(text: &str) -> Result<Expr, ExprError> {

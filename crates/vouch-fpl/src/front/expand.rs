@@ -2,10 +2,10 @@
 //! stages, and `wp_qdr`/`wp_dist` (`from_qdr`/`from_dist`) create relative waypoints.
 
 use crate::ast::{Attrs, RawAttr};
+use crate::diag::ErrorKind;
 use crate::expr::ocaml_float_text;
 
-use super::build::Ctx;
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::tree::Elem;
 use super::values::ocaml_float;
 

@@ -11,11 +11,12 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::ast::{Attrs, IncludeInfo, NameValue, RawAttr, Span, Text};
+use crate::ast::{Attrs, IncludeInfo, NameValue, RawAttr, Text};
+use crate::diag::ErrorKind;
 use crate::expr::{parse, print_upstream, subst_procedure, ProcEnv};
+use crate::span::{FileId, Span};
 
-use super::build::Ctx;
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::tree::{read_document, Elem};
 
 /// The plan's lists after include expansion (main plan's elements first).
@@ -85,46 +86,7 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
         return;
     };
     let name = name_a.value.clone();
-    let Some(path) = find_procedure(&ctx.search, &proc_a.value) else {
-        let dirs: Vec<String> = ctx.search.iter().map(|d| d.display().to_string()).collect();
-        ctx.error_help(
-            ErrorKind::IncludeNotFound,
-            format!("procedure file '{}' not found", proc_a.value),
-            proc_a.value_span,
-            format!("searched: {}", dirs.join(", ")),
-        );
-        return;
-    };
-    if same_file(&path, &ctx.main_path) {
-        ctx.error(
-            ErrorKind::IncludeLoop,
-            format!("'{}' includes the plan itself", proc_a.value),
-            proc_a.value_span,
-        );
-        return;
-    }
-    let text = match std::fs::read(&path) {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-        Err(e) => {
-            ctx.error(
-                ErrorKind::IncludeNotFound,
-                format!("cannot read '{}': {e}", path.display()),
-                proc_a.value_span,
-            );
-            return;
-        }
-    };
-    let file = ctx.sources.add(path.display().to_string(), text);
-    let doc = match read_document(file, &ctx.sources.files[file.0 as usize].text) {
-        Ok(d) => d,
-        Err(d) => {
-            ctx.push(d);
-            return;
-        }
-    };
-    ctx.warnings.extend(doc.warnings);
-    let proc = doc.root;
-    check_nested_includes(ctx, &proc, &path);
+    let Some((file, proc)) = load_procedure(ctx, &proc_a) else { return };
 
     let attr_pairs = |tag: &str, k: &str, v: &str| -> Vec<NameValue> {
         inc.children
@@ -142,27 +104,7 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
     let args = attr_pairs("arg", "name", "value");
     let withs = attr_pairs("with", "from", "to");
 
-    // Parameter environment: argument, else default value, else error.
-    let mut params: Vec<(String, String)> = Vec::new();
-    for p in proc.children.iter().filter(|c| c.tag_is("param")) {
-        let Some(pn) = p.attr_value("name") else {
-            ctx.error(ErrorKind::MissingAttribute, "<param> without 'name'", p.span);
-            continue;
-        };
-        let arg = args
-            .iter()
-            .find(|a| a.name.value == pn)
-            .and_then(|a| a.value.as_ref())
-            .map(|t| t.value.clone());
-        match arg.or_else(|| p.attr_value("default_value").map(str::to_string)) {
-            Some(v) => params.push((pn.to_string(), v)),
-            None => ctx.error(
-                ErrorKind::MissingParam,
-                format!("value required for parameter '{pn}' of procedure '{}'", proc_a.value),
-                inc.span,
-            ),
-        }
-    }
+    let params = parameters(ctx, inc, &proc, &proc_a, &args);
     let reroutes: Vec<(String, String)> = withs
         .iter()
         .map(|w| {
@@ -201,6 +143,83 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
         withs,
         span: inc.span,
     });
+}
+
+/// Finds, reads and parses the procedure file an include names (its nested includes are
+/// checked for loops, not expanded, as upstream does).
+fn load_procedure(ctx: &mut Ctx, proc_a: &RawAttr) -> Option<(FileId, Elem)> {
+    let Some(path) = find_procedure(&ctx.search, &proc_a.value) else {
+        let dirs: Vec<String> = ctx.search.iter().map(|d| d.display().to_string()).collect();
+        ctx.error_help(
+            ErrorKind::IncludeNotFound,
+            format!("procedure file '{}' not found", proc_a.value),
+            proc_a.value_span,
+            format!("searched: {}", dirs.join(", ")),
+        );
+        return None;
+    };
+    if same_file(&path, &ctx.main_path) {
+        ctx.error(
+            ErrorKind::IncludeLoop,
+            format!("'{}' includes the plan itself", proc_a.value),
+            proc_a.value_span,
+        );
+        return None;
+    }
+    let text = match std::fs::read(&path) {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        Err(e) => {
+            ctx.error(
+                ErrorKind::IncludeNotFound,
+                format!("cannot read '{}': {e}", path.display()),
+                proc_a.value_span,
+            );
+            return None;
+        }
+    };
+    let file = ctx.sources.add(path.display().to_string(), text);
+    let doc = match read_document(file, &ctx.sources.files[file.0 as usize].text) {
+        Ok(d) => d,
+        Err(d) => {
+            ctx.push(*d);
+            return None;
+        }
+    };
+    ctx.warnings.extend(doc.warnings);
+    let proc = doc.root;
+    check_nested_includes(ctx, &proc, &path);
+    Some((file, proc))
+}
+
+/// The parameter environment of one include: argument, else default value, else an error.
+fn parameters(
+    ctx: &mut Ctx,
+    inc: &Elem,
+    proc: &Elem,
+    proc_a: &RawAttr,
+    args: &[NameValue],
+) -> Vec<(String, String)> {
+    let mut params: Vec<(String, String)> = Vec::new();
+    for p in proc.children.iter().filter(|c| c.tag_is("param")) {
+        let Some(pn) = p.attr_value("name") else {
+            ctx.error(ErrorKind::MissingAttribute, "<param> without 'name'", p.span);
+            continue;
+        };
+        let arg = args
+            .iter()
+            .find(|a| a.name.value == pn)
+            .and_then(|a| a.value.as_ref())
+            .map(|t| t.value.clone());
+        match arg.or_else(|| p.attr_value("default_value").map(str::to_string)) {
+            Some(v) => params.push((pn.to_string(), v)),
+            None => ctx.error(
+                ErrorKind::MissingParam,
+                format!("value required for parameter '{pn}' of procedure '{}'", proc_a.value),
+                inc.span,
+            ),
+        }
+    }
+    params
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {

@@ -1,36 +1,33 @@
 //! The FPL front end: reads a Paparazzi flight plan the way upstream does and produces the
-//! typed, resolved [`FlightPlan`] or located [`Diagnostics`].
+//! typed, resolved [`FlightPlan`] or located [`Diagnostics`]. Everything XML stays here.
 //!
 //! Pipeline (each step a module):
 //! 1. [`tolerant`]: length-preserving pre-pass that neutralises what xml-light accepts and
-//!    strict XML rejects; then [`tree`]: roxmltree parse into an owned element tree whose
+//!    strict XML rejects; then `tree`: roxmltree parse into an owned element tree whose
 //!    attribute values are read from the original text.
-//! 2. [`include`]: `<includes>` expansion exactly like upstream's `fp_proc` (renaming,
+//! 2. `include`: `<includes>` expansion exactly like upstream's `fp_proc` (renaming,
 //!    parameter substitution, re-printing of procedure attributes).
-//! 3. [`expand`]: `<path>` expansion and relative waypoints (`wp_qdr`/`wp_dist`), implicit
-//!    `HOME` block.
-//! 4. [`build`] / [`stages`]: checks against the DTD (unknown elements/attributes, required
-//!    attributes), typed values, expressions parsed, names resolved.
+//! 3. `expand`: `<path>` expansion and relative waypoints (`wp_qdr`/`wp_dist`).
+//! 4. `build` (the driver, with the schema checks), `plan` and `stages` (typed building over
+//!    the shared `ctx`): checks against the DTD (unknown elements/attributes, required
+//!    attributes), typed values, expressions parsed, names resolved, implicit `HOME` block.
 
-pub mod bench;
-pub mod build;
-pub mod diag;
-pub mod expand;
-pub mod include;
-pub mod outline;
-pub mod plan;
-mod render;
-pub mod schema;
-pub mod stages;
+mod build;
+mod ctx;
+mod expand;
+mod include;
+mod plan;
+mod schema;
+mod stages;
 pub mod tolerant;
-pub mod tree;
+mod tree;
 mod values;
 
 use std::path::{Path, PathBuf};
 
-pub use diag::{Diagnostic, Diagnostics, ErrorKind, Severity};
-
-use crate::ast::{FlightPlan, SourceMap};
+use crate::ast::FlightPlan;
+use crate::diag::{Diagnostic, Diagnostics, ErrorKind};
+use crate::span::SourceMap;
 
 /// Front-end options.
 #[derive(Debug, Clone)]
@@ -64,14 +61,14 @@ pub fn parse_file_with(path: impl AsRef<Path>, opts: &Options) -> Result<FlightP
             let text = String::from_utf8_lossy(&bytes).into_owned();
             parse_str_at(path, text, opts)
         }
-        Err(e) => Err(Diagnostics {
-            items: vec![Diagnostic::error(
+        Err(e) => Err(Diagnostics::new(
+            vec![Diagnostic::error(
                 ErrorKind::Io,
                 format!("cannot read {}: {e}", path.display()),
                 None,
             )],
-            sources: SourceMap::default(),
-        }),
+            SourceMap::default(),
+        )),
     }
 }
 
@@ -85,7 +82,7 @@ pub fn parse_str_at(path: &Path, text: String, opts: &Options) -> Result<FlightP
     } else {
         search.extend(opts.search_dirs.iter().cloned());
     }
-    let mut ctx = build::Ctx::new(sources, opts.clone(), search, path.to_path_buf());
+    let mut ctx = ctx::Ctx::new(sources, opts.clone(), search, path.to_path_buf());
     let plan = build::run(&mut ctx, main);
     ctx.finish(plan)
 }

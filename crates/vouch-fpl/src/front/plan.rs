@@ -3,29 +3,18 @@
 //! deroutes.
 
 use crate::ast::*;
+use crate::diag::ErrorKind;
+use crate::ids::{BlockId, WpId};
+use crate::span::{SourceMap, Span};
 
-use super::build::{index_names, Ctx};
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::include::Merged;
 use super::stages::{build_exception, build_stages};
 use super::tree::Elem;
 
 pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     index_names(ctx, &m);
-    if !ctx.waypoints.contains_key("HOME") && !m.waypoints.is_empty() {
-        ctx.error(
-            ErrorKind::MissingElement,
-            "no waypoint named 'HOME'",
-            root.child("waypoints").map_or(root.span, |w| w.span),
-        );
-    }
-    if m.waypoints.is_empty() && root.child("waypoints").is_some() {
-        ctx.error(
-            ErrorKind::EmptyPlan,
-            "the plan has no waypoint",
-            root.child("waypoints").map_or(root.span, |w| w.span),
-        );
-    }
+    check_waypoint_list(ctx, root, &m);
 
     // Plan attributes (required ones make the plan unbuildable when absent).
     let name = ctx.req_text(root, "name");
@@ -44,19 +33,7 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
         }
     }
     let alt = ctx.req_num(root, "alt");
-    let wp_frame =
-        ctx.text(root, "wp_frame").and_then(|t| match t.value.to_ascii_lowercase().as_str() {
-            "utm" => Some(Spanned { value: WpFrame::Utm, span: t.span }),
-            "ltp" => Some(Spanned { value: WpFrame::Ltp, span: t.span }),
-            _ => {
-                ctx.error(
-                    ErrorKind::BadValue,
-                    format!("unknown wp_frame '{}' (UTM or LTP)", t.value),
-                    t.span,
-                );
-                None
-            }
-        });
+    let wp_frame = wp_frame(ctx, root);
     let qfu = ctx.opt_num(root, "qfu");
     let home_mode_height = ctx.opt_num(root, "home_mode_height");
     let geofence_max_alt = ctx.opt_num(root, "geofence_max_alt");
@@ -67,37 +44,8 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     let (sectors, kml) = sectors(ctx, &m.sectors);
     let variables = m.variables.iter().filter_map(|v| variable(ctx, v)).collect();
     let modules = m.modules.iter().filter_map(|x| module(ctx, x)).collect();
-    let exceptions = m
-        .exceptions
-        .iter()
-        .filter_map(|e| {
-            if e.tag_is("exception") {
-                build_exception(ctx, e)
-            } else {
-                ctx.error(
-                    ErrorKind::UnexpectedElement,
-                    format!("unexpected <{}> in <exceptions>", e.tag),
-                    e.span,
-                );
-                None
-            }
-        })
-        .collect();
-    let mut blocks: Vec<Block> = Vec::new();
-    for (i, b) in m.blocks.iter().enumerate() {
-        if !b.tag_is("block") {
-            ctx.error(
-                ErrorKind::UnexpectedElement,
-                format!("unexpected <{}> in <blocks>", b.tag),
-                b.span,
-            );
-            continue;
-        }
-        if let Some(blk) = block(ctx, b, BlockId(i)) {
-            blocks.push(blk);
-        }
-    }
-    blocks.push(home_block(root.span, BlockId(m.blocks.len())));
+    let exceptions = global_exceptions(ctx, &m.exceptions);
+    let blocks = blocks(ctx, root, &m.blocks);
     let forbidden_deroutes = m.forbidden.iter().filter_map(|f| forbidden(ctx, f)).collect();
     let header = m.header.map(|(text, span)| Header { text, span });
 
@@ -131,6 +79,71 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
         forbidden_deroutes,
         warnings: Vec::new(),
     })
+}
+
+/// A `HOME` waypoint exists, and at least one waypoint.
+fn check_waypoint_list(ctx: &mut Ctx, root: &Elem, m: &Merged) {
+    let at = root.child("waypoints").map_or(root.span, |w| w.span);
+    if !ctx.waypoints.contains_key("HOME") && !m.waypoints.is_empty() {
+        ctx.error(ErrorKind::MissingElement, "no waypoint named 'HOME'", at);
+    }
+    if m.waypoints.is_empty() && root.child("waypoints").is_some() {
+        ctx.error(ErrorKind::EmptyPlan, "the plan has no waypoint", at);
+    }
+}
+
+fn wp_frame(ctx: &mut Ctx, root: &Elem) -> Option<Spanned<WpFrame>> {
+    let t = ctx.text(root, "wp_frame")?;
+    match t.value.to_ascii_lowercase().as_str() {
+        "utm" => Some(Spanned { value: WpFrame::Utm, span: t.span }),
+        "ltp" => Some(Spanned { value: WpFrame::Ltp, span: t.span }),
+        _ => {
+            ctx.error(
+                ErrorKind::BadValue,
+                format!("unknown wp_frame '{}' (UTM or LTP)", t.value),
+                t.span,
+            );
+            None
+        }
+    }
+}
+
+fn global_exceptions(ctx: &mut Ctx, elems: &[Elem]) -> Vec<Exception> {
+    elems
+        .iter()
+        .filter_map(|e| {
+            if e.tag_is("exception") {
+                build_exception(ctx, e)
+            } else {
+                ctx.error(
+                    ErrorKind::UnexpectedElement,
+                    format!("unexpected <{}> in <exceptions>", e.tag),
+                    e.span,
+                );
+                None
+            }
+        })
+        .collect()
+}
+
+/// The blocks, then the implicit `HOME` block.
+fn blocks(ctx: &mut Ctx, root: &Elem, elems: &[Elem]) -> Vec<Block> {
+    let mut blocks: Vec<Block> = Vec::new();
+    for (i, b) in elems.iter().enumerate() {
+        if !b.tag_is("block") {
+            ctx.error(
+                ErrorKind::UnexpectedElement,
+                format!("unexpected <{}> in <blocks>", b.tag),
+                b.span,
+            );
+            continue;
+        }
+        if let Some(blk) = block(ctx, b, BlockId(i)) {
+            blocks.push(blk);
+        }
+    }
+    blocks.push(home_block(root.span, BlockId(elems.len())));
+    blocks
 }
 
 fn req_deg(ctx: &mut Ctx, e: &Elem, name: &str, limit: f64) -> Option<Num> {
@@ -378,4 +391,57 @@ fn forbidden(ctx: &mut Ctx, f: &Elem) -> Option<ForbiddenDeroute> {
     let to = ctx.req_text(f, "to").and_then(|t| ctx.block_ref(t));
     let only_when = ctx.expr_attr(f, "only_when");
     Some(ForbiddenDeroute { from: from?, to: to?, only_when, attrs: f.attrs.clone(), span: f.span })
+}
+
+/// Keeps the first of each name in a table and reports later duplicates.
+pub fn index_names(ctx: &mut Ctx, m: &Merged) {
+    for (i, b) in m.blocks.iter().enumerate() {
+        let Some(a) = b.attr("name") else { continue };
+        if ctx.blocks.contains_key(&a.value) {
+            ctx.error(
+                ErrorKind::DuplicateBlock,
+                format!("duplicate block name '{}'", a.value),
+                a.value_span,
+            );
+        } else {
+            ctx.blocks.insert(a.value.clone(), BlockId(i));
+        }
+    }
+    let home = m.blocks.len();
+    if ctx.blocks.contains_key("HOME") {
+        if let Some(a) = m.blocks.iter().filter_map(|b| b.attr("name")).find(|a| a.value == "HOME")
+        {
+            ctx.error_help(
+                ErrorKind::DuplicateBlock,
+                "duplicate block name 'HOME'",
+                a.value_span,
+                "the implicit safety block appended after all blocks is named HOME",
+            );
+        }
+    } else {
+        ctx.blocks.insert("HOME".to_string(), BlockId(home));
+    }
+    for (i, w) in m.waypoints.iter().enumerate() {
+        let Some(a) = w.attr("name") else { continue };
+        if ctx.waypoints.contains_key(&a.value) {
+            if w.relative.is_some() {
+                ctx.warn(
+                    format!(
+                        "relative waypoint '{}' created twice (references use the first)",
+                        a.value
+                    ),
+                    a.value_span,
+                );
+            } else {
+                ctx.error_help(
+                    ErrorKind::DuplicateWaypoint,
+                    format!("duplicate waypoint name '{}'", a.value),
+                    a.value_span,
+                    "upstream would silently use the first one; procedures' waypoints are not prefixed",
+                );
+            }
+        } else {
+            ctx.waypoints.insert(a.value.clone(), WpId(i));
+        }
+    }
 }

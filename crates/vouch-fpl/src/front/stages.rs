@@ -2,9 +2,9 @@
 //! upstream's generator does (`<GO>` passes the DTD but is an unknown stage).
 
 use crate::ast::*;
+use crate::diag::ErrorKind;
 
-use super::build::Ctx;
-use super::diag::ErrorKind;
+use super::ctx::Ctx;
 use super::schema::STAGE_TAGS;
 use super::tree::Elem;
 use super::values::bool_text;
@@ -52,6 +52,19 @@ pub fn build_exception(ctx: &mut Ctx, e: &Elem) -> Option<Exception> {
 }
 
 fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
+    match e.tag.as_str() {
+        "while" | "for" | "set" | "call" | "call_once" | "deroute" | "return" => control(ctx, e),
+        "go" => go(ctx, e),
+        "stay" | "circle" | "heading" | "attitude" | "guided" | "follow" | "xyz" | "home" => {
+            navigation(ctx, e)
+        }
+        "eight" | "oval" | "survey_rectangle" => two_step(ctx, e),
+        tag => unknown_stage(ctx, e, tag),
+    }
+}
+
+/// Loops, assignments, calls and block changes.
+fn control(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
     Some(match e.tag.as_str() {
         "while" => {
             let cond = ctx.expr_attr(e, "cond");
@@ -87,7 +100,13 @@ fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
             StageKind::Deroute(Deroute { block: block? })
         }
         "return" => StageKind::Return(Return { reset_stage: ctx.text(e, "reset_stage") }),
-        "go" => go(ctx, e)?,
+        _ => return None,
+    })
+}
+
+/// One-step navigation stages other than `go`.
+fn navigation(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
+    Some(match e.tag.as_str() {
         "stay" => {
             let wp = ctx.req_wp(e, "wp");
             let hmode = hmode(ctx, e);
@@ -139,6 +158,13 @@ fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
             StageKind::Xyz(Xyz { radius, vertical, common })
         }
         "home" => StageKind::Home,
+        _ => return None,
+    })
+}
+
+/// Navigation stages with their own init stage.
+fn two_step(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
+    Some(match e.tag.as_str() {
         "eight" => {
             let center = ctx.req_wp(e, "center");
             let turn_around = ctx.req_wp(e, "turn_around");
@@ -186,30 +212,28 @@ fn stage_kind(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
                 common,
             })
         }
-        other => {
-            let lc = other.to_ascii_lowercase();
-            let help = if STAGE_TAGS.contains(&lc.as_str()) {
-                "stage tags are case-sensitive in upstream's generator".to_string()
-            } else {
-                format!(
-                    "known stages: {}",
-                    STAGE_TAGS
-                        .iter()
-                        .filter(|t| **t != "exception")
-                        .copied()
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
-            };
-            ctx.error_help(
-                ErrorKind::UnknownStage,
-                format!("unknown stage '<{other}>'"),
-                e.span,
-                help,
-            );
-            return None;
-        }
+        _ => return None,
     })
+}
+
+/// A tag that is no stage: located, with the known ones (or the case hint) as help.
+fn unknown_stage(ctx: &mut Ctx, e: &Elem, tag: &str) -> Option<StageKind> {
+    let lc = tag.to_ascii_lowercase();
+    let help = if STAGE_TAGS.contains(&lc.as_str()) {
+        "stage tags are case-sensitive in upstream's generator".to_string()
+    } else {
+        format!(
+            "known stages: {}",
+            STAGE_TAGS
+                .iter()
+                .filter(|t| **t != "exception")
+                .copied()
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
+    ctx.error_help(ErrorKind::UnknownStage, format!("unknown stage '<{tag}>'"), e.span, help);
+    None
 }
 
 fn go(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {

@@ -2,9 +2,10 @@
 //! text: tolerant pre-pass, then roxmltree, then attribute values taken from the *original*
 //! text (not entity-decoded, backslash escapes applied), as upstream's xml-light does.
 
-use crate::ast::{Attrs, FileId, RawAttr, Span};
+use crate::ast::{Attrs, RawAttr};
+use crate::diag::{Diagnostic, ErrorKind};
+use crate::span::{FileId, Span};
 
-use super::diag::{Diagnostic, ErrorKind};
 use super::tolerant::{sanitize, FixKind};
 
 /// Maps byte offsets to 1-based line/column quickly (binary search over line starts).
@@ -81,7 +82,7 @@ pub struct Document {
 }
 
 /// Parses `text` (the original file content) as file `file`.
-pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
+pub fn read_document(file: FileId, text: &str) -> Result<Document, Box<Diagnostic>> {
     let lines = LineIndex::new(text);
     let san = sanitize(text);
     let mut warnings = Vec::new();
@@ -94,18 +95,18 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
         }
     }
     if let Some(at) = san.too_deep_at {
-        return Err(Diagnostic::error(
+        return Err(Box::new(Diagnostic::error(
             ErrorKind::Xml,
             format!("elements nested more than {} levels deep", super::tolerant::MAX_DEPTH),
             Some(lines.span(text, file, at, at + 1)),
-        ));
+        )));
     }
     if let Some(at) = san.entity_at {
-        return Err(Diagnostic::error(
+        return Err(Box::new(Diagnostic::error(
             ErrorKind::Xml,
             "entity declarations are not supported in flight plans",
             Some(lines.span(text, file, at, at + 8)),
-        ));
+        )));
     }
     let opts = roxmltree::ParsingOptions { allow_dtd: true, nodes_limit: u32::MAX };
     let doc = roxmltree::Document::parse_with_options(&san.text, opts).map_err(|e| {
@@ -121,11 +122,11 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Diagnostic> {
         };
         let end = (off + text.get(off..).and_then(|t| t.chars().next()).map_or(0, char::len_utf8))
             .min(text.len());
-        Diagnostic::error(
+        Box::new(Diagnostic::error(
             ErrorKind::Xml,
             format!("malformed XML: {e}"),
             Some(lines.span(text, file, off, end)),
-        )
+        ))
     })?;
     let root = convert(doc.root_element(), text, file, &lines, &mut warnings, 0)?;
     Ok(Document { root, doctype: san.doctype, warnings })
@@ -142,16 +143,16 @@ fn convert(
     lines: &LineIndex,
     warnings: &mut Vec<Diagnostic>,
     depth: usize,
-) -> Result<Elem, Diagnostic> {
+) -> Result<Elem, Box<Diagnostic>> {
     let tag = n.tag_name().name().to_string();
     let start = n.range().start;
     let span = lines.span(text, file, start, (start + 1 + tag.len()).min(text.len()));
     if depth > MAX_NESTING {
-        return Err(Diagnostic::error(
+        return Err(Box::new(Diagnostic::error(
             ErrorKind::Xml,
             format!("elements nested more than {MAX_NESTING} levels deep"),
             Some(span),
-        ));
+        )));
     }
     let mut attrs: Vec<RawAttr> = Vec::new();
     for a in n.attributes() {

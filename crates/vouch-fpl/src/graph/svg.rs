@@ -121,7 +121,20 @@ pub fn render(g: &BlockGraph) -> String {
             TOP - 34.0
         ));
     }
-    // Next-block arrows.
+    next_arrows(&mut s, g, x0, node_w);
+    for (side, list, ls) in [(1.0, &right, &rl), (-1.0, &left, &ll)] {
+        for (e, &lane) in list.iter().zip(ls.iter()) {
+            arc(&mut s, e, side, lane, x0, x1);
+        }
+    }
+    boxes(&mut s, g, x0, node_w);
+    legend(&mut s, 20.0, TOP + g.nodes.len() as f64 * PITCH + 20.0);
+    s.push_str("</svg>\n");
+    s
+}
+
+/// The next-block arrows, straight down between consecutive boxes.
+fn next_arrows(s: &mut String, g: &BlockGraph, x0: f64, node_w: f64) {
     for e in g.edges.iter().filter(|e| e.kind == EdgeKind::Next) {
         let Some(f) = e.from else { continue };
         let c = color(e);
@@ -133,14 +146,13 @@ pub fn render(g: &BlockGraph) -> String {
             marker_id(c)
         ));
         if e.forbid != Forbid::No {
-            cross(&mut s, x, (y1 + y2) / 2.0, e.forbid);
+            cross(s, x, (y1 + y2) / 2.0, e.forbid);
         }
     }
-    for (side, list, ls) in [(1.0, &right, &rl), (-1.0, &left, &ll)] {
-        for (e, &lane) in list.iter().zip(ls.iter()) {
-            arc(&mut s, e, side, lane, x0, x1);
-        }
-    }
+}
+
+/// One box per block: number, name, stage and exception counts.
+fn boxes(s: &mut String, g: &BlockGraph, x0: f64, node_w: f64) {
     for (i, n) in g.nodes.iter().enumerate() {
         let y = TOP + i as f64 * PITCH;
         let (fill, dash) =
@@ -172,9 +184,6 @@ pub fn render(g: &BlockGraph) -> String {
             esc(&detail)
         ));
     }
-    legend(&mut s, 20.0, TOP + g.nodes.len() as f64 * PITCH + 20.0);
-    s.push_str("</svg>\n");
-    s
 }
 
 fn cross(s: &mut String, x: f64, y: f64, f: Forbid) {

@@ -1,42 +1,134 @@
 //! Warnings about mission-level mistakes that compile fine (`vouch fpl lint`). Each warning
-//! has a stable code, a message and a location in the XML (AST spans); see
+//! has a [`Rule`] with a stable code, a message and a location in the XML (AST spans); see
 //! `docs/fpl-evidence.md` for the table of codes.
 //!
 //! The rules work on the resolved AST only (no compilation needed), so they also run on plans
 //! the back end rejects. They are static over-approximations of the plan's behaviour: a block
 //! is "reachable" when some chain of next-block, deroute or exception edges leads to it.
 
+mod report;
 pub(crate) mod rules;
 
-use serde::Serialize;
+use std::sync::Arc;
 
-use crate::ast::{FlightPlan, Span};
+use serde::{Serialize, Serializer};
 
-/// Every warning code with its one-line meaning (the documentation table is generated from
-/// the same words).
-pub const CODES: &[(&str, &str)] = &[
-    ("FPL-W001", "block unreachable from the first block (and not an operator entry point)"),
-    ("FPL-W002", "block change always forbidden: the deroute, exception or next-block step can never happen"),
-    ("FPL-W003", "block change forbidden under `only_when`: the step can block while the condition holds"),
-    ("FPL-W004", "RETURN reachable after a DEROUTE into its block: the return re-runs the deroute (ping-pong)"),
-    ("FPL-W005", "`for` bound does not fit the `int8_t` loop counter"),
-    ("FPL-W006", "block exception targets its own block and can never fire"),
-    ("FPL-W007", "waypoint never used by the plan"),
-    ("FPL-W008", "stage can never run (it follows a deroute, return or home stage)"),
-];
+pub use report::{counts, render};
 
+use crate::ast::FlightPlan;
+use crate::span::{SourceFile, SourceMap, Span};
+
+/// The lint rules, each with its stable code (`fpl::W001` ...).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Rule {
+    /// A block no step leads to (and not an operator entry point).
+    UnreachableBlock,
+    /// A block change that is always forbidden.
+    AlwaysForbidden,
+    /// A block change forbidden under `only_when`.
+    ForbiddenWhen,
+    /// A `return` reachable after a deroute into its block (ping-pong).
+    ReturnAfterDeroute,
+    /// A `for` bound outside `int8_t`.
+    ForBound,
+    /// A block exception targeting its own block.
+    SelfException,
+    /// A waypoint nothing uses.
+    UnusedWaypoint,
+    /// Stages that can never run.
+    DeadStage,
+}
+
+impl Rule {
+    /// Every rule, in code order.
+    pub const ALL: [Rule; 8] = [
+        Rule::UnreachableBlock,
+        Rule::AlwaysForbidden,
+        Rule::ForbiddenWhen,
+        Rule::ReturnAfterDeroute,
+        Rule::ForBound,
+        Rule::SelfException,
+        Rule::UnusedWaypoint,
+        Rule::DeadStage,
+    ];
+
+    /// The stable code.
+    pub fn code(self) -> &'static str {
+        match self {
+            Rule::UnreachableBlock => "fpl::W001",
+            Rule::AlwaysForbidden => "fpl::W002",
+            Rule::ForbiddenWhen => "fpl::W003",
+            Rule::ReturnAfterDeroute => "fpl::W004",
+            Rule::ForBound => "fpl::W005",
+            Rule::SelfException => "fpl::W006",
+            Rule::UnusedWaypoint => "fpl::W007",
+            Rule::DeadStage => "fpl::W008",
+        }
+    }
+
+    /// The one-line meaning (the documentation table says the same).
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Rule::UnreachableBlock => {
+                "block unreachable from the first block (and not an operator entry point)"
+            }
+            Rule::AlwaysForbidden => "block change always forbidden: the deroute, exception or next-block step can never happen",
+            Rule::ForbiddenWhen => "block change forbidden under `only_when`: the step can block while the condition holds",
+            Rule::ReturnAfterDeroute => "RETURN reachable after a DEROUTE into its block: the return re-runs the deroute (ping-pong)",
+            Rule::ForBound => "`for` bound does not fit the `int8_t` loop counter",
+            Rule::SelfException => "block exception targets its own block and can never fire",
+            Rule::UnusedWaypoint => "waypoint never used by the plan",
+            Rule::DeadStage => "stage can never run (it follows a deroute, return or home stage)",
+        }
+    }
+}
+
+impl Serialize for Rule {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.code())
+    }
+}
+
+/// A place related to a warning (the deroute that leads to a return, a forbidding declaration).
 #[derive(Debug, Clone, Serialize)]
 pub struct Note {
     pub message: String,
     pub span: Span,
+    #[serde(skip)]
+    source: Option<Arc<SourceFile>>,
 }
 
+impl Note {
+    pub(crate) fn new(message: impl Into<String>, span: Span) -> Self {
+        Note { message: message.into(), span, source: None }
+    }
+}
+
+/// One finding of a rule.
 #[derive(Debug, Clone, Serialize)]
 pub struct Warning {
-    pub code: &'static str,
+    /// Serialised as its code.
+    #[serde(rename = "code")]
+    pub rule: Rule,
     pub message: String,
     pub span: Span,
     pub notes: Vec<Note>,
+    #[serde(skip)]
+    source: Option<Arc<SourceFile>>,
+}
+
+impl Warning {
+    pub(crate) fn new(rule: Rule, message: String, span: Span) -> Self {
+        Warning { rule, message, span, notes: Vec::new(), source: None }
+    }
+
+    /// Keeps the files the spans point into, for rendering excerpts.
+    fn attach(&mut self, sources: &SourceMap) {
+        self.source = sources.get(self.span.file).cloned();
+        for n in &mut self.notes {
+            n.source = sources.get(n.span.file).cloned();
+        }
+    }
 }
 
 /// All warnings of `plan`, sorted by file position.
@@ -49,37 +141,9 @@ pub fn lint(plan: &FlightPlan) -> Vec<Warning> {
     rules::self_exceptions(plan, &mut out);
     rules::unused_waypoints(plan, &mut out);
     rules::dead_stages(plan, &mut out);
-    out.sort_by_key(|w| (w.span.file.0, w.span.start, w.code));
-    out
-}
-
-fn source_line(plan: &FlightPlan, span: Span) -> Option<&str> {
-    let f = plan.sources.get(span.file)?;
-    f.text.lines().nth(span.line.checked_sub(1)? as usize)
-}
-
-fn locate(plan: &FlightPlan, span: Span) -> String {
-    format!("{}:{}:{}", plan.sources.path(span.file), span.line, span.col)
-}
-
-/// `file:line:col: warning[CODE]: message`, the source line with a caret, and the notes.
-pub fn render(plan: &FlightPlan, warnings: &[Warning]) -> String {
-    let mut s = String::new();
-    for w in warnings {
-        s.push_str(&format!("{}: warning[{}]: {}\n", locate(plan, w.span), w.code, w.message));
-        if let Some(line) = source_line(plan, w.span) {
-            s.push_str(&format!("  {:>5} | {}\n", w.span.line, line.trim_end()));
-            let pad = (w.span.col as usize).saturating_sub(1);
-            s.push_str(&format!("        | {}^\n", " ".repeat(pad)));
-        }
-        for n in &w.notes {
-            s.push_str(&format!("  note: {} ({})\n", n.message, locate(plan, n.span)));
-        }
+    out.sort_by_key(|w| (w.span.file.0, w.span.start, w.rule));
+    for w in &mut out {
+        w.attach(&plan.sources);
     }
-    s
-}
-
-/// Warnings per code, in code order (for summaries).
-pub fn counts(warnings: &[Warning]) -> Vec<(&'static str, usize)> {
-    CODES.iter().map(|(c, _)| (*c, warnings.iter().filter(|w| w.code == *c).count())).collect()
+    out
 }

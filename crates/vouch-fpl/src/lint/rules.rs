@@ -1,10 +1,11 @@
-//! The lint rules (codes in [`super::CODES`]).
+//! The lint rules, one function per [`Rule`] (two for the forbidden-deroute pair).
 
 use std::collections::{BTreeSet, HashSet, VecDeque};
 
-use super::{Note, Warning};
-use crate::ast::{FlightPlan, ForbiddenDeroute, Span, Stage, StageKind};
+use super::{Note, Rule, Warning};
+use crate::ast::{FlightPlan, ForbiddenDeroute, Resume, Stage, StageKind};
 use crate::expr::{Expr, UnOp};
+use crate::span::Span;
 
 fn walk<'a>(stages: &'a [Stage], f: &mut impl FnMut(&'a Stage)) {
     for s in stages {
@@ -40,8 +41,8 @@ fn always_forbidden(plan: &FlightPlan, from: usize, to: usize) -> bool {
     matches!(forbidden(plan, from, to), Some(Forbid::Always(_)))
 }
 
-fn warn(code: &'static str, message: String, span: Span) -> Warning {
-    Warning { code, message, span, notes: Vec::new() }
+fn warn(rule: Rule, message: String, span: Span) -> Warning {
+    Warning::new(rule, message, span)
 }
 
 /// Block names given to `IndexOfBlock(..)` anywhere in the sources (such blocks are entered
@@ -104,7 +105,7 @@ pub fn unreachable_blocks(plan: &FlightPlan, out: &mut Vec<Warning>) {
             .any(|x| *x == block.name.value || block.name.value.ends_with(&format!(".{x}")));
         if !seen[b] && !block.implicit && !operator && !named {
             out.push(warn(
-                "FPL-W001",
+                Rule::UnreachableBlock,
                 format!("block '{}' is never entered: no next, deroute or exception step leads to it from the first block or from a block with a strip button or key", block.name.value),
                 block.span,
             ));
@@ -122,16 +123,16 @@ fn forbid_warning(
     let name = |i: usize| plan.blocks.get(i).map(|b| b.name.value.clone()).unwrap_or_default();
     let (code, how, f) = match forbidden(plan, from, to)? {
         Forbid::Always(f) => (
-            "FPL-W002",
+            Rule::AlwaysForbidden,
             "is always forbidden: this step can never leave the block and the plan stays here",
             f,
         ),
         Forbid::When(f) => {
-            ("FPL-W003", "is forbidden when `only_when` holds: this step can block", f)
+            (Rule::ForbiddenWhen, "is forbidden when `only_when` holds: this step can block", f)
         }
     };
     let mut w = warn(code, format!("{what} from '{}' to '{}' {how}", name(from), name(to)), span);
-    w.notes.push(Note { message: "forbidden by this declaration".into(), span: f.span });
+    w.notes.push(Note::new("forbidden by this declaration", f.span));
     Some(w)
 }
 
@@ -164,7 +165,7 @@ pub fn forbidden_steps(plan: &FlightPlan, out: &mut Vec<Warning>) {
     }
     for e in &plan.exceptions {
         let t = e.deroute.id.0;
-        for (code, always) in [("FPL-W002", true), ("FPL-W003", false)] {
+        for (code, always) in [(Rule::AlwaysForbidden, true), (Rule::ForbiddenWhen, false)] {
             let blocked: Vec<&str> = (0..n)
                 .filter(|&b| b != t)
                 .filter(|&b| match forbidden(plan, b, t) {
@@ -189,10 +190,6 @@ pub fn forbidden_steps(plan: &FlightPlan, out: &mut Vec<Warning>) {
             }
         }
     }
-}
-
-fn resets(reset: &Option<crate::ast::Text>) -> bool {
-    reset.as_ref().map(|t| matches!(t.value.trim(), "1" | "TRUE" | "true")).unwrap_or(false)
 }
 
 /// Live stages of a list: those not after a stage that never hands over to the next one.
@@ -250,13 +247,13 @@ pub fn return_after_deroute(plan: &FlightPlan, out: &mut Vec<Warning>) {
         }
         live_stages(&block.stages, &mut |s| {
             if let StageKind::Return(r) = &s.kind {
-                if !resets(&r.reset_stage) {
+                if r.resume() == Resume::SavedStage {
                     let from: Vec<String> = into[t]
                         .iter()
                         .map(|(b, _)| format!("'{}'", plan.blocks[*b].name.value))
                         .collect();
                     let mut w = warn(
-                        "FPL-W004",
+                        Rule::ReturnAfterDeroute,
                         format!(
                             "return in '{}' after a deroute from {} resumes at that deroute stage, which derouts here again (ping-pong); use a deroute back, or return reset_stage=\"1\"",
                             block.name.value,
@@ -265,10 +262,7 @@ pub fn return_after_deroute(plan: &FlightPlan, out: &mut Vec<Warning>) {
                         s.span,
                     );
                     for (_, span) in into[t].iter().take(3) {
-                        w.notes.push(Note {
-                            message: "the deroute that comes here".into(),
-                            span: *span,
-                        });
+                        w.notes.push(Note::new("the deroute that comes here", *span));
                     }
                     out.push(w);
                 }
@@ -293,12 +287,12 @@ pub fn for_bounds(plan: &FlightPlan, out: &mut Vec<Warning>) {
             if let StageKind::For(l) = &s.kind {
                 if let Some(to) = literal(&l.to.expr) {
                     if !fits(to) {
-                        out.push(warn("FPL-W005", format!("`for` bound to=\"{to}\" does not fit the int8_t counter (-128..127): it wraps in C"), l.to.text.span));
+                        out.push(warn(Rule::ForBound, format!("`for` bound to=\"{to}\" does not fit the int8_t counter (-128..127): it wraps in C"), l.to.text.span));
                     }
                 }
                 if let Some(from) = literal(&l.from.expr) {
                     if !fits(from - 1) || !fits(from) {
-                        out.push(warn("FPL-W005", format!("`for` start from=\"{from}\" does not fit the int8_t counter (the counter starts at from-1)"), l.from.text.span));
+                        out.push(warn(Rule::ForBound, format!("`for` start from=\"{from}\" does not fit the int8_t counter (the counter starts at from-1)"), l.from.text.span));
                     }
                 }
             }
@@ -312,7 +306,7 @@ pub fn self_exceptions(plan: &FlightPlan, out: &mut Vec<Warning>) {
         for e in &block.exceptions {
             if e.deroute.id.0 == b {
                 out.push(warn(
-                    "FPL-W006",
+                    Rule::SelfException,
                     format!(
                         "exception of block '{}' targets its own block: it can never fire",
                         block.name.value
@@ -386,7 +380,7 @@ pub fn unused_waypoints(plan: &FlightPlan, out: &mut Vec<Warning>) {
             continue;
         }
         out.push(warn(
-            "FPL-W007",
+            Rule::UnusedWaypoint,
             format!("waypoint '{name}' is never used by a stage, a sector or C code (WP_{name})"),
             w.span,
         ));
@@ -406,12 +400,11 @@ pub fn dead_stages(plan: &FlightPlan, out: &mut Vec<Warning>) {
                 if let Some(next) = stages.get(i + 1) {
                     let n = stages.len() - i - 1;
                     let mut w = warn(
-                        "FPL-W008",
+                        Rule::DeadStage,
                         format!("{n} stage(s) of block '{block}' can never run: they follow a <{}> that never goes on to the next stage", s.kind.tag()),
                         next.span,
                     );
-                    w.notes
-                        .push(Note { message: "this stage never hands over".into(), span: s.span });
+                    w.notes.push(Note::new("this stage never hands over", s.span));
                     out.push(w);
                 }
                 return;

@@ -9,7 +9,7 @@ use std::collections::VecDeque;
 
 use serde::Serialize;
 
-use super::property::{Property, StateFormula, Temporal};
+use super::property::{Property, PropertyError, Temporal};
 use super::Graph;
 
 #[derive(Debug, Clone, Serialize)]
@@ -356,15 +356,8 @@ pub fn render(o: &Outcome) -> String {
     s
 }
 
-/// Shared by the CLI: parse and check.
-pub fn check_text(g: &Graph, text: &str) -> Result<Outcome, String> {
+/// Parses a property against the graph's block names and checks it.
+pub fn check_text(g: &Graph, text: &str) -> Result<Outcome, PropertyError> {
     let p = super::property::parse(text, &g.block_names)?;
     Ok(check_property(g, text, &p))
-}
-
-impl StateFormula {
-    /// Whether the formula mentions anything (used to reject empty input early).
-    pub fn is_trivial(&self) -> bool {
-        matches!(self, StateFormula::True | StateFormula::False)
-    }
 }

@@ -2,7 +2,7 @@
 //!
 //! The abstract state is the interpreter's: (block, stage, last block, last stage), plus the
 //! `for` counters, with every condition *free* (both answers explored at every question; `for`
-//! bounds from [`crate::evidence::explore::VALUE_CHOICES`]). One transition is one `auto_nav`
+//! bounds from [`crate::semantics::explore::VALUE_CHOICES`]). One transition is one `auto_nav`
 //! call. The graph is built with the same call enumeration the validator uses, on the reference
 //! semantics itself, so the model cannot drift from the interpreter.
 //!
@@ -14,15 +14,20 @@
 
 pub mod check;
 pub mod property;
+mod report;
+
+pub use report::{run, CheckError, CheckReport, Spec};
 
 use std::collections::HashMap;
 
 use serde::Serialize;
 
-use crate::evidence::explore::{enumerate_call, state_key, StateKey, FORCED_SUFFIX, MARKER_PREFIX};
 use crate::passes::fp::Fp;
+use crate::semantics::explore::{
+    enumerate_call, state_key, CallPath, StateKey, FORCED_SUFFIX, MARKER_PREFIX,
+};
 use crate::semantics::trace::Observation;
-use crate::semantics::Interp;
+use crate::semantics::{Interp, StepError};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Edge {
@@ -62,7 +67,7 @@ fn marked(fp: &Fp, operator: bool) -> Fp {
             cond: format!("{MARKER_PREFIX}{OPERATOR}{t}"),
             target: t,
             exec: None,
-            span: crate::ast::Span::default(),
+            span: crate::span::Span::default(),
         });
         let mut ex: Vec<_> = jumps.collect();
         ex.extend(m.exceptions);
@@ -92,12 +97,12 @@ fn marker_index(text: &str) -> Option<usize> {
 
 /// Builds the reachable state graph, at most `max_states` states; `operator` adds
 /// ground-station jumps to any block at any call.
-pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String> {
+pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, StepError> {
     let m = marked(fp, operator);
     let mut interp = Interp::new(&m);
     let init = interp.state.clone();
     let mut index: HashMap<StateKey, usize> = HashMap::new();
-    index.insert(state_key(&mut interp, &init), 0);
+    index.insert(state_key(&interp, &init), 0);
     let mut states = vec![init];
     let mut graph = Graph {
         block_names: fp.blocks.iter().map(|b| b.name.clone()).collect(),
@@ -111,8 +116,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
         let from = states[next].clone();
         interp.state = from.clone();
         graph.states.push(interp.observe());
-        let tree = enumerate_call(&mut interp, &from, 100_000)
-            .map_err(|e| format!("interpreter: {e:?}"))?;
+        let tree = enumerate_call(&mut interp, &from, 100_000)?;
         let mut incomplete = tree.cut;
         if tree.cut {
             graph.cut = Some("more than 100000 paths in one call".into());
@@ -124,7 +128,7 @@ pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, String
             if op.is_some() && refused {
                 continue;
             }
-            let k = state_key(&mut interp, &p.state);
+            let k = state_key(&interp, &p.state);
             let to = match index.get(&k) {
                 Some(&i) => i,
                 None => {
@@ -169,7 +173,7 @@ trait ForcedPositions {
     fn events_markers_forced(&self) -> Vec<usize>;
 }
 
-impl ForcedPositions for crate::evidence::explore::CallPath<'_> {
+impl ForcedPositions for CallPath<'_> {
     /// Positions in `answers` of the questions the real plan does not ask (forced forbidden
     /// markers, operator jumps): the questions are the condition and non-literal value events,
     /// in order.

@@ -12,9 +12,33 @@
 //! when every run reaches F; `always eventually F` when every run visits F infinitely often;
 //! `eventually always F` when every run ends up staying in F.
 
+use miette::SourceSpan;
 use serde::Serialize;
 
 use crate::semantics::trace::Observation;
+
+/// A property text that does not parse, with the place where it went wrong.
+#[derive(Debug, Clone, thiserror::Error, miette::Diagnostic)]
+#[error("property: {message}")]
+#[diagnostic(code(fpl::E042))]
+pub struct PropertyError {
+    /// What is wrong.
+    pub message: String,
+    /// The property as given.
+    #[source_code]
+    pub text: String,
+    /// Where in the text.
+    #[label("here")]
+    pub at: SourceSpan,
+}
+
+/// The atoms that name a part of the state.
+#[derive(Clone, Copy)]
+enum Atom {
+    Block,
+    LastBlock,
+    Stage,
+}
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum StateFormula {
@@ -58,10 +82,14 @@ impl StateFormula {
     }
 }
 
+/// Nesting limit of `!` and parentheses (the parser recurses on them).
+const MAX_DEPTH: usize = 200;
+
 struct Parser<'a> {
     s: &'a str,
     pos: usize,
     blocks: &'a [String],
+    depth: usize,
 }
 
 impl<'a> Parser<'a> {
@@ -84,29 +112,41 @@ impl<'a> Parser<'a> {
         }
         false
     }
-    fn err<T>(&self, msg: &str) -> Result<T, String> {
-        Err(format!("{msg} at column {} of '{}'", self.pos + 1, self.s))
+    fn err<T>(&self, msg: impl Into<String>) -> Result<T, PropertyError> {
+        self.err_at(self.pos, msg)
     }
-    fn or(&mut self) -> Result<StateFormula, String> {
+    fn err_at<T>(&self, at: usize, msg: impl Into<String>) -> Result<T, PropertyError> {
+        let len = self.s.get(at..).and_then(|r| r.chars().next()).map_or(0, char::len_utf8);
+        Err(PropertyError { message: msg.into(), text: self.s.to_string(), at: (at, len).into() })
+    }
+    fn or(&mut self) -> Result<StateFormula, PropertyError> {
         let mut f = self.and()?;
         while self.eat("||") || self.eat("or") {
             f = StateFormula::Or(Box::new(f), Box::new(self.and()?));
         }
         Ok(f)
     }
-    fn and(&mut self) -> Result<StateFormula, String> {
+    fn and(&mut self) -> Result<StateFormula, PropertyError> {
         let mut f = self.unary()?;
         while self.eat("&&") || self.eat("and") {
             f = StateFormula::And(Box::new(f), Box::new(self.unary()?));
         }
         Ok(f)
     }
-    fn unary(&mut self) -> Result<StateFormula, String> {
+    fn unary(&mut self) -> Result<StateFormula, PropertyError> {
+        if self.depth >= MAX_DEPTH {
+            return self.err(format!("nested more than {MAX_DEPTH} levels deep"));
+        }
         if self.eat("!") || self.eat("not") {
-            return Ok(StateFormula::Not(Box::new(self.unary()?)));
+            self.depth += 1;
+            let f = self.unary()?;
+            self.depth -= 1;
+            return Ok(StateFormula::Not(Box::new(f)));
         }
         if self.eat("(") {
+            self.depth += 1;
             let f = self.or()?;
+            self.depth -= 1;
             if !self.eat(")") {
                 return self.err("expected ')'");
             }
@@ -118,40 +158,45 @@ impl<'a> Parser<'a> {
         if self.eat("false") {
             return Ok(StateFormula::False);
         }
-        for (kw, kind) in [("last_block", 1), ("block", 0), ("stage", 2)] {
+        for (kw, atom) in
+            [("last_block", Atom::LastBlock), ("block", Atom::Block), ("stage", Atom::Stage)]
+        {
             if self.eat(kw) {
-                if !self.eat("(") {
-                    return self.err("expected '('");
-                }
-                let rest = &self.s[self.pos..];
-                let Some(end) = rest.find(')') else { return self.err("expected ')'") };
-                let arg = rest[..end].trim().trim_matches(|c| c == '\'' || c == '"').to_string();
-                self.pos += end + 1;
-                return match kind {
-                    2 => arg
-                        .parse()
-                        .map(StateFormula::Stage)
-                        .map_err(|_| format!("stage({arg}): not a number")),
-                    _ => {
-                        let b = self.blocks.iter().position(|n| *n == arg).ok_or_else(|| {
-                            format!("unknown block '{arg}' (blocks: {})", self.blocks.join(", "))
-                        })?;
-                        Ok(if kind == 0 {
-                            StateFormula::Block(b)
-                        } else {
-                            StateFormula::LastBlock(b)
-                        })
-                    }
-                };
+                return self.atom(atom);
             }
         }
         self.err("expected block(NAME), last_block(NAME), stage(N), true, false, '!' or '('")
     }
+    /// The parenthesised argument of an atom, resolved.
+    fn atom(&mut self, atom: Atom) -> Result<StateFormula, PropertyError> {
+        if !self.eat("(") {
+            return self.err("expected '('");
+        }
+        let start = self.pos;
+        let rest = &self.s[self.pos..];
+        let Some(end) = rest.find(')') else { return self.err("expected ')'") };
+        let arg = rest[..end].trim().trim_matches(|c| c == '\'' || c == '"').to_string();
+        self.pos += end + 1;
+        if let Atom::Stage = atom {
+            return match arg.parse() {
+                Ok(n) => Ok(StateFormula::Stage(n)),
+                Err(_) => self.err_at(start, format!("stage({arg}): not a number")),
+            };
+        }
+        let Some(b) = self.blocks.iter().position(|n| *n == arg) else {
+            let known = self.blocks.join(", ");
+            return self.err_at(start, format!("unknown block '{arg}' (blocks: {known})"));
+        };
+        Ok(match atom {
+            Atom::LastBlock => StateFormula::LastBlock(b),
+            _ => StateFormula::Block(b),
+        })
+    }
 }
 
 /// Parses a property against the plan's block names.
-pub fn parse(text: &str, blocks: &[String]) -> Result<Property, String> {
-    let mut p = Parser { s: text, pos: 0, blocks };
+pub fn parse(text: &str, blocks: &[String]) -> Result<Property, PropertyError> {
+    let mut p = Parser { s: text, pos: 0, blocks, depth: 0 };
     let temporal = if p.eat("always") {
         if p.eat("eventually") {
             Temporal::AlwaysEventually
@@ -212,5 +257,10 @@ mod tests {
         assert!(parse("always stage(x)", &blocks()).is_err());
         assert!(parse("always block(Land) extra", &blocks()).is_err());
         assert!(parse("alwaysblock(Land)", &blocks()).is_err());
+        let deep = format!("always {}true", "!".repeat(100_000));
+        let e = parse(&deep, &blocks()).expect_err("too deep");
+        assert!(e.message.contains("nested"), "{}", e.message);
+        let e = parse("always block(Nowhere)", &blocks()).expect_err("unknown");
+        assert_eq!(e.at.offset(), 13, "points at the argument");
     }
 }

@@ -44,7 +44,7 @@ pub struct ExtBlock<S, B> {
     pub stages: Vec<ExtStage<S, B>>,
     /// The default stage (`NextBlock()`), numbered after every other stage.
     pub default_stage: S,
-    pub span: crate::ast::Span,
+    pub span: crate::span::Span,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -96,7 +96,7 @@ pub enum ExtKind<B> {
         target: B,
     },
     Return {
-        reset: String,
+        reset: Reset,
     },
     /// First step of a two-step navigation stage (`NAV_INIT`).
     NavInit {
@@ -232,7 +232,7 @@ fn flatten(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ast::Span;
+    use crate::span::Span;
 
     fn call(f: &str) -> FpStage {
         FpStage::Call {
@@ -323,7 +323,7 @@ mod tests {
     #[test]
     fn two_step_navigation_stages_use_two_numbers() {
         let nav = NavStage {
-            kind: "eight",
+            kind: NavKind::Eight,
             init: Some(vec![Code::stmt("nav_eight_init()")]),
             pre_call: None,
             before: vec![],

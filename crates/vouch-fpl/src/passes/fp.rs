@@ -8,7 +8,8 @@
 
 use serde::Serialize;
 
-use crate::ast::Span;
+use crate::ast::Resume;
+use crate::span::Span;
 
 /// Index of a block (0-based, upstream numbering; the implicit `HOME` block is last).
 pub type BlockIx = usize;
@@ -105,12 +106,58 @@ pub enum FpStage {
         target: BlockIx,
         span: Span,
     },
-    /// `reset` is the raw `reset_stage` text; the runtime restarts at stage 0 iff it equals 1.
+    /// `Return(x)`: back to the last block.
     Return {
-        reset: String,
+        reset: Reset,
         span: Span,
     },
     Nav(Box<NavStage>),
+}
+
+/// The argument of `Return(x)`: the C text upstream prints, and its effect.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Reset {
+    /// The `reset_stage` text as written (`0` when absent), printed verbatim.
+    pub text: String,
+    /// Where the returned-to block resumes.
+    pub resume: Resume,
+}
+
+/// The kind of a navigation stage (its DTD tag is [`NavKind::tag`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum NavKind {
+    Go,
+    Stay,
+    Circle,
+    Heading,
+    Attitude,
+    Guided,
+    Follow,
+    Xyz,
+    Home,
+    Eight,
+    Oval,
+    SurveyRectangle,
+}
+
+impl NavKind {
+    /// The stage's tag in the flight-plan XML.
+    pub fn tag(self) -> &'static str {
+        match self {
+            NavKind::Go => "go",
+            NavKind::Stay => "stay",
+            NavKind::Circle => "circle",
+            NavKind::Heading => "heading",
+            NavKind::Attitude => "attitude",
+            NavKind::Guided => "guided",
+            NavKind::Follow => "follow",
+            NavKind::Xyz => "xyz",
+            NavKind::Home => "home",
+            NavKind::Eight => "eight",
+            NavKind::Oval => "oval",
+            NavKind::SurveyRectangle => "survey_rectangle",
+        }
+    }
 }
 
 /// A navigation stage. Generic shape of upstream's code for `go`, `stay`, `circle`, ...:
@@ -125,8 +172,8 @@ pub enum FpStage {
 /// ```
 #[derive(Debug, Clone, Serialize)]
 pub struct NavStage {
-    /// Stage tag (`go`, `circle`, ...), for tables and messages.
-    pub kind: &'static str,
+    /// Which stage it is.
+    pub kind: NavKind,
     /// Lines of the separate init stage (`nav_eight_init()`, survey init), if any.
     pub init: Option<Vec<Code>>,
     pub pre_call: Option<Code>,

@@ -4,10 +4,11 @@
 //! (missing altitude for `alt` vmode, glide without route, ...).
 
 use crate::ast::{
-    self, BlockRef, ExprAttr, FlightPlan, HMode, NavCommon, Pitch, Span, StageKind, Text, VMode,
+    self, BlockRef, ExprAttr, FlightPlan, HMode, NavCommon, Pitch, StageKind, Text, VMode,
     Vertical, WpRef,
 };
 use crate::expr::print_upstream;
+use crate::span::Span;
 
 use super::fp::*;
 use super::CompileError;
@@ -131,11 +132,7 @@ fn lower_stage(s: &ast::Stage) -> Result<FpStage, CompileError> {
         },
         StageKind::Deroute(d) => FpStage::Deroute { target: blk(&d.block), span },
         StageKind::Return(r) => FpStage::Return {
-            reset: r
-                .reset_stage
-                .as_ref()
-                .map(|t| t.value.clone())
-                .unwrap_or_else(|| "0".to_string()),
+            reset: Reset { text: r.reset_text().to_string(), resume: r.resume() },
             span,
         },
         kind => FpStage::Nav(Box::new(lower_nav(kind, span)?)),
@@ -236,7 +233,7 @@ fn until(c: &NavCommon) -> Option<Cond> {
     c.until.as_ref().map(p)
 }
 
-fn nav(kind: &'static str, c: &NavCommon, span: Span) -> NavStage {
+fn nav(kind: NavKind, c: &NavCommon, span: Span) -> NavStage {
     NavStage {
         kind,
         init: None,
@@ -251,143 +248,17 @@ fn nav(kind: &'static str, c: &NavCommon, span: Span) -> NavStage {
 }
 
 fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
-    Ok(match kind {
-        StageKind::Go(g) => {
-            let pf = prefix(&g.common);
-            let t = &pf.t;
-            let mut n = nav("go", &g.common, span);
-            let w = match &g.wp {
-                Some(w) => wp(w),
-                None => {
-                    let (x, y) = match (&g.x, &g.y) {
-                        (Some(x), Some(y)) => (p(x), p(y)),
-                        _ => return Err(CompileError::new("go needs a wp or both x and y", span)),
-                    };
-                    n.before.push(Code::stmt(format!("waypoints[0].x = {x}")));
-                    n.before.push(Code::stmt(format!("waypoints[0].y = {y}")));
-                    "0".to_string()
-                }
-            };
-            let at = match (&g.approaching_time, &g.exceeding_time) {
-                (Some(a), None) => a.value.clone(),
-                (None, Some(e)) => negate(&e.value),
-                (None, None) => "CARROT".to_string(),
-                (Some(_), Some(_)) => {
-                    return Err(CompileError::new(
-                        "approaching_time and exceeding_time are not compatible",
-                        span,
-                    ))
-                }
-            };
-            let from = g.from.as_ref().map(wp);
-            let cond = match &from {
-                Some(f) => format!("{t}ApproachingFrom({w},{f},{at})"),
-                None => format!("{t}Approaching({w},{at})"),
-            };
-            let route = matches!(g.hmode.as_ref().map(|h| h.value), Some(HMode::Route));
-            let vm = g.vertical.vmode.as_ref().map(|m| m.value);
-            if vm == Some(VMode::Glide) && !route {
-                return Err(CompileError::new("vmode \"glide\" requires hmode \"route\"", span));
-            }
-            n.lines.push(max_speed(t, &g.common));
-            n.lines.push(hmode_line(
-                t,
-                g.hmode.as_ref().map(|h| h.value),
-                from.as_deref().or(Some("last_wp")),
-                &w,
-                &pf.np,
-            ));
-            n.lines.extend(vmode_lines(t, &g.vertical, Some(&w), from.as_deref(), false, span)?);
-            n.approach = Some((cond, g.wp.as_ref().map(|w| w.id.upstream_index()).unwrap_or(0)));
-            n
-        }
-        StageKind::Stay(s) => {
-            let pf = prefix(&s.common);
-            let mut n = nav("stay", &s.common, span);
-            let w = wp(&s.wp);
-            n.lines.push(max_speed(&pf.t, &s.common));
-            // Quirk 18: a route stay has no `from`; upstream prints an empty first argument.
-            n.lines.push(hmode_line(
-                &pf.t,
-                s.hmode.as_ref().map(|h| h.value),
-                Some(""),
-                &w,
-                &pf.np,
-            ));
-            n.lines.extend(vmode_lines(&pf.t, &s.vertical, Some(&w), None, false, span)?);
-            n
-        }
-        StageKind::Circle(c) => {
-            let pf = prefix(&c.common);
-            let mut n = nav("circle", &c.common, span);
-            let w = wp(&c.wp);
-            n.lines.extend(vmode_lines(&pf.t, &c.vertical, Some(&w), None, false, span)?);
-            n.lines.push(max_speed(&pf.t, &c.common));
-            n.lines.push(Code::stmt(format!(
-                "{}CircleWaypoint({w}, {}{})",
-                pf.t,
-                p(&c.radius),
-                pf.np
-            )));
-            n
-        }
-        StageKind::Heading(h) => {
-            let pf = prefix(&h.common);
-            let mut n = nav("heading", &h.common, span);
-            n.lines.push(max_speed(&pf.t, &h.common));
-            n.lines.push(Code::stmt(format!(
-                "{}Heading(RadOfDeg({}){})",
-                pf.t,
-                p(&h.course),
-                pf.np
-            )));
-            n.lines.extend(vmode_lines(&pf.t, &h.vertical, None, None, false, span)?);
-            n
-        }
-        StageKind::Attitude(a) => {
-            let pf = prefix(&a.common);
-            let mut n = nav("attitude", &a.common, span);
-            n.lines.push(Code::stmt(format!(
-                "{}Attitude(RadOfDeg({}){})",
-                pf.t,
-                p(&a.roll),
-                pf.np
-            )));
-            n.lines.extend(vmode_lines(&pf.t, &a.vertical, None, None, false, span)?);
-            n
-        }
-        StageKind::Guided(g) => {
-            let pf = prefix(&g.common);
-            let mut n = nav("guided", &g.common, span);
-            n.lines.push(max_speed(&pf.t, &g.common));
-            let flags = g.flags.as_ref().map(|f| f.value.as_str()).unwrap_or("0");
-            n.lines.push(Code::stmt(format!(
-                "{}Guided({flags}, {}{})",
-                pf.t, g.commands.value, pf.np
-            )));
-            n
-        }
-        StageKind::Follow(f) => {
-            let pf = prefix(&f.common);
-            let mut n = nav("follow", &f.common, span);
-            n.until = None;
-            n.lines.push(Code::stmt(format!(
-                "{}Follow({}, {}, {}{})",
-                pf.t, f.ac_id.value, f.distance.value, f.height.value, pf.np
-            )));
-            n
-        }
-        StageKind::Xyz(x) => {
-            let pf = prefix(&x.common);
-            let mut n = nav("xyz", &x.common, span);
-            n.until = None;
-            let r = x.radius.as_ref().map(p).unwrap_or_else(|| "100".to_string());
-            n.lines.push(Code { text: format!("Goto3D({r})"), semi: false });
-            n.lines.extend(vmode_lines(&pf.t, &x.vertical, None, None, true, span)?);
-            n
-        }
-        StageKind::Home => NavStage {
-            kind: "home",
+    match kind {
+        StageKind::Go(g) => go(g, span),
+        StageKind::Stay(s) => stay(s, span),
+        StageKind::Circle(c) => circle(c, span),
+        StageKind::Heading(h) => heading(h, span),
+        StageKind::Attitude(a) => attitude(a, span),
+        StageKind::Guided(g) => guided(g, span),
+        StageKind::Follow(f) => follow(f, span),
+        StageKind::Xyz(x) => xyz(x, span),
+        StageKind::Home => Ok(NavStage {
+            kind: NavKind::Home,
             init: None,
             pre_call: None,
             before: Vec::new(),
@@ -396,61 +267,190 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             until: None,
             post_call: None,
             span,
-        },
-        StageKind::Eight(e) => {
-            let pf = prefix(&e.common);
-            let mut n = nav("eight", &e.common, span);
-            let c = wp(&e.center);
-            n.init = Some(vec![Code::stmt("nav_eight_init()")]);
-            n.lines.push(max_speed("Nav", &e.common));
-            n.lines.extend(vmode_lines(&pf.t, &e.vertical, Some(&c), None, false, span)?);
-            n.lines.push(Code::stmt(format!(
-                "Eight({c}, {}, {})",
-                wp(&e.turn_around),
-                p(&e.radius)
-            )));
-            n
-        }
-        StageKind::Oval(o) => {
-            let pf = prefix(&o.common);
-            let mut n = nav("oval", &o.common, span);
-            let p1 = wp(&o.p1);
-            n.init = Some(vec![Code::stmt("nav_oval_init()")]);
-            n.lines.push(max_speed("Nav", &o.common));
-            n.lines.extend(vmode_lines(&pf.t, &o.vertical, Some(&p1), None, false, span)?);
-            n.lines.push(Code::stmt(format!("Oval({p1}, {}, {})", wp(&o.p2), p(&o.radius))));
-            n
-        }
-        StageKind::SurveyRectangle(s) => {
-            let pf = prefix(&s.common);
-            let mut n = nav("survey_rectangle", &s.common, span);
-            let (w1, w2) = (wp(&s.wp1), wp(&s.wp2));
-            let o = match s.orientation.as_ref().map(|o| o.value) {
-                Some(ast::Orientation::WE) => "WE",
-                _ => "NS",
-            };
-            n.init = Some(vec![
-                max_speed(&pf.t, &s.common),
-                Code::stmt(format!(
-                    "{}SurveyRectangleInit({w1}, {w2}, {}, {o}{})",
-                    pf.t,
-                    p(&s.grid),
-                    pf.np
-                )),
-            ]);
-            n.lines.push(Code::stmt(format!("{}SurveyRectangle({w1}, {w2})", pf.t)));
-            n
-        }
+        }),
+        StageKind::Eight(e) => eight(e, span),
+        StageKind::Oval(o) => oval(o, span),
+        StageKind::SurveyRectangle(s) => survey_rectangle(s, span),
         StageKind::While(_)
         | StageKind::For(_)
         | StageKind::Set(_)
         | StageKind::Call(_)
         | StageKind::CallOnce(_)
         | StageKind::Deroute(_)
-        | StageKind::Return(_) => {
-            return Err(CompileError::new("internal: not a navigation stage", span));
+        | StageKind::Return(_) => Err(CompileError::new("internal: not a navigation stage", span)),
+    }
+}
+
+/// `<go>`.
+fn go(g: &ast::Go, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&g.common);
+    let t = &pf.t;
+    let mut n = nav(NavKind::Go, &g.common, span);
+    let w = match &g.wp {
+        Some(w) => wp(w),
+        None => {
+            let (x, y) = match (&g.x, &g.y) {
+                (Some(x), Some(y)) => (p(x), p(y)),
+                _ => return Err(CompileError::new("go needs a wp or both x and y", span)),
+            };
+            n.before.push(Code::stmt(format!("waypoints[0].x = {x}")));
+            n.before.push(Code::stmt(format!("waypoints[0].y = {y}")));
+            "0".to_string()
         }
-    })
+    };
+    let at = match (&g.approaching_time, &g.exceeding_time) {
+        (Some(a), None) => a.value.clone(),
+        (None, Some(e)) => negate(&e.value),
+        (None, None) => "CARROT".to_string(),
+        (Some(_), Some(_)) => {
+            return Err(CompileError::new(
+                "approaching_time and exceeding_time are not compatible",
+                span,
+            ))
+        }
+    };
+    let from = g.from.as_ref().map(wp);
+    let cond = match &from {
+        Some(f) => format!("{t}ApproachingFrom({w},{f},{at})"),
+        None => format!("{t}Approaching({w},{at})"),
+    };
+    let route = matches!(g.hmode.as_ref().map(|h| h.value), Some(HMode::Route));
+    let vm = g.vertical.vmode.as_ref().map(|m| m.value);
+    if vm == Some(VMode::Glide) && !route {
+        return Err(CompileError::new("vmode \"glide\" requires hmode \"route\"", span));
+    }
+    n.lines.push(max_speed(t, &g.common));
+    n.lines.push(hmode_line(
+        t,
+        g.hmode.as_ref().map(|h| h.value),
+        from.as_deref().or(Some("last_wp")),
+        &w,
+        &pf.np,
+    ));
+    n.lines.extend(vmode_lines(t, &g.vertical, Some(&w), from.as_deref(), false, span)?);
+    n.approach = Some((cond, g.wp.as_ref().map(|w| w.id.upstream_index()).unwrap_or(0)));
+    Ok(n)
+}
+
+/// `<stay>`.
+fn stay(s: &ast::Stay, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&s.common);
+    let mut n = nav(NavKind::Stay, &s.common, span);
+    let w = wp(&s.wp);
+    n.lines.push(max_speed(&pf.t, &s.common));
+    // Quirk 18: a route stay has no `from`; upstream prints an empty first argument.
+    n.lines.push(hmode_line(&pf.t, s.hmode.as_ref().map(|h| h.value), Some(""), &w, &pf.np));
+    n.lines.extend(vmode_lines(&pf.t, &s.vertical, Some(&w), None, false, span)?);
+    Ok(n)
+}
+
+/// `<circle>`.
+fn circle(c: &ast::Circle, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&c.common);
+    let mut n = nav(NavKind::Circle, &c.common, span);
+    let w = wp(&c.wp);
+    n.lines.extend(vmode_lines(&pf.t, &c.vertical, Some(&w), None, false, span)?);
+    n.lines.push(max_speed(&pf.t, &c.common));
+    n.lines.push(Code::stmt(format!("{}CircleWaypoint({w}, {}{})", pf.t, p(&c.radius), pf.np)));
+    Ok(n)
+}
+
+/// `<heading>`.
+fn heading(h: &ast::Heading, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&h.common);
+    let mut n = nav(NavKind::Heading, &h.common, span);
+    n.lines.push(max_speed(&pf.t, &h.common));
+    n.lines.push(Code::stmt(format!("{}Heading(RadOfDeg({}){})", pf.t, p(&h.course), pf.np)));
+    n.lines.extend(vmode_lines(&pf.t, &h.vertical, None, None, false, span)?);
+    Ok(n)
+}
+
+/// `<attitude>`.
+fn attitude(a: &ast::Attitude, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&a.common);
+    let mut n = nav(NavKind::Attitude, &a.common, span);
+    n.lines.push(Code::stmt(format!("{}Attitude(RadOfDeg({}){})", pf.t, p(&a.roll), pf.np)));
+    n.lines.extend(vmode_lines(&pf.t, &a.vertical, None, None, false, span)?);
+    Ok(n)
+}
+
+/// `<guided>`.
+fn guided(g: &ast::Guided, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&g.common);
+    let mut n = nav(NavKind::Guided, &g.common, span);
+    n.lines.push(max_speed(&pf.t, &g.common));
+    let flags = g.flags.as_ref().map(|f| f.value.as_str()).unwrap_or("0");
+    n.lines.push(Code::stmt(format!("{}Guided({flags}, {}{})", pf.t, g.commands.value, pf.np)));
+    Ok(n)
+}
+
+/// `<follow>`.
+fn follow(f: &ast::Follow, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&f.common);
+    let mut n = nav(NavKind::Follow, &f.common, span);
+    n.until = None;
+    n.lines.push(Code::stmt(format!(
+        "{}Follow({}, {}, {}{})",
+        pf.t, f.ac_id.value, f.distance.value, f.height.value, pf.np
+    )));
+    Ok(n)
+}
+
+/// `<xyz>`.
+fn xyz(x: &ast::Xyz, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&x.common);
+    let mut n = nav(NavKind::Xyz, &x.common, span);
+    n.until = None;
+    let r = x.radius.as_ref().map(p).unwrap_or_else(|| "100".to_string());
+    n.lines.push(Code { text: format!("Goto3D({r})"), semi: false });
+    n.lines.extend(vmode_lines(&pf.t, &x.vertical, None, None, true, span)?);
+    Ok(n)
+}
+
+/// `<eight>`.
+fn eight(e: &ast::Eight, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&e.common);
+    let mut n = nav(NavKind::Eight, &e.common, span);
+    let c = wp(&e.center);
+    n.init = Some(vec![Code::stmt("nav_eight_init()")]);
+    n.lines.push(max_speed("Nav", &e.common));
+    n.lines.extend(vmode_lines(&pf.t, &e.vertical, Some(&c), None, false, span)?);
+    n.lines.push(Code::stmt(format!("Eight({c}, {}, {})", wp(&e.turn_around), p(&e.radius))));
+    Ok(n)
+}
+
+/// `<oval>`.
+fn oval(o: &ast::Oval, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&o.common);
+    let mut n = nav(NavKind::Oval, &o.common, span);
+    let p1 = wp(&o.p1);
+    n.init = Some(vec![Code::stmt("nav_oval_init()")]);
+    n.lines.push(max_speed("Nav", &o.common));
+    n.lines.extend(vmode_lines(&pf.t, &o.vertical, Some(&p1), None, false, span)?);
+    n.lines.push(Code::stmt(format!("Oval({p1}, {}, {})", wp(&o.p2), p(&o.radius))));
+    Ok(n)
+}
+
+/// `<survey_rectangle>`.
+fn survey_rectangle(s: &ast::SurveyRectangle, span: Span) -> Result<NavStage, CompileError> {
+    let pf = prefix(&s.common);
+    let mut n = nav(NavKind::SurveyRectangle, &s.common, span);
+    let (w1, w2) = (wp(&s.wp1), wp(&s.wp2));
+    let o = match s.orientation.as_ref().map(|o| o.value) {
+        Some(ast::Orientation::WE) => "WE",
+        _ => "NS",
+    };
+    n.init = Some(vec![
+        max_speed(&pf.t, &s.common),
+        Code::stmt(format!(
+            "{}SurveyRectangleInit({w1}, {w2}, {}, {o}{})",
+            pf.t,
+            p(&s.grid),
+            pf.np
+        )),
+    ]);
+    n.lines.push(Code::stmt(format!("{}SurveyRectangle({w1}, {w2})", pf.t)));
+    Ok(n)
 }
 
 /// `exceeding_time` becomes a negative approach time. Upstream prepends `-` to the raw text, so

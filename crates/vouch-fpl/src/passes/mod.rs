@@ -19,8 +19,9 @@ pub mod size;
 
 use serde::Serialize;
 
-use crate::ast::{FlightPlan, Span};
-use crate::front::{Diagnostic, Diagnostics, ErrorKind};
+use crate::ast::FlightPlan;
+use crate::diag::{Diagnostic, Diagnostics, ErrorKind};
+use crate::span::{SourceMap, Span};
 
 /// A compile-time error of the back end, located in the plan when possible.
 #[derive(Debug, Clone, Serialize)]
@@ -49,15 +50,16 @@ impl CompileError {
     pub fn size(message: impl Into<String>, span: Option<Span>) -> Self {
         CompileError { message: message.into(), span, kind: CompileErrorKind::Size }
     }
-    /// As front-end diagnostics, so the CLI renders them with a source snippet.
-    pub fn to_diagnostics(&self, plan: &FlightPlan) -> Diagnostics {
+    /// As located diagnostics over the plan's sources (for rendering with a source excerpt).
+    pub fn to_diagnostics(&self, sources: &SourceMap) -> Diagnostics {
         let kind = match self.kind {
-            CompileErrorKind::Generation => ErrorKind::Conflict,
-            CompileErrorKind::Size => ErrorKind::NumberOutOfRange,
+            CompileErrorKind::Generation => ErrorKind::Generation,
+            CompileErrorKind::Size => ErrorKind::TooLarge,
         };
-        let mut d = Diagnostic::error(kind, self.message.clone(), self.span);
-        d.locate(&plan.sources);
-        Diagnostics { items: vec![d], sources: plan.sources.clone() }
+        Diagnostics::new(
+            vec![Diagnostic::error(kind, self.message.clone(), self.span)],
+            sources.clone(),
+        )
     }
 }
 

@@ -72,6 +72,25 @@ fn block_no(i: usize, n_blocks: usize) -> Result<BlockNo, CompileError> {
         .map_err(|_| CompileError::size(format!("block number {i} does not fit in uint8_t"), None))
 }
 
+/// A stage kind with its block references checked and typed.
+fn checked_kind(kind: ExtKind<usize>, n: usize) -> Result<ExtKind<BlockNo>, CompileError> {
+    Ok(match kind {
+        ExtKind::Deroute { target } => ExtKind::Deroute { target: block_no(target, n)? },
+        ExtKind::WhileTest { cond, label, end_label } => {
+            ExtKind::WhileTest { cond, label, end_label }
+        }
+        ExtKind::EndWhile { label, end_label } => ExtKind::EndWhile { label, end_label },
+        ExtKind::ForInit { var, from, to } => ExtKind::ForInit { var, from, to },
+        ExtKind::ForTest { var, label, end_label } => ExtKind::ForTest { var, label, end_label },
+        ExtKind::EndFor { label, end_label } => ExtKind::EndFor { label, end_label },
+        ExtKind::Set { code } => ExtKind::Set { code },
+        ExtKind::Call { fun, loop_, brk, until } => ExtKind::Call { fun, loop_, brk, until },
+        ExtKind::Return { reset } => ExtKind::Return { reset },
+        ExtKind::NavInit { lines } => ExtKind::NavInit { lines },
+        ExtKind::Nav(nav) => ExtKind::Nav(nav),
+    })
+}
+
 pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
     let n = fpe.blocks.len();
     if n == 0 {
@@ -128,25 +147,7 @@ pub fn verify(fpe: Fpe) -> Result<Fps, CompileError> {
                     Some(b.span),
                 ));
             }
-            let kind = match s.kind {
-                ExtKind::Deroute { target } => ExtKind::Deroute { target: block_no(target, n)? },
-                ExtKind::WhileTest { cond, label, end_label } => {
-                    ExtKind::WhileTest { cond, label, end_label }
-                }
-                ExtKind::EndWhile { label, end_label } => ExtKind::EndWhile { label, end_label },
-                ExtKind::ForInit { var, from, to } => ExtKind::ForInit { var, from, to },
-                ExtKind::ForTest { var, label, end_label } => {
-                    ExtKind::ForTest { var, label, end_label }
-                }
-                ExtKind::EndFor { label, end_label } => ExtKind::EndFor { label, end_label },
-                ExtKind::Set { code } => ExtKind::Set { code },
-                ExtKind::Call { fun, loop_, brk, until } => {
-                    ExtKind::Call { fun, loop_, brk, until }
-                }
-                ExtKind::Return { reset } => ExtKind::Return { reset },
-                ExtKind::NavInit { lines } => ExtKind::NavInit { lines },
-                ExtKind::Nav(nav) => ExtKind::Nav(nav),
-            };
+            let kind = checked_kind(s.kind, n)?;
             // k < count <= 256, so the conversion cannot fail; keep it checked anyway.
             let no = u8::try_from(k)
                 .map(StageNo)

@@ -19,12 +19,15 @@
 //! twice per call, and the loop is bounded by `2 * stages + 2` iterations. The bound is also
 //! enforced ([`StepError::Diverged`]), so `step` terminates even if that argument were wrong.
 
+pub mod explore;
 pub mod oracle;
+pub mod sim;
 pub mod trace;
 
 use std::collections::HashMap;
 
-use crate::passes::fp::{BlockIx, Code, Fp, FpStage, NavStage};
+use crate::ast::Resume;
+use crate::passes::fp::{BlockIx, Code, Fp, FpStage, NavStage, Reset};
 use oracle::Oracle;
 use trace::{Event, Observation, Run, StepRecord};
 
@@ -41,20 +44,20 @@ pub enum Item<'p> {
     NavMain(&'p FpStage),
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Why the interpreter stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error, miette::Diagnostic)]
 pub enum StepError {
-    /// The in-call loop exceeded its bound (a bug: see the module documentation).
-    Diverged { block: usize },
-}
-
-/// See [`Interp::key`].
-#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct StateKey {
-    pub block: BlockIx,
-    pub remaining: Vec<usize>,
-    pub last_block: BlockIx,
-    pub last_remaining: Vec<usize>,
-    pub counters: Vec<((BlockIx, usize), (i8, i8))>,
+    /// The in-call loop exceeded its bound (a defect of the interpreter: see the module
+    /// documentation); the plan itself is not at fault.
+    #[error("the reference interpreter exceeded its per-call bound in block {block}")]
+    #[diagnostic(
+        code(fpl::E040),
+        help("one call visits each stage at most twice; exceeding 2 × stages + 2 iterations is a defect of the interpreter")
+    )]
+    Diverged {
+        /// The block the call ran in.
+        block: usize,
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -177,26 +180,13 @@ impl<'p> Interp<'p> {
         }
     }
 
-    /// A hashable summary of the whole state (for model checkers merging states): the block,
-    /// the stage number of every item of the remaining stack (bottom first), the same for the
-    /// last position, and the `for` counters, sorted.
-    pub fn key(&self) -> StateKey {
-        let s = &self.state;
-        let mut counters: Vec<((BlockIx, usize), (i8, i8))> =
-            s.counters.iter().map(|(k, v)| (*k, *v)).collect();
-        counters.sort_unstable();
-        StateKey {
-            block: s.block,
-            remaining: s.remaining.iter().map(|i| self.item_number(i)).collect(),
-            last_block: s.last_block,
-            last_remaining: s.last_remaining.iter().map(|i| self.item_number(i)).collect(),
-            counters,
-        }
-    }
-
     /// The C-visible state: `nav_block`, `nav_stage`, `last_block`, `last_stage`.
     pub fn observe(&self) -> Observation {
-        let s = &self.state;
+        self.observe_state(&self.state)
+    }
+
+    /// The C-visible part of any state of this plan.
+    pub fn observe_state(&self, s: &State<'p>) -> Observation {
         Observation {
             block: s.block,
             stage: self.stage_number(s.block, &s.remaining),
@@ -264,19 +254,14 @@ impl<'p> Interp<'p> {
     }
 
     /// `Return(x)`: back to the last position (stage 0 when `x` is 1); last is not updated.
-    fn do_return(&mut self, ev: &mut Vec<Event>, reset: &str) {
+    fn do_return(&mut self, ev: &mut Vec<Event>, reset: &Reset) {
         if let Some(c) = self.fp.blocks.get(self.state.block).and_then(|b| b.on_exit.as_ref()) {
             Self::code(ev, c);
         }
-        let reset = match reset.trim() {
-            "TRUE" | "true" => true,
-            t => oracle::literal_value(t) == Some(1),
-        };
         self.state.block = self.state.last_block;
-        self.state.remaining = if reset {
-            Self::full_of(self.fp, self.state.last_block)
-        } else {
-            self.state.last_remaining.clone()
+        self.state.remaining = match reset.resume {
+            Resume::FirstStage => Self::full_of(self.fp, self.state.last_block),
+            Resume::SavedStage => self.state.last_remaining.clone(),
         };
         if let Some(c) = self.fp.blocks.get(self.state.block).and_then(|b| b.on_enter.as_ref()) {
             Self::code(ev, c);

@@ -1,20 +1,16 @@
 //! Oracles answer what the semantics cannot compute: the value of a C condition (the paper's
-//! `evalc`) and of an integer expression (a `for` bound). Three kinds: a scripted sequence of
-//! numbers (shared with the C driver), a seeded random one, and a callback.
+//! `evalc`) and of an integer expression (a `for` bound): a scripted sequence of numbers (shared
+//! with the C driver) or a seeded random one.
 //!
 //! Number convention (same as `tests/stub/fp_stub.c`): a condition consumes one number and is
 //! true iff it is odd; a value that is not a plain decimal literal consumes one number `n` and
 //! is `n / 2` (truncated). An exhausted sequence answers 0.
 
-/// What is being asked.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Query<'a> {
-    Cond(&'a str),
-    Value(&'a str),
-}
-
+/// Answers the questions of one run.
 pub trait Oracle {
+    /// The value of the C condition `text`.
     fn cond(&mut self, text: &str) -> bool;
+    /// The value of the integer expression `text`.
     fn value(&mut self, text: &str) -> i64;
 }
 
@@ -25,6 +21,21 @@ pub fn literal_value(text: &str) -> Option<i64> {
         return None;
     }
     text.parse::<i64>().ok()
+}
+
+/// An answer file with something that is not an integer.
+#[derive(Debug, Clone, thiserror::Error, miette::Diagnostic)]
+#[error("not an integer: '{word}'")]
+#[diagnostic(code(fpl::E041), help("answers are whitespace-separated integers: a condition is true when its number is odd, a value is the number / 2"))]
+pub struct AnswerError {
+    /// The offending word.
+    pub word: String,
+    /// The whole answer text.
+    #[source_code]
+    pub text: String,
+    /// Where the word is.
+    #[label("here")]
+    pub at: miette::SourceSpan,
 }
 
 /// Answers from a fixed sequence of numbers.
@@ -39,11 +50,26 @@ impl Scripted {
         Scripted { numbers, next: 0 }
     }
     /// Parses whitespace-separated integers (the C driver's answer-file format).
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let numbers = text
-            .split_whitespace()
-            .map(|w| w.parse::<i64>().map_err(|_| format!("not an integer: '{w}'")))
-            .collect::<Result<Vec<_>, _>>()?;
+    pub fn parse(text: &str) -> Result<Self, AnswerError> {
+        let mut numbers = Vec::new();
+        let mut rest = text;
+        while let Some(start) = rest.find(|c: char| !c.is_whitespace()) {
+            let word = &rest[start..];
+            let len = word.find(char::is_whitespace).unwrap_or(word.len());
+            let word = &word[..len];
+            let offset = text.len() - rest.len() + start;
+            match word.parse::<i64>() {
+                Ok(n) => numbers.push(n),
+                Err(_) => {
+                    return Err(AnswerError {
+                        word: word.to_string(),
+                        text: text.to_string(),
+                        at: (offset, len).into(),
+                    })
+                }
+            }
+            rest = &rest[start + len..];
+        }
         Ok(Scripted::new(numbers))
     }
     fn next_number(&mut self) -> i64 {
@@ -122,17 +148,5 @@ impl Oracle for Seeded {
     }
     fn value(&mut self, text: &str) -> i64 {
         literal_value(text).unwrap_or_else(|| self.next_number() / 2)
-    }
-}
-
-/// Answers through a closure (for model checkers and exhaustive exploration).
-pub struct Callback<F: FnMut(Query<'_>) -> i64>(pub F);
-
-impl<F: FnMut(Query<'_>) -> i64> Oracle for Callback<F> {
-    fn cond(&mut self, text: &str) -> bool {
-        (self.0)(Query::Cond(text)) != 0
-    }
-    fn value(&mut self, text: &str) -> i64 {
-        literal_value(text).unwrap_or_else(|| (self.0)(Query::Value(text)))
     }
 }

@@ -1,18 +1,13 @@
-//! Shared helpers of the compiler tests: locating `../shared/fpl/corpus` (skipping cleanly
-//! when absent) and listing the plans upstream compiles.
+//! Shared helpers of the compiler tests: the upstream corpus (`../shared/fpl/corpus`, through
+//! vouch-testkit: skipped when absent, a failure under `VOUCH_REQUIRE_SHARED=1`), the plans
+//! upstream compiles, and the stub runtime.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 
-/// `../shared/fpl/corpus`, or `None` (with a message) when the reference data is absent.
+/// `../shared/fpl/corpus`, or `None` when the reference data is absent (see vouch-testkit).
 pub fn corpus_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fpl/corpus");
-    if dir.join("INDEX.tsv").is_file() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: {} not found", dir.display());
-        None
-    }
+    vouch_testkit::shared("fpl/corpus", "INDEX.tsv")
 }
 
 /// The 104 plans whose `upstream_generator_ok` column is `yes`.
@@ -33,14 +28,7 @@ pub fn stub_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/stub")
 }
 
-/// The C compiler (`$CC` or `cc`), or `None` with a message when none can be run.
+/// The C compiler (`$CC` or `cc`), or `None` when none can be run (see vouch-testkit).
 pub fn c_compiler() -> Option<String> {
-    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
-    match std::process::Command::new(&cc).arg("--version").output() {
-        Ok(o) if o.status.success() => Some(cc),
-        _ => {
-            eprintln!("skipping: no C compiler ({cc}) can be run");
-            None
-        }
-    }
+    vouch_testkit::c_compiler()
 }

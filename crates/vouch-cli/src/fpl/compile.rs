@@ -1,0 +1,76 @@
+//! `vouch fpl parse` and `vouch fpl compile`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use vouch_fpl::emit::{EmitOptions, Flavor};
+
+use super::{rejected, write_file, PlanArgs};
+use crate::contract::{CmdResult, Ctx, Exit, Verbosity};
+
+/// Arguments of `vouch fpl parse`.
+#[derive(Args)]
+pub struct ParseArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// Print the resolved plan as one JSON document instead of an outline
+    #[arg(long)]
+    json: bool,
+    /// Refuse the VFPG <forbidden_deroutes> extension, as upstream's DTD does
+    #[arg(long)]
+    no_extensions: bool,
+}
+
+/// Arguments of `vouch fpl compile`.
+#[derive(Args)]
+pub struct CompileArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// Output header (default: standard output)
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+    /// Also write upstream's dump (XML): the expanded plan with numbered blocks and stages, and
+    /// the stage index used by the ground station
+    #[arg(long, value_name = "FILE")]
+    dump: Option<PathBuf>,
+    /// Emit the instrumented flavour (user C wrapped in FP_C/FP_X/FP_V/FP_I for the stub runtime)
+    #[arg(long)]
+    instrumented: bool,
+}
+
+/// `vouch fpl parse`: the outline (or JSON) of the resolved plan.
+pub fn parse(a: ParseArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, !a.no_extensions)?;
+    if a.json {
+        ctx.out.json(&plan)?;
+    } else {
+        ctx.out.write_all(vouch_fpl::ast::outline::outline(&plan).as_bytes())?;
+    }
+    Ok(Exit::Ok)
+}
+
+/// `vouch fpl compile`: the header (and the dump); lint findings are shown as warnings.
+pub fn compile(a: CompileArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, true)?;
+    for w in vouch_fpl::lint::lint(&plan) {
+        ctx.warn(&w);
+    }
+    let opts = EmitOptions {
+        source_path: a.plan.name(),
+        flavor: if a.instrumented { Flavor::Instrumented } else { Flavor::DropIn },
+        ..EmitOptions::default()
+    };
+    let header = vouch_fpl::emit::compile_plan(&plan, &opts)
+        .map_err(|e| rejected(e.to_diagnostics(&plan.sources)))?;
+    if ctx.verbosity == Verbosity::Verbose {
+        ctx.note(format_args!("geoid heights: {}", vouch_fpl::emit::geoid::source_name()));
+    }
+    match &a.output {
+        Some(path) => write_file(path, header.as_bytes())?,
+        None => ctx.out.write_all(header.as_bytes())?,
+    }
+    if let Some(path) = &a.dump {
+        write_file(path, vouch_fpl::emit::dump::dump(&plan).as_bytes())?;
+    }
+    Ok(Exit::Ok)
+}

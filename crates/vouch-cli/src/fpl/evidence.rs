@@ -1,0 +1,184 @@
+//! `vouch fpl validate`, `lint`, `check` and `graph`: evidence about one plan.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use vouch_fpl::evidence::validate::{self, ValidateError};
+use vouch_fpl::model_check::{self, CheckError, Spec};
+
+use super::{lowered, write_file, PlanArgs};
+use crate::contract::{CmdResult, Ctx, Exit, Failure};
+
+/// Arguments of `vouch fpl validate`.
+#[derive(Args)]
+pub struct ValidateArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// Calls explored exhaustively
+    #[arg(long, default_value_t = 8)]
+    depth: usize,
+    /// Seeded random runs compared after the exhaustive part
+    #[arg(long, default_value_t = 3)]
+    random_runs: usize,
+    /// Calls in each random run
+    #[arg(long, default_value_t = 500)]
+    random_steps: usize,
+    /// Work budget: call paths compared before the exploration is cut
+    #[arg(long, default_value_t = 500_000)]
+    max_paths: usize,
+    /// Also print the static per-block bound (stages and external events per call)
+    #[arg(long)]
+    bounds: bool,
+    /// Print the report as one JSON document (the per-block bound included)
+    #[arg(long)]
+    json: bool,
+}
+
+/// Arguments of `vouch fpl lint`.
+#[derive(Args)]
+pub struct LintArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// Print the warnings as one JSON document
+    #[arg(long)]
+    json: bool,
+    /// Exit 3 when there is any warning (for CI)
+    #[arg(long)]
+    strict: bool,
+}
+
+/// Arguments of `vouch fpl check`.
+#[derive(Args)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// A temporal property, e.g. 'always eventually block(Land)', 'never block(HOME)'
+    /// (repeatable)
+    #[arg(long = "property", value_name = "PROPERTY")]
+    properties: Vec<String>,
+    /// Every reachable state can reach one of these blocks (comma separated)
+    #[arg(long, value_delimiter = ',', value_name = "BLOCKS")]
+    safe_blocks: Vec<String>,
+    /// No block change is ever refused by a forbidden deroute
+    #[arg(long)]
+    no_blocked: bool,
+    /// No reachable state where every successor is forbidden
+    #[arg(long)]
+    deadlock_free: bool,
+    /// State budget: beyond it the state space is cut and "holds" is not established
+    #[arg(long, default_value_t = 200_000)]
+    max_states: usize,
+    /// Also model ground-station jumps to any block at any call
+    #[arg(long)]
+    operator: bool,
+    /// Print the outcomes as one JSON document
+    #[arg(long)]
+    json: bool,
+}
+
+/// Arguments of `vouch fpl graph`.
+#[derive(Args)]
+pub struct GraphArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// Output SVG (default: standard output)
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+/// `vouch fpl validate`: the compiled C against the semantics.
+pub fn validate(a: ValidateArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, true)?;
+    lowered(&plan)?;
+    let opts = validate::Options {
+        depth: a.depth,
+        random_runs: a.random_runs,
+        random_steps: a.random_steps,
+        max_paths: a.max_paths,
+        ..validate::Options::default()
+    };
+    let report = validate::validate(&plan, &opts).map_err(|e| {
+        let interpreter = matches!(e, ValidateError::Interpreter(_));
+        not_run(e, interpreter)
+    })?;
+    let mut text = report.render(&a.plan.name());
+    if a.bounds {
+        text.push_str(&report.bound.render());
+    }
+    print_report(ctx, a.json, &report, &text)?;
+    Ok(if report.passed() { Exit::Ok } else { Exit::Findings })
+}
+
+/// `vouch fpl lint`: the warnings, then a count per code.
+pub fn lint(a: LintArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, true)?;
+    let warnings = vouch_fpl::lint::lint(&plan);
+    if a.json {
+        ctx.out.json(&warnings)?;
+    } else {
+        ctx.out.write_all(vouch_fpl::lint::render(&plan, &warnings).as_bytes())?;
+        let counts: Vec<String> = vouch_fpl::lint::counts(&warnings)
+            .into_iter()
+            .filter(|c| c.1 > 0)
+            .map(|(rule, n)| format!("{}: {n}", rule.code()))
+            .collect();
+        let sep = if counts.is_empty() { "" } else { " — " };
+        writeln!(ctx.out, "{} warning(s){sep}{}", warnings.len(), counts.join(", "))?;
+    }
+    Ok(if a.strict && !warnings.is_empty() { Exit::Findings } else { Exit::Ok })
+}
+
+/// `vouch fpl check`: model checking of the plan's state space.
+pub fn check(a: CheckArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, true)?;
+    let fp = lowered(&plan)?;
+    let spec = Spec {
+        properties: a.properties,
+        safe_blocks: a.safe_blocks,
+        no_blocked: a.no_blocked,
+        deadlock_free: a.deadlock_free,
+        max_states: a.max_states,
+        operator: a.operator,
+    };
+    let report = model_check::run(&fp, &spec).map_err(|e| {
+        let interpreter = matches!(e, CheckError::Interpreter(_));
+        not_run(e, interpreter)
+    })?;
+    print_report(ctx, a.json, &report, &report.render(&a.plan.name()))?;
+    Ok(if report.holds() { Exit::Ok } else { Exit::Findings })
+}
+
+/// `vouch fpl graph`: the SVG block graph.
+pub fn graph(a: GraphArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, true)?;
+    let svg = vouch_fpl::graph::render_svg(&plan);
+    match &a.output {
+        Some(path) => write_file(path, svg.as_bytes())?,
+        None => ctx.out.write_all(svg.as_bytes())?,
+    }
+    Ok(Exit::Ok)
+}
+
+/// Why an evidence run did not run: the interpreter's bound rejects the plan; anything else (no
+/// C compiler, a property that does not parse) is a usage or I/O error.
+fn not_run(e: impl miette::Diagnostic + Send + Sync + 'static, interpreter: bool) -> Failure {
+    if interpreter {
+        Failure::rejected(e)
+    } else {
+        Failure::Usage(miette::Report::new(e))
+    }
+}
+
+/// The report as one JSON document, or its text.
+fn print_report(
+    ctx: &mut Ctx,
+    json: bool,
+    report: &impl serde::Serialize,
+    text: &str,
+) -> Result<(), Failure> {
+    if json {
+        ctx.out.json(report)
+    } else {
+        ctx.out.write_all(text.as_bytes())
+    }
+}

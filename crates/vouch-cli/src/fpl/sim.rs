@@ -1,0 +1,58 @@
+//! `vouch fpl sim`: the reference interpreter on one plan.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use vouch_fpl::semantics::oracle::{Oracle, Scripted, Seeded};
+use vouch_fpl::semantics::sim;
+
+use super::{lowered, PlanArgs};
+use crate::contract::{CmdResult, Ctx, Exit, Failure};
+
+/// Arguments of `vouch fpl sim`.
+#[derive(Args)]
+pub struct SimArgs {
+    #[command(flatten)]
+    plan: PlanArgs,
+    /// Number of auto_nav calls
+    #[arg(long, default_value_t = 20)]
+    steps: usize,
+    /// File of answers: integers, one consumed per condition (odd = true) or value (n/2)
+    #[arg(long, value_name = "FILE", conflicts_with = "seed")]
+    conditions: Option<PathBuf>,
+    /// Seed of the random oracle
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Percentage of true conditions for --seed
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(0..=100))]
+    percent_true: u64,
+    /// Print the run as one JSON document (block names, init events, every call)
+    #[arg(long)]
+    json: bool,
+    /// Print the trace format shared with the C stub driver
+    #[arg(long, conflicts_with = "json")]
+    trace: bool,
+}
+
+/// `vouch fpl sim`: runs the calls and prints the table, the trace or JSON.
+pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
+    let plan = a.plan.load(ctx, true)?;
+    let fp = lowered(&plan)?;
+    let mut oracle: Box<dyn Oracle> = match (&a.conditions, a.seed) {
+        (Some(path), _) => {
+            let text = std::fs::read_to_string(path).map_err(|e| Failure::io(path, &e))?;
+            Box::new(Scripted::parse(&text).map_err(Failure::rejected)?)
+        }
+        (None, Some(s)) => Box::new(Seeded::new(s, a.percent_true)),
+        (None, None) => Box::new(Scripted::default()),
+    };
+    let run = sim::simulate(&fp, oracle.as_mut(), a.steps).map_err(Failure::rejected)?;
+    if a.json {
+        ctx.out.json(&sim::document(&fp, &run))?;
+    } else if a.trace {
+        ctx.out.write_all(run.to_text().as_bytes())?;
+    } else {
+        ctx.out.write_all(sim::table(&fp, &run).as_bytes())?;
+    }
+    Ok(Exit::Ok)
+}

@@ -1,0 +1,17 @@
+//! Fuzz target: the small languages given on the command line — the model checker's property
+//! language (`vouch fpl check --property`) and answer files (`vouch fpl sim --conditions`) —
+//! must reject any text with a located error, never panic.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    let text = String::from_utf8_lossy(data);
+    let blocks = vec!["Take off".to_string(), "Land".to_string(), "HOME".to_string()];
+    if let Err(e) = vouch_fpl::model_check::property::parse(&text, &blocks) {
+        assert!(e.at.offset() <= text.len());
+    }
+    if let Err(e) = vouch_fpl::semantics::oracle::Scripted::parse(&text) {
+        assert!(e.at.offset() + e.at.len() <= text.len());
+    }
+});

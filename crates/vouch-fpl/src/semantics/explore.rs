@@ -1,0 +1,194 @@
+//! Enumeration of every way one `auto_nav` call can go, on the reference interpreter.
+//!
+//! A call asks the oracle a sequence of questions (conditions, non-literal `for` bounds). The
+//! answers form a tree; [`enumerate_call`] walks it depth first by re-running the call from the
+//! same starting state with a longer answer prefix each time. Conditions branch on false/true;
+//! integer values branch on [`VALUE_CHOICES`] (a small sample: the value domain is unbounded).
+//!
+//! Answers are encoded as the numbers of the shared oracle convention
+//! ([`super::oracle`]): a condition is `0`/`1`, a value `v` is `2 * v`, so the same
+//! answer list drives the C stub and the interpreter.
+//!
+//! The validator and the model checker both build on this, so they explore the same tree.
+
+use super::oracle::{literal_value, Oracle};
+use super::trace::{Event, Observation};
+use super::{Interp, Item, State, StepError};
+
+/// Values tried for a non-literal integer (a `for` bound).
+pub const VALUE_CHOICES: [i64; 3] = [0, 1, 3];
+
+/// Condition texts starting with this prefix are never shown to the user: the model checker
+/// uses them to observe forbidden deroutes (see [`crate::model_check`]). They are answered
+/// `true` without branching when they end with [`FORCED_SUFFIX`].
+pub const MARKER_PREFIX: &str = "\u{0}vouch:";
+pub const FORCED_SUFFIX: &str = ":forced";
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Asked {
+    Cond,
+    Value,
+    Forced,
+}
+
+/// Answers from a prefix; beyond it, the first choice, remembering what was asked.
+struct PrefixOracle {
+    prefix: Vec<i64>,
+    taken: Vec<(Asked, i64)>,
+    /// Marker conditions answered true during the call (model checking).
+    markers_true: Vec<String>,
+}
+
+impl PrefixOracle {
+    fn next(&mut self, kind: Asked) -> i64 {
+        let i = self.taken.len();
+        let n = match kind {
+            Asked::Forced => 1,
+            _ => self.prefix.get(i).copied().unwrap_or(0),
+        };
+        self.taken.push((kind, n));
+        n
+    }
+}
+
+impl Oracle for PrefixOracle {
+    fn cond(&mut self, text: &str) -> bool {
+        let forced = text.starts_with(MARKER_PREFIX) && text.ends_with(FORCED_SUFFIX);
+        let v = self.next(if forced { Asked::Forced } else { Asked::Cond }) & 1 != 0;
+        if v && text.starts_with(MARKER_PREFIX) {
+            self.markers_true.push(text.to_string());
+        }
+        v
+    }
+    fn value(&mut self, text: &str) -> i64 {
+        match literal_value(text) {
+            Some(v) => v,
+            None => self.next(Asked::Value) / 2,
+        }
+    }
+}
+
+/// One complete path of one call.
+#[derive(Debug, Clone)]
+pub struct CallPath<'p> {
+    /// The answer numbers consumed by the call (forced marker answers included, as `1`).
+    pub answers: Vec<i64>,
+    pub events: Vec<Event>,
+    pub after: Observation,
+    pub state: State<'p>,
+    /// Marker conditions that were true (model checking only).
+    pub markers: Vec<String>,
+}
+
+/// Result of [`enumerate_call`].
+#[derive(Debug, Clone)]
+pub struct CallTree<'p> {
+    pub paths: Vec<CallPath<'p>>,
+    /// The path budget was exhausted: `paths` is a prefix (in DFS order) of the tree.
+    pub cut: bool,
+}
+
+/// Every path of one call from `from`, in depth-first order (false before true, values in
+/// [`VALUE_CHOICES`] order), at most `max_paths` of them.
+pub fn enumerate_call<'p>(
+    interp: &mut Interp<'p>,
+    from: &State<'p>,
+    max_paths: usize,
+) -> Result<CallTree<'p>, StepError> {
+    let mut paths = Vec::new();
+    // Each pending prefix is a list of answers; the walk is depth first, false first.
+    let mut pending: Vec<Vec<i64>> = vec![Vec::new()];
+    while let Some(prefix) = pending.pop() {
+        if paths.len() >= max_paths {
+            return Ok(CallTree { paths, cut: true });
+        }
+        interp.state = from.clone();
+        let mut oracle = PrefixOracle { prefix, taken: Vec::new(), markers_true: Vec::new() };
+        let rec = interp.step(&mut oracle)?;
+        let plen = oracle.prefix.len();
+        // Alternatives for every question asked beyond the prefix. The shallowest is pushed
+        // first so it is popped last: the walk is depth first in lexicographic answer order.
+        for i in plen..oracle.taken.len() {
+            let base: Vec<i64> = oracle.taken[..i].iter().map(|t| t.1).collect();
+            let alts: &[i64] = match oracle.taken[i].0 {
+                Asked::Cond => &[1],
+                Asked::Value => &[2, 6],
+                Asked::Forced => &[],
+            };
+            for a in alts.iter().rev() {
+                let mut p = base.clone();
+                p.push(*a);
+                pending.push(p);
+            }
+        }
+        paths.push(CallPath {
+            answers: oracle.taken.iter().map(|t| t.1).collect(),
+            events: rec.events,
+            after: rec.after,
+            state: interp.state.clone(),
+            markers: oracle.markers_true,
+        });
+    }
+    Ok(CallTree { paths, cut: false })
+}
+
+/// A hashable, exact summary of an interpreter state: the stage number of every item of both
+/// continuation stacks (which identifies each item: a stage, its loop test, its loop-back and
+/// its navigation main step all have distinct numbers), both blocks, and the `for` counters.
+/// Stage numbers are the interpreter's own ([`Interp::item_number`]).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct StateKey {
+    pub obs: (usize, usize, usize, usize),
+    pub remaining: Vec<usize>,
+    pub last_remaining: Vec<usize>,
+    pub counters: Vec<((usize, usize), (i8, i8))>,
+}
+
+/// The key of `state`, with the interpreter's own stage numbering.
+pub fn state_key<'p>(interp: &Interp<'p>, state: &State<'p>) -> StateKey {
+    let numbers = |stack: &[Item<'p>]| stack.iter().map(|i| interp.item_number(i)).collect();
+    let o = interp.observe_state(state);
+    let mut counters: Vec<_> = state.counters.iter().map(|(k, v)| (*k, *v)).collect();
+    counters.sort();
+    StateKey {
+        obs: (o.block, o.stage, o.last_block, o.last_stage),
+        remaining: numbers(&state.remaining),
+        last_remaining: numbers(&state.last_remaining),
+        counters,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PLAN: &str = r#"<flight_plan name="t" lat0="43.5" lon0="1.4" alt="250" ground_alt="150"
+        security_height="30" max_dist_from_home="1000">
+      <waypoints><waypoint name="HOME" x="0" y="0"/></waypoints>
+      <exceptions><exception cond="e()" deroute="HOME"/></exceptions>
+      <blocks><block name="B"><call fun="f()"/></block></blocks></flight_plan>"#;
+
+    #[test]
+    fn paths_of_one_call_in_lexicographic_order() {
+        let plan = crate::front::parse_str("t.xml", PLAN).expect("parses");
+        let fp = crate::passes::lower::lower(&plan).expect("lowers");
+        let mut interp = Interp::new(&fp);
+        let init = interp.state.clone();
+        let tree = enumerate_call(&mut interp, &init, 100).expect("runs");
+        // e() false then f() false (next block) or true (stay); e() true (exception)
+        let answers: Vec<Vec<i64>> = tree.paths.iter().map(|p| p.answers.clone()).collect();
+        assert_eq!(answers, vec![vec![0, 0], vec![0, 1], vec![1]]);
+        assert!(!tree.cut);
+        let blocks: Vec<usize> = tree.paths.iter().map(|p| p.after.block).collect();
+        assert_eq!(blocks, vec![1, 0, 1], "B is block 0, HOME block 1");
+        // the budget cuts and says so
+        let cut = enumerate_call(&mut interp, &init, 2).expect("runs");
+        assert!(cut.cut && cut.paths.len() == 2);
+        // equal states have equal keys, different ones differ
+        let k0 = state_key(&interp, &tree.paths[0].state);
+        let k1 = state_key(&interp, &tree.paths[1].state);
+        assert_eq!(k0.obs.0, 1);
+        assert_ne!(k0, k1);
+        assert_eq!(k1, state_key(&interp, &init), "f() true stays on the call stage");
+    }
+}
