@@ -197,7 +197,7 @@ impl VouchNavfnPlanner {
 
     /// A plan between two cells (column, row): with ROS costs nav2's `createPlan` from cell
     /// corner to cell corner; with NavFn costs the planner's cell-level call sequence (swap,
-    /// Dijkstra with `atStart` or A*, `calcPath(max(nx, ny)·max_cycles_factor)`).
+    /// Dijkstra with `atStart` or A*, `calcPath(max(nx, ny)·4)` as in the goldens).
     pub fn plan_cells(&mut self, start: [u32; 2], goal: [u32; 2]) -> Result<(), Failure> {
         if self.kind == VouchNavfnCostKind::Ros {
             let p =

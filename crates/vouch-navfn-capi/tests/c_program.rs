@@ -140,6 +140,55 @@ fn the_c_program_reproduces_the_cpp_planner_on_every_nav2_costmap() {
     assert!(compared > 250);
 }
 
+/// Cell plans on NavFn costs (the paper suite's nav2 maps and three spirals) equal the C++
+/// NavFn's goldens in the planner's cell-level call sequence (`navfn_dijkstra.txt`).
+#[test]
+fn cell_plans_on_navfn_costs_equal_the_cpp_navfn() {
+    let _one_at_a_time = serial();
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
+    let Some(cc) = vouch_testkit::c_compiler() else { return };
+    let prog = program(&cc);
+    let mut compared = 0;
+    for dir in [
+        "ROS/400x400_ros",
+        "ROS/empty_room",
+        "ROS/keepout_mask",
+        "spiral/11x11_spiral",
+        "spiral/14x17_spiral_random",
+    ] {
+        let suite = shared.join("suite").join(dir);
+        let text = std::fs::read_to_string(suite.join("test.txt")).expect("test.txt");
+        let mut lines = text.lines();
+        let size: Vec<&str> = lines.next().expect("size").split_whitespace().collect();
+        let map = suite.join(lines.next().expect("map name").trim());
+        let cases: String = lines
+            .skip(1)
+            .filter(|l| l.split_whitespace().count() == 4 && !l.starts_with("-1"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let out = run(&prog, &["navfn", map.to_str().expect("utf-8"), size[0], size[1]], &cases);
+        let golden =
+            std::fs::read_to_string(shared.join("golden").join(dir).join("navfn_dijkstra.txt"))
+                .expect("golden");
+        let g: Vec<&str> =
+            golden.lines().filter(|l| l.starts_with("CASE") || l.starts_with("PATH")).collect();
+        let c: Vec<&str> = out.lines().collect();
+        assert_eq!(c.len(), g.len(), "{dir}: line count");
+        for (gl, cl) in g.iter().zip(&c) {
+            if gl.starts_with("CASE") {
+                for key in ["len", "pot_fnv"] {
+                    assert_eq!(field(cl, key), field(gl, key), "{dir}: {key}\n{gl}\n{cl}");
+                }
+                compared += 1;
+            } else {
+                assert_eq!(cl.trim_end(), gl.trim_end(), "{dir}");
+            }
+        }
+    }
+    eprintln!("{compared} NavFn-cost cell cases equal to the C++ goldens");
+    assert!(compared > 100);
+}
+
 #[test]
 fn the_c_program_reads_map_server_maps_like_the_library() {
     let _one_at_a_time = serial();

@@ -2,6 +2,7 @@
  *
  *   plan_maps bin MAP.bin W H ORIGIN_X ORIGIN_Y RES   < cases   (ROS costmap bytes)
  *   plan_maps yaml MAP.yaml                           < cases   (map_server map)
+ *   plan_maps navfn MAP.bin W H                       < cell cases (NavFn costs)
  *   plan_maps errors
  *
  * Cases are lines "x0 y0 x1 y1" in metres. "bin" prints the golden line format's facts:
@@ -112,6 +113,30 @@ static int run_cases(VouchNavfnPlanner *pl, int yaml) {
   return 0;
 }
 
+/* Cell plans on NavFn costs: the planner's cell-level call sequence. */
+static int run_cells(VouchNavfnPlanner *pl, size_t w, size_t h) {
+  unsigned x0, y0, x1, y1;
+  int k = 0;
+  float *pot = malloc(w * h * sizeof(float));
+  while (scanf("%u %u %u %u", &x0, &y0, &x1, &y1) == 4) {
+    size_t n = 0, npath = 0, npot = 0;
+    VouchNavfnStatus st = vouch_navfn_plan_cells(pl, x0, y0, x1, y1, &n);
+    if (st != VOUCH_NAVFN_STATUS_OK && st != VOUCH_NAVFN_STATUS_NO_PLAN) return fail("plan_cells", st);
+    vouch_navfn_get_navfn_path(pl, NULL, 0, &npath);
+    float *path = malloc(2 * (npath ? npath : 1) * sizeof(float));
+    vouch_navfn_get_navfn_path(pl, path, npath, &npath);
+    vouch_navfn_get_potential(pl, pot, w * h, &npot);
+    uint64_t h64 = fnv((const unsigned char *)pot, npot * sizeof(float), 0xcbf29ce484222325ULL);
+    printf("CASE %d len=%zu pot_fnv=%016llx\nPATH", k++, npath, (unsigned long long)h64);
+    for (size_t i = 0; i < npath; i++)
+      printf(" %08x:%08x", bits32(path[2 * i]), bits32(path[2 * i + 1]));
+    printf("\n");
+    free(path);
+  }
+  free(pot);
+  return 0;
+}
+
 /* Every error comes back as a code and a message; nothing crashes. */
 static int errors(void) {
   VouchNavfnPlanner *pl = NULL;
@@ -163,6 +188,19 @@ int main(int argc, char **argv) {
     vouch_navfn_planner_free(pl);
     return r;
   }
+  if (argc == 5 && strcmp(argv[1], "navfn") == 0) {
+    size_t w = strtoul(argv[3], NULL, 10), h = strtoul(argv[4], NULL, 10);
+    uint8_t *costs = malloc(w * h);
+    FILE *f = fopen(argv[2], "rb");
+    if (!f || fread(costs, 1, w * h, f) != w * h) { fprintf(stderr, "cannot read %s\n", argv[2]); return 1; }
+    fclose(f);
+    s = vouch_navfn_planner_new(costs, w, h, VOUCH_NAVFN_COST_KIND_NAVFN, 0, 0, 1, NULL, &pl);
+    free(costs);
+    if (s != VOUCH_NAVFN_STATUS_OK) return fail("planner_new", s);
+    int r = run_cells(pl, w, h);
+    vouch_navfn_planner_free(pl);
+    return r;
+  }
   if (argc == 3 && strcmp(argv[1], "yaml") == 0) {
     s = vouch_navfn_planner_from_map(argv[2], NULL, &pl);
     if (s != VOUCH_NAVFN_STATUS_OK) return fail("planner_from_map", s);
@@ -170,6 +208,6 @@ int main(int argc, char **argv) {
     vouch_navfn_planner_free(pl);
     return r;
   }
-  fprintf(stderr, "usage: plan_maps bin MAP W H OX OY RES | yaml MAP.yaml | errors\n");
+  fprintf(stderr, "usage: plan_maps bin MAP W H OX OY RES | yaml MAP.yaml | navfn MAP W H | errors\n");
   return 2;
 }
