@@ -298,9 +298,11 @@ fn run_campaign_shard<'py>(
     json(py, &report)
 }
 
-/// The module.
+/// The module (named `vouch` in Python; the Rust library is `vouch_py` so that its
+/// documentation does not collide with the `vouch` binary's).
 #[pymodule]
-fn vouch(m: &Bound<'_, PyModule>) -> PyResult<()> {
+#[pyo3(name = "vouch")]
+fn vouch_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_map, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
