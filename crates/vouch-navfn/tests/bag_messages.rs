@@ -1,5 +1,7 @@
-//! Malformed bags and messages: every one gets a clear error with its code (or, for a plan
-//! that cannot be judged, a violation), never a panic. The valid messages here are encoded by
+//! Bags and messages, valid and malformed: costmaps as nav2 publishes them (the map, the
+//! translated global costmap and its updates, the raw costmap) are the ones plans are checked
+//! on; every malformed bag or message gets a clear error with its code (or, for a plan that
+//! cannot be judged, a violation), never a panic. The valid messages here are encoded by
 //! a small CDR writer of this test (independent of the reader), stored with the `mcap` crate's
 //! writer and with SQLite through rusqlite in rosbag2's table layout.
 
@@ -8,7 +10,9 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use miette::Diagnostic;
-use vouch_navfn::bagcheck::{check_bag, check_bag_file, BagCheckOptions, PathViolation};
+use vouch_navfn::bagcheck::{
+    check_bag, check_bag_file, BagCheckOptions, CostmapKind, PathViolation, ReplayMode,
+};
 use vouch_navfn::rosbag::msgs::{decode, NavMessage};
 use vouch_navfn::rosbag::{read_bag, Bag, BagError, BagMessage};
 
@@ -297,4 +301,62 @@ fn plans_without_a_costmap_or_with_a_bad_update_are_reported() {
     let bag = Bag { files: Vec::new(), messages: vec![costmap, update] };
     let e = check_bag(&bag, &BagCheckOptions::default()).expect_err("update outside the map");
     assert!(e.to_string().contains("an update outside the costmap"), "{e}");
+}
+
+fn costmap_msg(topic: &str, type_name: &str, log_time: u64, cells: &[u8]) -> BagMessage {
+    let data = if type_name == "nav2_msgs/msg/Costmap" {
+        let mut c = Cdr::new();
+        c.header("map").i32(0).u32(0).i32(0).u32(0).string("master").f32(1.0).u32(10).u32(10);
+        c.pose(IDENTITY).bytes(cells);
+        c.payload()
+    } else {
+        grid(10, 10, cells)
+    };
+    msg(topic, type_name, log_time, data)
+}
+
+/// A straight plan across the middle row of a 10 × 10 map with 1 m cells.
+fn straight_plan(log_time: u64) -> BagMessage {
+    let line: Vec<[f64; 2]> = (0..15).map(|i| [1.0 + 0.5 * i as f64, 5.0]).collect();
+    msg("/plan", "nav_msgs/msg/Path", log_time, path_msg(&line))
+}
+
+#[test]
+fn costmap_updates_and_the_raw_costmap_are_in_force_when_the_plan_is_recorded() {
+    let opts = BagCheckOptions { replay: ReplayMode::Off, ..BagCheckOptions::default() };
+    let free = [0u8; 100];
+    let costmap = costmap_msg("/global_costmap/costmap", "nav_msgs/msg/OccupancyGrid", 1, &free);
+    // an update puts a wall (translated value 100 = lethal) across column 5, rows 3..8
+    let mut wall = Cdr::new();
+    wall.header("map").i32(5).i32(3).u32(1).u32(5).bytes(&[100; 5]);
+    let update = msg(
+        "/global_costmap/costmap_updates",
+        "map_msgs/msg/OccupancyGridUpdate",
+        2,
+        wall.payload(),
+    );
+    let before = straight_plan(1);
+    let after = straight_plan(3);
+    let bag = Bag { files: Vec::new(), messages: vec![costmap, before, update, after] };
+    let report = check_bag(&bag, &opts).expect("checked");
+    assert!(report.plans[0].violations.is_empty(), "{:?}", report.plans[0].violations);
+    let v = &report.plans[1].violations;
+    assert!(v.iter().any(|x| matches!(x, PathViolation::PoseInObstacle { .. })), "{v:?}");
+    let used = report.plans[1].costmap.as_ref().expect("costmap");
+    assert_eq!((used.kind, used.log_time, used.exact), (CostmapKind::Translated, 2, true));
+
+    // a map with the wall, then the raw costmap without it: the raw costmap is in force
+    let mut walled = [0u8; 100];
+    for row in 3..8 {
+        walled[row * 10 + 5] = 100;
+    }
+    let map = costmap_msg("/map", "nav_msgs/msg/OccupancyGrid", 1, &walled);
+    let raw = costmap_msg("/global_costmap/costmap_raw", "nav2_msgs/msg/Costmap", 2, &free);
+    let bag = Bag { files: Vec::new(), messages: vec![map.clone(), straight_plan(3)] };
+    let report = check_bag(&bag, &opts).expect("checked");
+    assert!(!report.plans[0].violations.is_empty(), "the map's wall is in force");
+    let bag = Bag { files: Vec::new(), messages: vec![map, raw, straight_plan(3)] };
+    let report = check_bag(&bag, &opts).expect("checked");
+    assert!(report.plans[0].violations.is_empty(), "{:?}", report.plans[0].violations);
+    assert_eq!(report.plans[0].costmap.as_ref().map(|c| c.kind), Some(CostmapKind::Raw));
 }
