@@ -42,6 +42,7 @@ const SUITE: &str = "examples/navfn/suite";
 fn every_subcommand_has_help_with_an_example() {
     for cmd in [
         &["plan"][..],
+        &["check-bag"],
         &["suite", "run"],
         &["suite", "gen"],
         &["suite", "diff"],
@@ -96,7 +97,39 @@ fn plan_prints_a_summary_and_poses_only_on_request() {
     assert_eq!(text(&o.stdout).lines().count(), 1 + poses);
     let written = std::fs::read_to_string(&file).expect("poses written");
     assert_eq!(written.lines().count(), poses);
-    assert_eq!(written.lines().last(), Some("8.500000 6.500000"), "the path ends at the goal");
+    assert_eq!(
+        written.lines().last(),
+        Some("8.500000 6.500000 0.000000"),
+        "the path ends at the goal, facing the goal heading"
+    );
+    let o = vouch(&[
+        "navfn",
+        "plan",
+        MAP,
+        "--start",
+        "1,1",
+        "--goal",
+        "8.5,6.5",
+        "--goal-yaw",
+        "-1.5",
+        "--max-cycles-factor",
+        "6",
+        "--use-final-approach-orientation",
+        "--json",
+        "--poses",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    let turned = v["poses"].as_array().expect("poses");
+    let last = &turned[turned.len() - 1]["orientation"];
+    assert_ne!(last[3].as_f64(), Some(1.0), "the final approach turns the last pose");
+    let first: Vec<f64> = turned[0]["orientation"]
+        .as_array()
+        .expect("quaternion")
+        .iter()
+        .filter_map(|q| q.as_f64())
+        .collect();
+    assert_eq!(first, [0.0, 0.0, 0.0, 1.0]);
+    assert_eq!(v["max_cycles_factor"].as_u64(), Some(6));
 
     let o = vouch(&["navfn", "plan", MAP, "--start", "1,1", "--goal", "8.5,6.5", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");

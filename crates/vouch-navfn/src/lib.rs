@@ -10,6 +10,7 @@
 //! sequences of the golden modes, golden text) → `picture` (PNG) → `campaign`.
 //! The reference semantics is `shared/navfn/SEMANTICS.md`; the oracle is `shared/navfn/golden`.
 
+pub mod bagcheck;
 pub mod campaign;
 pub mod checks;
 pub mod core;
@@ -17,6 +18,7 @@ pub mod diag;
 pub mod maps;
 pub mod picture;
 pub mod planner;
+pub mod rosbag;
 pub mod suite;
 
 pub use crate::core::{Algo, Cell, CoreError, NavFn, NoObserver, SearchObserver};

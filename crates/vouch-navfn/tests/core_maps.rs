@@ -48,7 +48,7 @@ fn yaml_naming_a_missing_image_is_an_io_error_naming_the_image() {
     let dir = std::env::temp_dir().join(format!("vouch-missing-image-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let yaml = dir.join("room.yaml");
-    std::fs::write(&yaml, "image: empty.pgm\nresolution: 0.1\n").expect("written");
+    std::fs::write(&yaml, format!("image: empty.pgm\n{REST}")).expect("written");
     let err = load_ros_map(&yaml, true).unwrap_err();
     assert!(err.is_io(), "{err}");
     assert!(err.to_string().contains("empty.pgm"), "{err}");
@@ -56,14 +56,18 @@ fn yaml_naming_a_missing_image_is_an_io_error_naming_the_image() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Everything map_server requires besides `image:`.
+const REST: &str =
+    "resolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+
 fn yaml_err(text: &str) -> String {
     parse_map_yaml(Path::new("m.yaml"), text).unwrap_err().located()
 }
 
 #[test]
 fn syntax_errors_point_at_the_field() {
-    let text = "image: m.pgm\nresolution: fast\n";
-    let err = parse_map_yaml(Path::new("m.yaml"), text).unwrap_err();
+    let text = format!("image: m.pgm\n{}", REST.replace("0.05", "fast"));
+    let err = parse_map_yaml(Path::new("m.yaml"), &text).unwrap_err();
     let MapError::Syntax(e) = &err else { panic!("{err:?}") };
     assert_eq!(e.line, 2);
     assert_eq!(&text[e.span.offset()..e.span.offset() + e.span.len()], "fast");
@@ -75,31 +79,49 @@ fn syntax_errors_point_at_the_field() {
 
 #[test]
 fn bad_yaml_values_are_rejected_with_line_numbers() {
-    let base = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
-    assert!(yaml_err(&format!("{base}occupied_thresh: 1.5\n"))
-        .contains("m.yaml:4: occupied_thresh 1.5 is outside [0, 1]"));
-    assert!(yaml_err(&format!("{base}free_thresh: -0.1\n")).contains("m.yaml:4: free_thresh"));
+    let with = |key: &str, value: &str| {
+        let mut t = String::from("image: m.pgm\n");
+        for l in REST.lines() {
+            if l.starts_with(key) {
+                t.push_str(&format!("{key}: {value}\n"));
+            } else {
+                t.push_str(l);
+                t.push('\n');
+            }
+        }
+        t
+    };
+    assert!(yaml_err(&with("resolution", "0")).contains("m.yaml:2: resolution 0 must be"));
+    assert!(yaml_err(&with("resolution", ".inf")).contains("m.yaml:2: resolution inf"));
+    assert!(yaml_err(&with("origin", "[1, 2]")).contains("m.yaml:3: origin should have 3 elements"));
+    assert!(yaml_err(&with("origin", "[1, x, 0]")).contains("m.yaml:3: origin element `x`"));
+    assert!(yaml_err(&with("negate", "2.5")).contains("m.yaml:4: negate must be an integer"));
     assert!(
-        yaml_err("image: m.pgm\nresolution: 0\n").contains("m.yaml:2: resolution 0 must be > 0")
+        yaml_err(&with("free_thresh", "low")).contains("m.yaml:6: free_thresh must be a number")
     );
-    assert!(
-        yaml_err(&format!("{base}mode: fancy\n")).contains("mode must be trinary, scale or raw")
-    );
-    assert!(yaml_err("image: m.pgm\nresolution: 1\norigin: [1, 2]\n")
-        .contains("m.yaml:3: origin must be"));
-    assert!(yaml_err("resolution: 1\n").contains("missing `image:`"));
-    assert!(yaml_err(&format!("{base}occupied_thresh: 0.2\nfree_thresh: 0.5\n"))
-        .contains("exceeds occupied_thresh"));
-    assert!(yaml_err(&format!("{base}negate: 2\n")).contains("negate must be 0 or 1"));
+    assert!(yaml_err(&format!("image: m.pgm\n{REST}mode: fancy\n"))
+        .contains("m.yaml:7: mode must be trinary, scale or raw"));
+    assert!(yaml_err(REST).contains("m.yaml:1: missing `image:`"));
+    assert!(yaml_err(&format!("image: ''\n{REST}")).contains("the image tag is empty"));
+    assert!(yaml_err("image: [m.pgm\n").contains("m.yaml:"));
+    assert!(yaml_err("- a\n- b\n").contains("must be a mapping"));
 }
 
 #[test]
-fn yaml_modes_and_negate_parse() {
-    let m = parse_map_yaml(Path::new("m.yaml"), "image: a.pgm\nresolution: 0.05\norigin: [-10.0, -10.0, 0.0]\nnegate: 1\nmode: scale\noccupied_thresh: 0.99\nfree_thresh: 0.01\n").unwrap();
+fn yaml_that_map_server_accepts_is_accepted() {
+    // a document start, block-style origin, comments, yaml-cpp's booleans and integer bases,
+    // mode in capitals, thresholds without range checks (map_server checks none)
+    let text = "%YAML 1.2\n---\n# map\nimage: \"a.pgm\"\nresolution: 5e-2\norigin:\n  - -10\n  - -10.5\n  - 0.0\nnegate: Yes\nmode: SCALE\noccupied_thresh: 0.99\nfree_thresh: 0.01\nmap_type: occupancy\n...\n";
+    let m = parse_map_yaml(Path::new("m.yaml"), text).unwrap();
     assert!(m.negate);
     assert_eq!(m.mode, vouch_navfn::maps::MapMode::Scale);
-    assert_eq!(m.origin, [-10.0, -10.0, 0.0]);
+    assert_eq!(m.origin, [-10.0, -10.5, 0.0]);
+    assert_eq!(m.resolution, 0.05);
     assert_eq!((m.occupied_thresh, m.free_thresh), (0.99, 0.01));
+    let flow = "{image: b.png, resolution: 1, origin: [0, 0, 0], negate: 0x0, occupied_thresh: 0.2, free_thresh: 0.5}";
+    let m = parse_map_yaml(Path::new("m.yaml"), flow).unwrap();
+    assert!(!m.negate);
+    assert_eq!((m.occupied_thresh, m.free_thresh), (0.2, 0.5));
 }
 
 #[test]
@@ -147,4 +169,75 @@ fn bad_suite_files_are_rejected() {
         parse_suite_text(Path::new("t/test.txt"), "3 3\nmap.bin\n\n1 1 3 1\n", |_| Ok(vec![50; 9]))
             .unwrap();
     assert!(out.cases[0].cells(3, 3).is_none());
+}
+
+/// Writes `yaml` and `image` into a fresh folder and loads the map.
+fn load_pair(tag: &str, yaml: &str, image_name: &str, image: &[u8]) -> vouch_navfn::maps::RosMap {
+    let dir = std::env::temp_dir().join(format!("vouch-map-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::write(dir.join(image_name), image).expect("image written");
+    std::fs::write(dir.join("m.yaml"), yaml).expect("yaml written");
+    let map = load_ros_map(&dir.join("m.yaml"), true).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    map
+}
+
+fn meta(mode: &str, negate: u8, occ: f64, free: f64) -> String {
+    format!("image: i.pgm\nresolution: 1\norigin: [0, 0, 0]\nnegate: {negate}\nmode: {mode}\noccupied_thresh: {occ}\nfree_thresh: {free}\n")
+}
+
+#[test]
+fn map_server_modes_convert_pixels_as_nav2_does() {
+    // one row; values worked out by hand from map_server's float formulas
+    let pgm = b"P2\n6 1\n255\n0 255 205 89 90 128\n";
+    let tri = load_pair("tri", &meta("trinary", 0, 0.65, 0.196), "i.pgm", pgm);
+    // 205 → 1 − 205/255 = 0.19608 > 0.196: unknown; 89 → 0.65098 ≥ 0.65: occupied
+    assert_eq!(tri.occupancy, vec![100, 0, -1, 100, -1, -1]);
+    assert_eq!(tri.costmap, vec![254, 0, 255, 254, 255, 255]);
+    let neg = load_pair("neg", &meta("trinary", 1, 0.65, 0.196), "i.pgm", pgm);
+    assert_eq!(neg.occupancy, vec![0, 100, 100, -1, -1, -1]);
+    let scale = load_pair(
+        "scale",
+        &meta("scale", 0, 0.99, 0.01),
+        "i.pgm",
+        b"P2\n4 1\n255\n0 255 128 250\n",
+    );
+    // 128 → (0.498039 − 0.01) / 0.98 · 100 = 49.8 → 50; 250 → 0.98 → 1
+    assert_eq!(scale.occupancy, vec![100, 0, 50, 1]);
+    let raw =
+        load_pair("raw", &meta("raw", 0, 0.65, 0.196), "i.pgm", b"P2\n4 1\n255\n0 100 101 255\n");
+    assert_eq!(raw.occupancy, vec![0, 100, -1, -1]);
+    // rows are flipped: row 0 of the grid is the bottom row of the image
+    let two_rows =
+        load_pair("rows", &meta("trinary", 0, 0.65, 0.196), "i.pgm", b"P2\n1 2\n255\n0\n255\n");
+    assert_eq!(two_rows.occupancy, vec![0, 100]);
+    // a 16-bit PGM is read through ImageMagick's 8-bit export: 65535 → 255, 0 → 0
+    let wide =
+        load_pair("wide", &meta("trinary", 0, 0.65, 0.196), "i.pgm", b"P2\n2 1\n65535\n0 65535\n");
+    assert_eq!(wide.occupancy, vec![100, 0]);
+}
+
+#[test]
+fn transparent_png_pixels_are_unknown_in_trinary_and_scale_modes() {
+    let mut png_bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut png_bytes, 3, 1);
+        enc.set_color(png::ColorType::GrayscaleAlpha);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut w = enc.write_header().unwrap();
+        // white opaque, white half transparent, black opaque
+        w.write_image_data(&[255, 255, 255, 128, 0, 255]).unwrap();
+    }
+    for mode in ["trinary", "scale"] {
+        let yaml = meta(mode, 0, 0.65, 0.196).replace("i.pgm", "i.png");
+        let m = load_pair(mode, &yaml, "i.png", &png_bytes);
+        assert_eq!(m.occupancy, vec![0, -1, 100], "{mode}");
+    }
+    let raw = load_pair(
+        "rawpng",
+        &meta("raw", 0, 0.65, 0.196).replace("i.pgm", "i.png"),
+        "i.png",
+        &png_bytes,
+    );
+    assert_eq!(raw.occupancy, vec![-1, -1, 0], "raw mode ignores alpha");
 }

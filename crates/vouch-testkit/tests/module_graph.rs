@@ -49,11 +49,11 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
             &["diag"],
             &["core"],
             &["checks"],
-            &["maps"],
+            &["maps", "rosbag"],
             &["planner"],
             &["suite"],
             &["picture"],
-            &["campaign"],
+            &["campaign", "bagcheck"],
         ],
     ),
 ];

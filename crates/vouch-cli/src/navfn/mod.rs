@@ -6,6 +6,7 @@
 
 mod bench;
 mod campaign;
+mod check_bag;
 mod plan;
 mod suite;
 
@@ -22,6 +23,9 @@ use crate::contract::{CmdResult, Ctx, Failure};
 pub enum NavfnCmd {
     /// Plan one path on a ROS map (YAML+PGM/PNG, or an image) like nav2's NavfnPlanner, checked
     Plan(plan::PlanArgs),
+    /// Check every plan recorded in a rosbag2 bag (MCAP or sqlite3) on the costmap in force,
+    /// and replay it bit-exactly with vouch's planner
+    CheckBag(check_bag::CheckBagArgs),
     /// Suites in the paper's format (test.txt + map.bin): run, generate, compare with an oracle
     #[command(subcommand)]
     Suite(SuiteCmd),
@@ -50,6 +54,7 @@ pub enum SuiteCmd {
 pub fn run(cmd: NavfnCmd, ctx: &mut Ctx) -> CmdResult {
     match cmd {
         NavfnCmd::Plan(a) => plan::run(a, ctx),
+        NavfnCmd::CheckBag(a) => check_bag::run(a, ctx),
         NavfnCmd::Suite(SuiteCmd::Run(a)) => suite::run(a, ctx),
         NavfnCmd::Suite(SuiteCmd::Gen(a)) => campaign::suite_gen(a, ctx),
         NavfnCmd::Suite(SuiteCmd::Diff(a)) => campaign::suite_diff(a, ctx),

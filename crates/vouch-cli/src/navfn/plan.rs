@@ -9,7 +9,9 @@ use clap::Args;
 use vouch_navfn::checks::{check_plan, CheckReport, PlanView};
 use vouch_navfn::maps::load_ros_map;
 use vouch_navfn::picture::{save_png, PictureInput};
-use vouch_navfn::planner::{End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, PlannerPlan};
+use vouch_navfn::planner::{
+    End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, PlannerPlan, Pose, PosePlan,
+};
 
 use super::{map_failure, parse_pair, write_file, AlgoArg};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
@@ -17,7 +19,7 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
 /// Arguments of `vouch navfn plan`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --png plan.png"
+    after_help = "Example:\n  vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --goal-yaw 1.57 --png plan.png"
 )]
 pub struct PlanArgs {
     /// Map: map_server YAML (naming a PGM/PNG), or a PGM/PNG image (resolution 1, origin 0)
@@ -40,13 +42,26 @@ pub struct PlanArgs {
     /// Treat unknown cells as obstacles (nav2 allow_unknown=false)
     #[arg(long)]
     no_unknown: bool,
+    /// Robot start heading in radians (the orientation of the start pose)
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_name = "RAD")]
+    start_yaw: f64,
+    /// Goal heading in radians (the orientation of the last pose)
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_name = "RAD")]
+    goal_yaw: f64,
+    /// Path iteration limit is max(width, height) times this factor (nav2 max_cycles_factor)
+    #[arg(long, default_value_t = 4, value_name = "N")]
+    max_cycles_factor: usize,
+    /// The last pose faces along the final approach instead of the goal heading (nav2
+    /// use_final_approach_orientation)
+    #[arg(long)]
+    use_final_approach_orientation: bool,
     /// Print one JSON document (summary and checks; the poses too with --poses)
     #[arg(long)]
     json: bool,
-    /// Also print every pose of the path (`x y` in metres, one per line)
+    /// Also print every pose of the path (`x y yaw`: metres and radians, one per line)
     #[arg(long)]
     poses: bool,
-    /// Write the poses (`x y` in metres, one per line) to this file
+    /// Write the poses (`x y yaw`: metres and radians, one per line) to this file
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
     /// Write a picture to this PNG file: map, potential heat map, path
@@ -64,7 +79,8 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
         tolerance: a.tolerance,
         use_astar: a.algo == AlgoArg::Astar,
         allow_unknown: !a.no_unknown,
-        ..PlannerParams::default()
+        max_cycles_factor: a.max_cycles_factor,
+        use_final_approach_orientation: a.use_final_approach_orientation,
     };
     let mut planner = NavfnPlanner::new(&map.costmap, map.width, map.height, map.world(), params)
         .map_err(Failure::rejected)?;
@@ -75,7 +91,11 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
         (a.start, a.goal)
     };
     let t0 = Instant::now();
-    let plan = planner.plan_checked(start, goal).map_err(Failure::rejected)?;
+    planner.check_end(End::Start, start).map_err(Failure::rejected)?;
+    planner.check_end(End::Goal, goal).map_err(Failure::rejected)?;
+    let start = Pose::from_xy_yaw(start[0], start[1], a.start_yaw);
+    let goal = Pose::from_xy_yaw(goal[0], goal[1], a.goal_yaw);
+    let PosePlan { plan, poses } = planner.create_plan_poses(&start, &goal);
     let elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
     let nav = planner.nav();
     let ran_navfn = plan.navfn_goal.is_some();
@@ -92,49 +112,54 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
         }
     }
     if let Some(path) = &a.output {
-        write_file(path, poses_text(&plan).as_bytes())?;
+        write_file(path, poses_text(&poses).as_bytes())?;
     }
     if a.json {
-        ctx.out.json(&json_summary(&a, start, goal, &plan, &report, elapsed_ms))?;
+        let ends = [start.xy(), goal.xy()];
+        ctx.out.json(&json_summary(&a, ends, &plan, &poses, &report, elapsed_ms))?;
     } else {
-        print_summary(ctx, &a, &plan, &report, elapsed_ms)?;
+        print_summary(ctx, &a, &plan, &poses, &report, elapsed_ms)?;
     }
     if !report.is_ok() && a.checked {
         return Ok(Exit::Findings);
     }
-    if plan.status != PlanStatus::Ok {
+    // nav2 answers a start equal to the goal with a one-pose path
+    if !matches!(plan.status, PlanStatus::Ok | PlanStatus::StartEqualsGoal) {
         return Err(Failure::rejected(PlanError::NoPlan { status: plan.status }));
     }
     Ok(Exit::Ok)
 }
 
-fn poses_text(plan: &PlannerPlan) -> String {
+fn poses_text(poses: &[Pose]) -> String {
     let mut s = String::new();
-    for p in &plan.world {
-        let _ = writeln!(s, "{:.6} {:.6}", p[0], p[1]);
+    for p in poses {
+        let _ = writeln!(s, "{:.6} {:.6} {:.6}", p.position[0], p.position[1], p.yaw());
     }
     s
 }
 
 fn json_summary(
     a: &PlanArgs,
-    start: [f64; 2],
-    goal: [f64; 2],
+    [start, goal]: [[f64; 2]; 2],
     plan: &PlannerPlan,
+    poses: &[Pose],
     report: &CheckReport,
     elapsed_ms: f64,
 ) -> serde_json::Value {
     let mut v = serde_json::json!({
         "status": plan.status.name(),
         "start": start, "goal": goal,
+        "start_yaw": a.start_yaw, "goal_yaw": a.goal_yaw,
+        "max_cycles_factor": a.max_cycles_factor,
+        "use_final_approach_orientation": a.use_final_approach_orientation,
         "algo": if a.algo == AlgoArg::Astar { "astar" } else { "dijkstra" },
         "navfn_start": plan.navfn_start, "navfn_goal": plan.navfn_goal,
         "tolerance_used": plan.tol_used, "best_goal": plan.best,
-        "navfn_points": plan.navfn_len, "pose_count": plan.world.len(),
+        "navfn_points": plan.navfn_len, "pose_count": poses.len(),
         "checks": report, "time_ms": (elapsed_ms * 1e3).round() / 1e3,
     });
     if a.poses {
-        v["poses"] = serde_json::json!(plan.world);
+        v["poses"] = serde_json::json!(poses);
     }
     v
 }
@@ -143,6 +168,7 @@ fn print_summary(
     ctx: &mut Ctx,
     a: &PlanArgs,
     plan: &PlannerPlan,
+    poses: &[Pose],
     report: &CheckReport,
     elapsed_ms: f64,
 ) -> Result<(), Failure> {
@@ -152,7 +178,7 @@ fn print_summary(
         ctx.out,
         "status {}  poses {}  navfn points {}  tolerance used {}  checks {checks}  {elapsed_ms:.3} ms",
         plan.status.name(),
-        plan.world.len(),
+        poses.len(),
         plan.navfn_len,
         if plan.tol_used { "yes" } else { "no" },
     )?;
@@ -160,7 +186,7 @@ fn print_summary(
         writeln!(ctx.out, "violation: {v}")?;
     }
     if a.poses {
-        ctx.out.write_all(poses_text(plan).as_bytes())?;
+        ctx.out.write_all(poses_text(poses).as_bytes())?;
     }
     Ok(())
 }

@@ -63,12 +63,24 @@ impl MapError {
         field: &str,
         msg: impl Into<String>,
     ) -> Self {
+        let span = field_span(text, line, field);
+        Self::spanned(path, text, line, (span.offset(), span.len()), msg)
+    }
+
+    /// An error at a byte range `(offset, len)` of `text` on 1-based `line`.
+    pub fn spanned(
+        path: &Path,
+        text: &str,
+        line: usize,
+        (offset, len): (usize, usize),
+        msg: impl Into<String>,
+    ) -> Self {
         MapError::Syntax(Box::new(SyntaxError {
             path: path.to_path_buf(),
             line,
             msg: msg.into(),
             src: named_source(path, text),
-            span: field_span(text, line, field),
+            span: (offset.min(text.len()), len).into(),
         }))
     }
 

@@ -1,20 +1,24 @@
 //! Map front ends: the paper's suite format (`test.txt` + `map.bin`) and ROS map_server maps
-//! (YAML + PGM). Every reader returns located [`MapError`]s, never panics on input.
+//! (YAML + PGM/PNG, read as map_server reads them). Every reader returns located [`MapError`]s, never panics on input.
 
 pub mod error;
+pub mod grey;
 pub mod pgm;
 mod png_image;
 pub mod ros_yaml;
 pub mod suite;
 pub mod world;
+pub mod yaml_meta;
 
 pub use error::{MapError, SyntaxError};
-pub use ros_yaml::{load_ros_map, parse_map_yaml, static_layer_value, MapMode, RosMap, RosMapMeta};
+pub use grey::MapImage;
+pub use ros_yaml::{decode_image, load_ros_map, occupancy_grid, static_layer_value, RosMap};
 pub use suite::{
     find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params,
     SuiteCase, SuiteFile,
 };
 pub use world::WorldParams;
+pub use yaml_meta::{parse_map_yaml, MapMode, RosMapMeta};
 
 /// Largest map we accept (cells). Far above any nav2 map in practice, low enough that a
 /// corrupt header cannot make us allocate gigabytes.

@@ -1,15 +1,14 @@
-//! PNG map images (map_server also reads PNG): grey, grey+alpha, RGB, RGBA; 8 or 16 bit.
-//! Colour pixels are averaged over their channels as map_server does.
+//! PNG map images (map_server reads them through ImageMagick): grey, grey+alpha, RGB, RGBA,
+//! palette; 1 to 16 bit. Colour pixels become grey with ImageMagick's default intensity (Rec. 709
+//! luma on the quantum values); a `tRNS` chunk counts as an alpha channel, as for ImageMagick.
 
 use std::path::Path;
 
+use super::grey::{quantum_to_char, sample_to_quantum, MapImage};
 use super::pgm::GreyImage;
 use super::{MapError, MAX_CELLS};
 
-pub(crate) fn decode_png(
-    path: &Path,
-    data: &[u8],
-) -> Result<(GreyImage, Option<Vec<bool>>), MapError> {
+pub(crate) fn decode_png(path: &Path, data: &[u8]) -> Result<MapImage, MapError> {
     let bad = |e: png::DecodingError| MapError::file(path, format!("bad PNG: {e}"));
     let mut decoder = png::Decoder::new(data);
     decoder.set_transformations(png::Transformations::EXPAND);
@@ -32,22 +31,26 @@ pub(crate) fn decode_png(
             bytes[i] as u16
         }
     };
-    let colour = match frame.color_type {
-        png::ColorType::Grayscale | png::ColorType::GrayscaleAlpha => 1,
-        _ => 3,
-    };
+    let colour =
+        !matches!(frame.color_type, png::ColorType::Grayscale | png::ColorType::GrayscaleAlpha);
     let has_alpha =
         matches!(frame.color_type, png::ColorType::GrayscaleAlpha | png::ColorType::Rgba);
     let mut pixels = Vec::with_capacity(w * h);
     let mut alpha = Vec::with_capacity(if has_alpha { w * h } else { 0 });
     for p in 0..w * h {
         let base = p * channels;
-        let sum: u32 = (0..colour).map(|c| sample(base + c) as u32).sum();
-        pixels.push((sum / colour as u32) as u16);
+        if colour {
+            let q = |c: usize| sample_to_quantum(sample(base + c), maxval) as f64;
+            let luma = 0.212656 * q(0) + 0.715158 * q(1) + 0.072186 * q(2);
+            pixels.push((luma + 0.5).clamp(0.0, 65535.0) as u16);
+        } else {
+            pixels.push(sample(base));
+        }
         if has_alpha {
-            alpha.push(sample(base + channels - 1) == maxval);
+            alpha.push(quantum_to_char(sample_to_quantum(sample(base + channels - 1), maxval)));
         }
     }
-    let img = GreyImage { width: w, height: h, maxval, pixels };
-    Ok((img, has_alpha.then_some(alpha)))
+    let grey_max = if colour { 65535 } else { maxval };
+    let grey = GreyImage { width: w, height: h, maxval: grey_max, pixels };
+    Ok(MapImage { grey, alpha: has_alpha.then_some(alpha) })
 }

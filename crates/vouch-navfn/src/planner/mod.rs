@@ -2,7 +2,10 @@
 //! the robot-cell clearing, ROS cost conversion, the start/goal swap, the goal tolerance
 //! search, path reversal to world poses and `smoothApproachToGoal`.
 
+mod pose;
 mod validate;
+
+pub use pose::{orientation_around_z, Pose, PosePlan, IDENTITY};
 
 pub use validate::{End, PlanError, MAX_TOLERANCE_POINTS};
 
@@ -22,6 +25,9 @@ pub struct PlannerParams {
     pub allow_unknown: bool,
     /// Path iteration limit is `max(nx, ny) * max_cycles_factor` (default 4).
     pub max_cycles_factor: usize,
+    /// The last pose faces along the final approach instead of the goal's orientation
+    /// (default false); affects orientations only.
+    pub use_final_approach_orientation: bool,
 }
 
 impl Default for PlannerParams {
@@ -31,6 +37,7 @@ impl Default for PlannerParams {
             use_astar: false,
             allow_unknown: true,
             max_cycles_factor: 4,
+            use_final_approach_orientation: false,
         }
     }
 }
