@@ -22,6 +22,7 @@
 pub mod explore;
 pub mod oracle;
 pub mod sim;
+pub mod space;
 pub mod trace;
 
 use std::collections::HashMap;
@@ -69,6 +70,9 @@ pub struct State<'p> {
     pub last_remaining: Vec<Item<'p>>,
     /// `for` counters (`_var_v`, `_var_v_to`) keyed by (block, init stage number).
     pub counters: HashMap<(BlockIx, usize), (i8, i8)>,
+    /// The waypoint a `go` stage remembers when it is reached (the runtime's `last_wp`,
+    /// `NextStageAndBreakFrom`); it steers nothing in the plan, the firmware reads it.
+    pub last_wp: usize,
 }
 
 /// The interpreter of one plan.
@@ -144,6 +148,7 @@ impl<'p> Interp<'p> {
             last_block: 0,
             last_remaining: full0,
             counters: HashMap::new(),
+            last_wp: 0,
         };
         Interp { fp, first, ends, state, calls: 0, forbidden_off: false }
     }
@@ -154,6 +159,11 @@ impl<'p> Interp<'p> {
             push_list(&mut v, &b.stages);
         }
         v
+    }
+
+    /// The plan this interpreter runs.
+    pub fn fp(&self) -> &'p Fp {
+        self.fp
     }
 
     /// Events of `auto_nav_init()`.
@@ -538,11 +548,12 @@ impl<'p> Interp<'p> {
             Self::code(ev, c);
         }
         let mut run_lines = true;
-        if let Some((cond, _wp)) = &n.approach {
+        if let Some((cond, wp)) = &n.approach {
             if Self::cond(ev, oracle, cond) {
                 if let Some(c) = &n.post_call {
                     Self::code(ev, c);
                 }
+                self.state.last_wp = *wp;
                 self.pop();
                 return Flow::Break;
             }

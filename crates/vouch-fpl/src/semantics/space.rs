@@ -1,0 +1,525 @@
+//! The reachable state space of a plan, explored to a fixpoint: from the initial state, every
+//! path of one `auto_nav` call (every condition answer, every `int8_t` value of a non-literal
+//! `for` bound) and, optionally, every operator jump (the ground station's "go to block",
+//! between two calls), until no new state appears.
+//!
+//! States are merged by a *view* ([`ViewKey`]) that keeps everything the future of the plan
+//! can depend on and drops what it cannot read:
+//!
+//! * the current block and its continuation (which fixes the stage number);
+//! * the last block and its continuation only when the plan has a `return` stage (the only
+//!   reader of `last_block`/`last_stage`); with [`SpaceOptions::keep_last_block`] the last
+//!   block number is kept anyway (properties that name it);
+//! * the `for` counters of the loops the continuation is inside (its loop test or loop-back is
+//!   on the stack), and with a `return` stage also those the last continuation is inside: any
+//!   other counter is dead, overwritten by its loop's initialisation before its test can run
+//!   (a block is entered at stage 0; the continuation of a loop's body holds its loop-back);
+//! * for a loop whose bound is not a literal, the counter pair only through its
+//!   [`LoopClass`]: whether the next test leaves the loop, continues, or can never leave
+//!   (`to = 127`: the `int8_t` counter wraps before it exceeds the bound);
+//! * not `last_wp` (written by `go` stages, read only by the firmware).
+//!
+//! Exactness for the interpreter: [`super::Interp`] reads the last position only in `Return`,
+//! the counters only in the loop tests of the current block, a counter pair only through
+//! `++v > to`, and never `last_wp`. Merged states therefore behave the same for every call,
+//! up to the dropped parts, which each call either keeps or overwrites with a value of its
+//! own. The validator checks the same of the compiled C on every transition
+//! (`crate::evidence::validate`).
+//!
+//! [`explore`] is the breadth-first walk shared by the validator (with the compiled C as
+//! [`Companion`]) and the model checker (with none).
+
+use std::collections::{HashMap, VecDeque};
+
+use serde::Serialize;
+
+use super::explore::enumerate_call;
+use super::oracle::literal_value;
+use super::trace::{Event, Observation};
+use super::{Interp, Item, State, StepError};
+use crate::passes::fp::{BlockIx, Fp, FpStage};
+
+/// What the walk covers and how far it may go.
+#[derive(Debug, Clone)]
+pub struct SpaceOptions {
+    /// Every operator jump is a transition of every state.
+    pub operator_jumps: bool,
+    /// Stop after this many transitions from the initial state (a bounded walk, not a
+    /// fixpoint).
+    pub depth: Option<usize>,
+    /// State budget.
+    pub max_states: usize,
+    /// Paths of one call budget.
+    pub max_paths_per_call: usize,
+    /// Keep the last block number in the view even without `return` stages.
+    pub keep_last_block: bool,
+    /// Keep every transition (the model checker needs the edges; the validator counts them).
+    pub record_edges: bool,
+    /// Merge states that differ only in parts the plan cannot read (see the module
+    /// documentation); `false` keeps every counter, the last position and `last_wp` as they are.
+    pub drop_dead: bool,
+}
+
+impl Default for SpaceOptions {
+    fn default() -> Self {
+        SpaceOptions {
+            operator_jumps: true,
+            depth: None,
+            max_states: 1_000_000,
+            max_paths_per_call: 100_000,
+            keep_last_block: false,
+            record_edges: false,
+            drop_dead: true,
+        }
+    }
+}
+
+/// One transition.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize)]
+pub enum Move {
+    /// One `auto_nav` call with these answers (oracle convention).
+    Call(Vec<i64>),
+    /// An operator jump to this block (`nav_goto_block`, no forbidden-deroute check).
+    Jump(BlockIx),
+}
+
+/// A successor of a state.
+#[derive(Debug, Clone)]
+pub struct Succ<'p> {
+    pub mv: Move,
+    pub events: Vec<Event>,
+    pub state: State<'p>,
+    pub after: Observation,
+    /// Marker conditions answered true (model checking only).
+    pub markers: Vec<String>,
+}
+
+/// What the next test of a `for` loop does with this counter pair (`int8_t` arithmetic, as
+/// in C): `++v > to` true, false now but true within 256 tests, or never.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub enum LoopClass {
+    Exits,
+    Continues,
+    Endless,
+}
+
+/// Tests until the loop with counter `v` and bound `to` is left (`None`: never).
+pub fn iterations_left(v: i8, to: i8) -> Option<u16> {
+    let mut v = v;
+    for n in 0..=256u16 {
+        v = v.wrapping_add(1);
+        if v > to {
+            return Some(n);
+        }
+    }
+    None
+}
+
+/// The class of a counter pair.
+pub fn loop_class(v: i8, to: i8) -> LoopClass {
+    match iterations_left(v, to) {
+        Some(0) => LoopClass::Exits,
+        Some(_) => LoopClass::Continues,
+        None => LoopClass::Endless,
+    }
+}
+
+/// A counter in the view.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CounterView {
+    Value(i8, i8),
+    Class(LoopClass),
+}
+
+/// The last position in the view.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum LastView {
+    Dropped,
+    Block(BlockIx),
+    Full(BlockIx, Vec<usize>),
+}
+
+/// The merged state (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ViewKey {
+    pub block: BlockIx,
+    /// Stage number of every item of the continuation.
+    pub remaining: Vec<usize>,
+    pub last: LastView,
+    pub counters: Vec<((BlockIx, usize), CounterView)>,
+    /// Only in exact views (nothing dropped).
+    pub last_wp: Option<usize>,
+}
+
+/// A loop whose bound is not a literal (its counters are in the view by class).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct SymbolicLoop {
+    pub block: BlockIx,
+    /// Number of its initialisation stage.
+    pub stage: usize,
+    /// The C variable (`_var_v`).
+    pub var: String,
+}
+
+/// What the view drops, for the plan at hand.
+#[derive(Debug, Clone, Serialize)]
+pub struct Abstraction {
+    /// Nothing is dropped ([`SpaceOptions::drop_dead`] off).
+    pub exact: bool,
+    /// The plan has a `return` stage: the last position and every counter are kept.
+    pub has_return: bool,
+    /// The last block is kept although there is no `return` (model checking).
+    pub keeps_last_block: bool,
+    pub symbolic: Vec<SymbolicLoop>,
+}
+
+/// The interpreter and what its view keeps.
+pub struct Space<'p> {
+    interp: Interp<'p>,
+    pub abstraction: Abstraction,
+    pub opts: SpaceOptions,
+}
+
+fn has_return(stages: &[FpStage]) -> bool {
+    stages.iter().any(|s| match s {
+        FpStage::Return { .. } => true,
+        FpStage::While { body, .. } | FpStage::For { body, .. } => has_return(body),
+        _ => false,
+    })
+}
+
+fn symbolic_loops<'p>(
+    interp: &Interp<'p>,
+    block: BlockIx,
+    stages: &'p [FpStage],
+    out: &mut Vec<SymbolicLoop>,
+) {
+    for s in stages {
+        match s {
+            FpStage::For { var, from, to, body, .. } => {
+                if literal_value(from).is_none() || literal_value(to).is_none() {
+                    let stage = interp.item_number(&Item::Stage(s));
+                    out.push(SymbolicLoop { block, stage, var: var.clone() });
+                }
+                symbolic_loops(interp, block, body, out);
+            }
+            FpStage::While { body, .. } => symbolic_loops(interp, block, body, out),
+            _ => {}
+        }
+    }
+}
+
+impl<'p> Space<'p> {
+    pub fn new(fp: &'p Fp, opts: SpaceOptions) -> Self {
+        let interp = Interp::new(fp);
+        let mut symbolic = Vec::new();
+        for (b, block) in fp.blocks.iter().enumerate() {
+            symbolic_loops(&interp, b, &block.stages, &mut symbolic);
+        }
+        let abstraction = Abstraction {
+            exact: !opts.drop_dead,
+            has_return: fp.blocks.iter().any(|b| has_return(&b.stages)),
+            keeps_last_block: opts.keep_last_block,
+            symbolic,
+        };
+        Space { interp, abstraction, opts }
+    }
+
+    pub fn interp(&self) -> &Interp<'p> {
+        &self.interp
+    }
+
+    /// The initial state (before the first call).
+    pub fn initial(&self) -> State<'p> {
+        Interp::new(self.interp.fp()).state
+    }
+
+    /// Whether the view takes the counters of the loop (block, initialisation stage) by class
+    /// (a non-literal bound, in a view that drops what the plan cannot read).
+    pub fn is_symbolic(&self, key: (BlockIx, usize)) -> bool {
+        !self.abstraction.exact
+            && self.abstraction.symbolic.iter().any(|l| (l.block, l.stage) == key)
+    }
+
+    /// The loops (block, initialisation stage) whose counters `s` can still read (every loop
+    /// with a counter in an exact view).
+    pub fn live_loops(&self, s: &State<'p>) -> Vec<(BlockIx, usize)> {
+        if self.abstraction.exact {
+            let mut all: Vec<_> = s.counters.keys().copied().collect();
+            all.sort_unstable();
+            return all;
+        }
+        let mut live = Vec::new();
+        let mut add = |block: BlockIx, stack: &[Item<'p>]| {
+            for item in stack {
+                if let Item::ForTest(f) | Item::LoopBack(f) = item {
+                    if matches!(f, FpStage::For { .. }) {
+                        live.push((block, self.interp.item_number(&Item::Stage(f))));
+                    }
+                }
+            }
+        };
+        add(s.block, &s.remaining);
+        if self.abstraction.has_return {
+            add(s.last_block, &s.last_remaining);
+        }
+        live.sort_unstable();
+        live.dedup();
+        live
+    }
+
+    /// The view of `s`.
+    pub fn key(&self, s: &State<'p>) -> ViewKey {
+        let numbers =
+            |stack: &[Item<'p>]| stack.iter().map(|i| self.interp.item_number(i)).collect();
+        let all = self.abstraction.has_return;
+        let counters: Vec<_> = self
+            .live_loops(s)
+            .into_iter()
+            .map(|k| {
+                let (v, t) = s.counters.get(&k).copied().unwrap_or((0, 0));
+                let view = if self.is_symbolic(k) {
+                    CounterView::Class(loop_class(v, t))
+                } else {
+                    CounterView::Value(v, t)
+                };
+                (k, view)
+            })
+            .collect();
+        let exact = self.abstraction.exact;
+        let last = if all || exact {
+            LastView::Full(s.last_block, numbers(&s.last_remaining))
+        } else if self.abstraction.keeps_last_block {
+            LastView::Block(s.last_block)
+        } else {
+            LastView::Dropped
+        };
+        let last_wp = exact.then_some(s.last_wp);
+        ViewKey { block: s.block, remaining: numbers(&s.remaining), last, counters, last_wp }
+    }
+
+    /// Every call path from `s`, then (with operator jumps) a jump to every block; whether the
+    /// path budget cut the call.
+    pub fn successors(&mut self, s: &State<'p>) -> Result<(Vec<Succ<'p>>, bool), StepError> {
+        let tree = enumerate_call(&mut self.interp, s, self.opts.max_paths_per_call)?;
+        let cut = tree.cut;
+        let mut out: Vec<Succ<'p>> = tree
+            .paths
+            .into_iter()
+            .map(|p| Succ {
+                mv: Move::Call(p.answers),
+                events: p.events,
+                state: p.state,
+                after: p.after,
+                markers: p.markers,
+            })
+            .collect();
+        if self.opts.operator_jumps {
+            for b in 0..self.interp.fp().blocks.len() {
+                self.interp.state = s.clone();
+                let events = self.interp.operator_goto(b);
+                out.push(Succ {
+                    mv: Move::Jump(b),
+                    events,
+                    after: self.interp.observe(),
+                    state: self.interp.state.clone(),
+                    markers: Vec::new(),
+                });
+            }
+        }
+        Ok((out, cut))
+    }
+}
+
+/// What runs beside the interpreter during the walk (the compiled C when validating).
+pub trait Companion<'p> {
+    /// The companion's state.
+    type State: Clone;
+    /// The part of its state that must be a function of the interpreter's view.
+    type Key: PartialEq;
+    type Error: From<StepError>;
+    /// Its state at the start, beside the interpreter's initial state.
+    fn initial(&mut self, space: &Space<'p>) -> Result<Self::State, Self::Error>;
+    /// Compares the transitions of node `id` (`succ`, from the interpreter state `from`) and
+    /// returns the companion's state after each (`None` where it disagreed: the companion
+    /// keeps the finding).
+    fn expand(
+        &mut self,
+        space: &Space<'p>,
+        id: usize,
+        from: &State<'p>,
+        state: &Self::State,
+        succ: &[Succ<'p>],
+    ) -> Result<Vec<Option<Self::State>>, Self::Error>;
+    fn key(&self, state: &Self::State) -> Self::Key;
+    /// The successor `mv` of node `from` has the interpreter view of node `existing` but
+    /// another companion key than `existing_key`.
+    fn conflict(
+        &mut self,
+        existing: usize,
+        existing_key: &Self::Key,
+        from: usize,
+        mv: &Move,
+        state: &Self::State,
+    );
+    /// A disagreement was found: the walk finishes the current level and stops.
+    fn found(&self) -> bool;
+}
+
+/// The walk without a companion (model checking).
+pub struct Alone;
+
+impl<'p> Companion<'p> for Alone {
+    type State = ();
+    type Key = ();
+    type Error = StepError;
+    fn initial(&mut self, _: &Space<'p>) -> Result<(), StepError> {
+        Ok(())
+    }
+    fn expand(
+        &mut self,
+        _: &Space<'p>,
+        _: usize,
+        _: &State<'p>,
+        _: &(),
+        succ: &[Succ<'p>],
+    ) -> Result<Vec<Option<()>>, StepError> {
+        Ok(vec![Some(()); succ.len()])
+    }
+    fn key(&self, _: &()) {}
+    fn conflict(&mut self, _: usize, _: &(), _: usize, _: &Move, _: &()) {}
+    fn found(&self) -> bool {
+        false
+    }
+}
+
+/// A state of the walk: how it was first reached.
+#[derive(Debug, Clone)]
+pub struct Node {
+    pub obs: Observation,
+    /// Transitions from the initial state (breadth first: the fewest).
+    pub depth: usize,
+    /// The node it was first reached from, and the move.
+    pub parent: Option<(usize, Move)>,
+}
+
+/// A recorded transition.
+#[derive(Debug, Clone)]
+pub struct Edge {
+    pub from: usize,
+    pub to: usize,
+    pub mv: Move,
+    pub markers: Vec<String>,
+}
+
+/// The outcome of the walk.
+#[derive(Debug, Clone, Default)]
+pub struct Explored {
+    /// Node 0 is the initial state.
+    pub nodes: Vec<Node>,
+    /// With [`SpaceOptions::record_edges`].
+    pub edges: Vec<Edge>,
+    /// Transitions taken (compared, when validating).
+    pub transitions: usize,
+    /// Every reachable state was expanded: no budget, no depth bound and no stop on a
+    /// disagreement cut the walk.
+    pub fixpoint: bool,
+    /// Why the walk is incomplete (a budget), if it is.
+    pub cut: Option<String>,
+    /// The depth bound stopped the walk with states left to expand.
+    pub bounded: bool,
+    /// Nodes some of whose successors were dropped by a budget.
+    pub incomplete: Vec<bool>,
+    /// Largest depth of an expanded node.
+    pub max_depth: usize,
+}
+
+impl Explored {
+    /// The moves from the initial state to `node`.
+    pub fn path_to(&self, node: usize) -> Vec<Move> {
+        let mut moves = Vec::new();
+        let mut cur = node;
+        while let Some((p, mv)) = self.nodes.get(cur).and_then(|n| n.parent.clone()) {
+            moves.push(mv);
+            cur = p;
+        }
+        moves.reverse();
+        moves
+    }
+}
+
+/// Walks the reachable states of `space` breadth first, beside `comp`, to a fixpoint (or a
+/// budget, the depth bound, or the end of the level where `comp` found a disagreement).
+pub fn explore<'p, C: Companion<'p>>(
+    space: &mut Space<'p>,
+    comp: &mut C,
+) -> Result<Explored, C::Error> {
+    let init = space.initial();
+    let c0 = comp.initial(space)?;
+    let mut out = Explored::default();
+    let mut index: HashMap<ViewKey, usize> = HashMap::from([(space.key(&init), 0)]);
+    let mut ckeys = vec![comp.key(&c0)];
+    out.nodes.push(Node { obs: space.interp().observe_state(&init), depth: 0, parent: None });
+    out.incomplete.push(false);
+    let mut queue = VecDeque::from([(0usize, init, c0)]);
+    let mut found_at: Option<usize> = None;
+    let mut stopped = false;
+    while let Some((id, st, cst)) = queue.pop_front() {
+        let depth = out.nodes[id].depth;
+        if found_at.is_some_and(|f| depth > f) {
+            stopped = true;
+            break;
+        }
+        if space.opts.depth.is_some_and(|d| depth >= d) {
+            out.bounded = true;
+            continue;
+        }
+        out.max_depth = out.max_depth.max(depth);
+        let (succ, cut) = space.successors(&st)?;
+        if cut {
+            out.cut =
+                Some(format!("more than {} paths in one call", space.opts.max_paths_per_call));
+            out.incomplete[id] = true;
+        }
+        let csucc = comp.expand(space, id, &st, &cst, &succ)?;
+        for (s, c) in succ.into_iter().zip(csucc) {
+            out.transitions += 1;
+            let Some(c) = c else { continue };
+            let k = space.key(&s.state);
+            let to = match index.get(&k) {
+                Some(&t) => {
+                    if ckeys[t] != comp.key(&c) {
+                        comp.conflict(t, &ckeys[t], id, &s.mv, &c);
+                    }
+                    t
+                }
+                None => {
+                    if out.nodes.len() >= space.opts.max_states {
+                        out.cut = Some(format!("more than {} states", space.opts.max_states));
+                        out.incomplete[id] = true;
+                        continue;
+                    }
+                    let t = out.nodes.len();
+                    index.insert(k, t);
+                    ckeys.push(comp.key(&c));
+                    out.nodes.push(Node {
+                        obs: s.after,
+                        depth: depth + 1,
+                        parent: Some((id, s.mv.clone())),
+                    });
+                    out.incomplete.push(false);
+                    queue.push_back((t, s.state, c));
+                    t
+                }
+            };
+            if space.opts.record_edges {
+                out.edges.push(Edge { from: id, to, mv: s.mv, markers: s.markers });
+            }
+        }
+        if comp.found() && found_at.is_none() {
+            found_at = Some(depth);
+        }
+    }
+    out.fixpoint = !stopped && !out.bounded && out.cut.is_none() && found_at.is_none();
+    Ok(out)
+}
