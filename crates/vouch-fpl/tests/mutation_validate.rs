@@ -210,6 +210,20 @@ fn deep_mutants_are_caught() {
     }
 }
 
+/// A C call that crashes is a disagreement (the driver is restarted and the walk goes on).
+#[test]
+fn a_crash_is_reported_on_its_path() {
+    let Some(_cc) = common::c_compiler() else { return };
+    let (fp, h) = plan_and_header("mutation.xml");
+    let mutated = mutate(&h, "FP_X(\"mode = 1\");", "*(volatile int *)0 = 0;");
+    let r = validate_header(&fp, &mutated, &full()).expect("driver builds");
+    let cx = r.counterexample.expect("caught");
+    // the set stage runs in call 1
+    assert!(cx.what.contains("died"), "{}", cx.what);
+    assert_eq!(cx.calls, 1);
+    assert!(r.abstracted.restarts >= 1);
+}
+
 /// A static the declaration scan cannot read (a parenthesised declarator) is still seen: the
 /// driver watches the whole writable data segment.
 #[test]

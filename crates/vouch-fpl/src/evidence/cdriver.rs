@@ -85,8 +85,9 @@ pub enum CRun {
     },
     /// The call asked more questions than the limit (a loop inside one call).
     TooLong { answers: Vec<i64> },
-    /// The process died (signal or time-out) on this answer prefix.
-    Crashed { status: i64, answers: Vec<i64> },
+    /// The process died (signal or time-out) on this answer prefix, or during the operator
+    /// jump to this block.
+    Crashed { status: i64, answers: Vec<i64>, jump: Option<usize> },
 }
 
 impl CRun {
@@ -365,7 +366,7 @@ impl Driver {
                 Err(DriverError::Protocol(_)) => {
                     // died without a word (e.g. a stack overflow): a crash on the run in progress
                     finish(&mut ex, cur.take());
-                    ex.runs.push(CRun::Crashed { status: -1, answers: Vec::new() });
+                    ex.runs.push(CRun::Crashed { status: -1, answers: Vec::new(), jump: None });
                     self.restart()?;
                     return Ok(ex);
                 }
@@ -426,7 +427,13 @@ impl Driver {
                     let (st, rest) = rest.split_once(' ').unwrap_or((rest, "0"));
                     let status =
                         st.parse::<i64>().map_err(|_| protocol(format!("bad line '{l}'")))?;
-                    ex.runs.push(CRun::Crashed { status, answers: parse_answers(rest)? });
+                    let crashed = match rest.strip_prefix("J ") {
+                        Some(b) => {
+                            CRun::Crashed { status, answers: Vec::new(), jump: Some(parse_num(b)?) }
+                        }
+                        None => CRun::Crashed { status, answers: parse_answers(rest)?, jump: None },
+                    };
+                    ex.runs.push(crashed);
                     // the process ends after its "done": start another one
                     let _ = self.read_line();
                     self.restart()?;

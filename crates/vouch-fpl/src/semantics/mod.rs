@@ -309,7 +309,7 @@ impl<'p> Interp<'p> {
             let Some(block) = fp.blocks.get(b) else {
                 return Ok(StepRecord {
                     call: self.calls,
-                    operator_goto: None,
+                    operator_gotos: Vec::new(),
                     before,
                     events: ev,
                     after: self.observe(),
@@ -327,7 +327,7 @@ impl<'p> Interp<'p> {
         }
         Ok(StepRecord {
             call: self.calls,
-            operator_goto: None,
+            operator_gotos: Vec::new(),
             before,
             events: ev,
             after: self.observe(),
@@ -347,7 +347,7 @@ impl<'p> Interp<'p> {
     }
 
     /// Runs `n` calls; `jumps` lists (call number, block) operator block changes applied just
-    /// before that call.
+    /// before that call (several before one call run in their order).
     pub fn run_with_jumps(
         &mut self,
         oracle: &mut dyn Oracle,
@@ -360,10 +360,13 @@ impl<'p> Interp<'p> {
         };
         for _ in 0..n {
             let call = self.calls + 1;
-            let op =
-                jumps.iter().find(|(c, _)| *c == call).map(|&(_, b)| (b, self.operator_goto(b)));
+            let ops: Vec<(usize, Vec<Event>)> = jumps
+                .iter()
+                .filter(|(c, _)| *c == call)
+                .map(|&(_, b)| (b, self.operator_goto(b)))
+                .collect();
             let mut rec = self.step(oracle)?;
-            rec.operator_goto = op;
+            rec.operator_gotos = ops;
             run.steps.push(rec);
         }
         Ok(run)

@@ -523,3 +523,85 @@ pub fn explore<'p, C: Companion<'p>>(
     out.fixpoint = !stopped && !out.bounded && out.cut.is_none() && found_at.is_none();
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fp(blocks: &str) -> Fp {
+        let text = format!(
+            r#"<flight_plan name="t" lat0="43.5" lon0="1.4" alt="250" ground_alt="150"
+            security_height="30" max_dist_from_home="1000">
+          <waypoints><waypoint name="HOME" x="0" y="0"/></waypoints>
+          <blocks>{blocks}</blocks></flight_plan>"#
+        );
+        let plan = crate::front::parse_str("t.xml", &text).expect("parses");
+        crate::passes::lower::lower(&plan).expect("lowers")
+    }
+
+    #[test]
+    fn loop_classes_follow_int8_arithmetic() {
+        assert_eq!(iterations_left(0, 10), Some(10));
+        assert_eq!(iterations_left(10, 10), Some(0));
+        assert_eq!(loop_class(10, 10), LoopClass::Exits);
+        assert_eq!(loop_class(-1, 0), LoopClass::Continues);
+        // the counter wraps from 127 to -128 before it can exceed 127
+        assert_eq!(loop_class(5, 127), LoopClass::Endless);
+        // from = -128: `_var = from - 1` wraps to 127, the first test sees -128
+        assert_eq!(iterations_left(127, -128), Some(1));
+        assert_eq!(iterations_left(127, 126), Some(255));
+    }
+
+    #[test]
+    fn the_walk_reaches_its_fixpoint() {
+        // B (0): exception e() to HOME, a call f() (false: next stage, the default stage goes
+        // to HOME); HOME (1): its home stage stays. Two states, whatever the jumps.
+        let f = fp(
+            r#"<block name="B"><exception cond="e()" deroute="HOME"/><call fun="f()"/></block>"#,
+        );
+        for (jumps, transitions) in [(false, 4), (true, 8)] {
+            let opts =
+                SpaceOptions { operator_jumps: jumps, record_edges: true, ..Default::default() };
+            let mut space = Space::new(&f, opts);
+            let w = explore(&mut space, &mut Alone).expect("walks");
+            assert!(w.fixpoint && !w.bounded && w.cut.is_none());
+            assert_eq!(w.nodes.len(), 2, "B stage 0 and HOME stage 0");
+            assert_eq!((w.transitions, w.edges.len()), (transitions, transitions));
+            let home = w.nodes.iter().position(|n| n.obs.block == 1).expect("HOME reached");
+            // breadth first: HOME is one call away (the first path in answer order: e false,
+            // f false), or one jump
+            let path = w.path_to(home);
+            assert_eq!(path.len(), 1);
+        }
+        let bounded = SpaceOptions { depth: Some(0), ..Default::default() };
+        let w = explore(&mut Space::new(&f, bounded), &mut Alone).expect("walks");
+        assert!(w.bounded && !w.fixpoint && w.transitions == 0);
+    }
+
+    #[test]
+    fn dead_parts_are_dropped_and_live_counters_kept() {
+        let f = fp(r#"<block name="L"><for var="i" from="1" to="3"><call_once fun="x()"/></for>
+            <for var="j" from="1" to="n"><call_once fun="y()"/></for></block>"#);
+        let mut space = Space::new(&f, SpaceOptions::default());
+        assert_eq!(space.abstraction.symbolic.len(), 1, "the j loop has a non-literal bound");
+        assert!(!space.abstraction.has_return);
+        let init = space.initial();
+        let k0 = space.key(&init);
+        assert!(k0.counters.is_empty() && k0.last == LastView::Dropped && k0.last_wp.is_none());
+        // one call: the i loop is initialised and its body entered
+        let (succ, _) = space.successors(&init).expect("runs");
+        let inside = succ[0].state.clone();
+        let k1 = space.key(&inside);
+        assert_eq!(k1.counters.len(), 1);
+        assert_eq!(k1.counters[0].1, CounterView::Value(1, 3));
+        // a jump back to the block: the counter is dead again (stage 0 initialises it)
+        let (succ, _) = space.successors(&inside).expect("runs");
+        let back = succ.iter().find(|s| s.mv == Move::Jump(0)).expect("jump");
+        assert_eq!(space.key(&back.state), k0, "merged with the initial state");
+        // exact views keep everything
+        let exact = Space::new(&f, SpaceOptions { drop_dead: false, ..Default::default() });
+        let e1 = exact.key(&inside);
+        assert!(e1.last_wp.is_some() && matches!(e1.last, LastView::Full(..)));
+        assert_ne!(exact.key(&back.state), exact.key(&init));
+    }
+}

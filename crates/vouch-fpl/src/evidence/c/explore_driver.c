@@ -33,8 +33,9 @@
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
  *
  *   H <offset>              (after a record) its runs wrote outside the registered variables
- *   A <signal> k a1..ak     the process dies (crash, time-out) on that answer prefix; the
- *                           answer is then "done 0" and the process exits.
+ *   A <signal> k a1..ak     the process dies (crash, time-out) on that answer prefix (or
+ *   A <signal> J b          during the jump to block b); the answer is then "done 0" and the
+ *                           process exits.
  *
  * argv: leaf budget (paths per request), question limit (per call), lowest and highest value
  * tried for a non-literal value.
@@ -95,6 +96,7 @@ struct driver {
   long *pending;           /* stacked prefixes: values, then their length */
   size_t n_pending, cap_pending;
   int deviated;
+  int jumping;             /* the block of the operator jump in progress, or -1 */
   long question_limit, leaf_budget, value_lo, value_hi;
   jmp_buf too_long;
   /* output: events are recorded into *rec when it is set */
@@ -369,7 +371,13 @@ static void on_signal(int sig)
   put_s(&D->out, "A ");
   put_l(&D->out, 128 + sig);
   put_s(&D->out, " ");
-  put_answers(&D->out, D->taken, D->mode == SCRIPT ? 0 : D->n_taken);
+  if (D->jumping >= 0) {
+    put_s(&D->out, "J ");
+    put_l(&D->out, D->jumping);
+    put_s(&D->out, "\n");
+  } else {
+    put_answers(&D->out, D->taken, D->mode == SCRIPT ? 0 : D->n_taken);
+  }
   put_s(&D->out, "done 0\n");
   flush_out();
   _exit(0);
@@ -400,9 +408,11 @@ static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int 
   ev->len = 0;
   D->rec = ev;
   int ended = setjmp(D->too_long) == 0;
+  D->jumping = jump_to;
   if (ended) {
     if (jump_to < 0) { auto_nav(); } else { nav_goto_block((uint8_t)jump_to); }
   }
+  D->jumping = -1;
   D->rec = NULL;
   capture(D->after);
   hidden_check();
@@ -589,6 +599,7 @@ int main(int argc, char **argv)
   static const int sigs[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM };
   D = calloc(1, sizeof *D);
   if (D == NULL) { return 4; }
+  D->jumping = -1;
   D->leaf_budget = argc > 1 ? strtol(argv[1], NULL, 10) : 100000;
   D->question_limit = argc > 2 ? strtol(argv[2], NULL, 10) : 4096;
   D->value_lo = argc > 3 ? strtol(argv[3], NULL, 10) : -128;

@@ -269,6 +269,15 @@ impl<'p> Companion<'p> for CSide<'_> {
         if ex.cut {
             self.cut = Some("the C side's path budget of one call ran out".into());
         }
+        // the process died: the runs after it were never made; the crash is the finding
+        if let Some(CRun::Crashed { status, answers, jump }) =
+            ex.runs.iter().find(|r| matches!(r, CRun::Crashed { .. }))
+        {
+            let what = format!("the C process died (status {status}) during this transition");
+            let mv = jump.map_or_else(|| Move::Call(answers.clone()), Move::Jump);
+            self.find(id, Some(mv), what, vec![], vec![]);
+            return Ok(vec![None; succ.len()]);
+        }
         let mut calls: HashMap<&[i64], &CRun> = HashMap::new();
         let mut jumps: HashMap<usize, &CRun> = HashMap::new();
         for r in &ex.runs {

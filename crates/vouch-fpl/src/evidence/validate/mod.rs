@@ -5,7 +5,7 @@
 //! * **The walk.** [`crate::semantics::space::explore`] walks the reachable states breadth
 //!   first to a fixpoint: every path of every call (every condition answer, every `int8_t`
 //!   value of a non-literal `for` bound) and every operator jump. Beside each interpreter
-//!   state runs the C state the same moves produced ([`companion`]): the driver restores it,
+//!   state runs the C state the same moves produced (module `companion`): the driver restores it,
 //!   runs every path and jump, and both sides must agree on every one (answers consumed,
 //!   events, block, stage, last block and stage, `last_wp`, every `for` counter, the static
 //!   bound), in both directions.
@@ -14,7 +14,7 @@
 //!   interpreter's view drops. The walk checks that the relation is a function: one
 //!   interpreter state never meets two C states.
 //! * **The dropped parts.** Every run is repeated from a copy of the C state whose dropped
-//!   parts are changed ([`cview::perturb`]): the C must not read them either.
+//!   parts are changed (module `cview`): the C must not read them either.
 //! * **Random runs.** Long seeded runs from a fresh process, compared trace against trace,
 //!   without restoring or merging anything.
 //!
@@ -153,6 +153,7 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         abstracted: Abstracted {
             c_variables: names,
             watched_bytes: driver.watched,
+            exact: space.abstraction.exact,
             last_position_kept: space.abstraction.has_return,
             symbolic_loops,
             restarts: driver.restarts,

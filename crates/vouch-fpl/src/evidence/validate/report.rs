@@ -34,21 +34,30 @@ impl RunPath {
         p
     }
 
+    /// Calls to replay to see the whole run (a jump after the last call shows before the next).
+    pub fn replay_steps(&self) -> usize {
+        self.jumps.iter().map(|j| j.0).max().unwrap_or(0).max(self.calls)
+    }
+
     fn render(&self, indent: &str) -> String {
         let answers: Vec<String> = self.answers.iter().map(|x| x.to_string()).collect();
         let mut s = format!(
-            "{indent}{} call(s), {} transition(s); answers (`vouch fpl sim --conditions FILE`): {}\n",
+            "{indent}{} call(s), {} transition(s); answers: {}\n",
             self.calls,
             self.transitions,
             if answers.is_empty() { "none".to_string() } else { answers.join(" ") }
         );
-        if !self.jumps.is_empty() {
+        let jumps = if self.jumps.is_empty() {
+            String::new()
+        } else {
             let j: Vec<String> = self.jumps.iter().map(|(c, b)| format!("{c} {b}")).collect();
-            s.push_str(&format!(
-                "{indent}operator jumps (`--jumps FILE`, \"call block\" pairs): {}\n",
-                j.join(", ")
-            ));
-        }
+            s.push_str(&format!("{indent}operator jumps (call, block): {}\n", j.join(", ")));
+            " --jumps JUMPS".to_string()
+        };
+        s.push_str(&format!(
+            "{indent}replay: vouch fpl sim PLAN --conditions ANSWERS{jumps} --steps {} --trace\n",
+            self.replay_steps()
+        ));
         s
     }
 }
@@ -125,6 +134,8 @@ pub struct Abstracted {
     /// Bytes of the C program's writable data segment watched for writes outside those
     /// variables (`None`: not available on this platform).
     pub watched_bytes: Option<usize>,
+    /// Nothing is dropped from the states (no changed-state runs to check it).
+    pub exact: bool,
     /// The last block and stage are part of the states (the plan has a `return` stage).
     pub last_position_kept: bool,
     /// Loops with a non-literal bound, whose counters are in the states by class.
@@ -196,17 +207,24 @@ impl Report {
             a.c_variables.len(),
             a.c_variables.join(", ")
         ));
-        let last = if a.last_position_kept {
-            "kept (the plan has a return stage)"
+        if a.exact {
+            s.push_str(
+                "  states: exact (every counter, the last position and last_wp as they are)\n",
+            );
         } else {
-            "dropped (no return stage reads it)"
-        };
-        s.push_str(&format!(
-            "  states: block, continuation, counters of the loops it is inside; last position {last}; last_wp dropped\n"
-        ));
-        if !a.symbolic_loops.is_empty() {
+            let last = if a.last_position_kept {
+                "kept (the plan has a return stage)"
+            } else {
+                "dropped (no return stage reads it)"
+            };
             s.push_str(&format!(
-                "  loops with a non-literal bound (every int8_t value tried; counters by class): {}\n",
+                "  states: block, continuation, counters of the loops it is inside; last position {last}; last_wp dropped\n"
+            ));
+        }
+        if !a.symbolic_loops.is_empty() {
+            let by = if a.exact { "" } else { "; counters by class" };
+            s.push_str(&format!(
+                "  loops with a non-literal bound (every int8_t value tried{by}): {}\n",
                 a.symbolic_loops.join(", ")
             ));
         }
