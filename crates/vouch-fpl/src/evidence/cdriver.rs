@@ -374,66 +374,9 @@ impl Driver {
             };
             let (tag, rest) = l.split_once(' ').unwrap_or((l.as_str(), ""));
             match tag {
-                "P" => {
-                    finish(&mut ex, cur.take());
-                    let answers = parse_answers(rest)?;
-                    cur = Some(CRun::Done {
-                        jump: None,
-                        answers,
-                        events: Vec::new(),
-                        after: Vec::new(),
-                        second: None,
-                        hidden: Vec::new(),
-                    });
-                }
-                "J" => {
-                    finish(&mut ex, cur.take());
-                    let b = parse_num(rest)?;
-                    cur = Some(CRun::Done {
-                        jump: Some(b),
-                        answers: Vec::new(),
-                        events: Vec::new(),
-                        after: Vec::new(),
-                        second: None,
-                        hidden: Vec::new(),
-                    });
-                }
-                "S" => match cur.as_mut() {
-                    Some(CRun::Done { after, .. }) => *after = apply_changes(state, rest)?,
-                    _ => return Err(protocol("S line outside a run")),
-                },
-                "T" => match (cur.as_mut(), second) {
-                    (Some(CRun::Done { second: s, .. }), Some(base)) => {
-                        *s = Some(if rest.trim() == "!" {
-                            Second::Differs(Vec::new())
-                        } else {
-                            Second::Same(apply_changes(base, rest)?)
-                        })
-                    }
-                    _ => return Err(protocol("T line outside a run")),
-                },
-                "L" => {
-                    finish(&mut ex, cur.take());
-                    ex.runs.push(CRun::TooLong { answers: parse_answers(rest)? });
-                }
-                "H" => {
-                    // (a run that did not end is reported as such already)
-                    if let Some(CRun::Done { hidden, .. }) = cur.as_mut() {
-                        hidden.push(parse_num(rest)?);
-                    }
-                }
                 "A" => {
                     finish(&mut ex, cur.take());
-                    let (st, rest) = rest.split_once(' ').unwrap_or((rest, "0"));
-                    let status =
-                        st.parse::<i64>().map_err(|_| protocol(format!("bad line '{l}'")))?;
-                    let crashed = match rest.strip_prefix("J ") {
-                        Some(b) => {
-                            CRun::Crashed { status, answers: Vec::new(), jump: Some(parse_num(b)?) }
-                        }
-                        None => CRun::Crashed { status, answers: parse_answers(rest)?, jump: None },
-                    };
-                    ex.runs.push(crashed);
+                    ex.runs.push(crashed(rest)?);
                     // the process ends after its "done": start another one
                     let _ = self.read_line();
                     self.restart()?;
@@ -444,11 +387,7 @@ impl Driver {
                     ex.cut = rest.trim() == "1";
                     return Ok(ex);
                 }
-                _ => match cur.as_mut() {
-                    Some(CRun::Done { second: Some(Second::Differs(events)), .. })
-                    | Some(CRun::Done { events, .. }) => events.push(l),
-                    _ => return Err(protocol(format!("unexpected line '{l}'"))),
-                },
+                _ => record_line(&mut ex, &mut cur, &l, (state, second))?,
             }
         }
     }
@@ -489,6 +428,69 @@ impl Drop for Driver {
 
 fn finish(ex: &mut Expansion, run: Option<CRun>) {
     ex.runs.extend(run);
+}
+
+fn done_run(jump: Option<usize>, answers: Vec<i64>) -> CRun {
+    CRun::Done {
+        jump,
+        answers,
+        events: Vec::new(),
+        after: Vec::new(),
+        second: None,
+        hidden: Vec::new(),
+    }
+}
+
+/// `A <status> k a1..ak` or `A <status> J b`.
+fn crashed(rest: &str) -> Result<CRun, DriverError> {
+    let (st, rest) = rest.split_once(' ').unwrap_or((rest, "0"));
+    let status = st.parse::<i64>().map_err(|_| protocol(format!("bad status '{st}'")))?;
+    Ok(match rest.strip_prefix("J ") {
+        Some(b) => CRun::Crashed { status, answers: Vec::new(), jump: Some(parse_num(b)?) },
+        None => CRun::Crashed { status, answers: parse_answers(rest)?, jump: None },
+    })
+}
+
+/// One line of an `X` answer other than its end: a record starts (`P`, `J`, `L`) or the current
+/// one goes on (`S`, `T`, `H`, event lines). `states` are the requested state and second state.
+fn record_line(
+    ex: &mut Expansion,
+    cur: &mut Option<CRun>,
+    l: &str,
+    states: (&[u8], Option<&[u8]>),
+) -> Result<(), DriverError> {
+    let (tag, rest) = l.split_once(' ').unwrap_or((l, ""));
+    match (tag, cur.as_mut()) {
+        ("P", _) => {
+            finish(ex, cur.take());
+            *cur = Some(done_run(None, parse_answers(rest)?));
+        }
+        ("J", _) => {
+            finish(ex, cur.take());
+            *cur = Some(done_run(Some(parse_num(rest)?), Vec::new()));
+        }
+        ("L", _) => {
+            finish(ex, cur.take());
+            ex.runs.push(CRun::TooLong { answers: parse_answers(rest)? });
+        }
+        ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
+        ("T", Some(CRun::Done { second, .. })) => {
+            let base = states.1.ok_or_else(|| protocol("T line without a second state"))?;
+            *second = Some(if rest.trim() == "!" {
+                Second::Differs(Vec::new())
+            } else {
+                Second::Same(apply_changes(base, rest)?)
+            })
+        }
+        // (a run that did not end is reported as such already)
+        ("H", Some(CRun::Done { hidden, .. })) => hidden.push(parse_num(rest)?),
+        ("H", _) => {}
+        ("S" | "T", _) => return Err(protocol(format!("{tag} line outside a run"))),
+        (_, Some(CRun::Done { second: Some(Second::Differs(events)), .. }))
+        | (_, Some(CRun::Done { events, .. })) => events.push(l.to_string()),
+        _ => return Err(protocol(format!("unexpected line '{l}'"))),
+    }
+    Ok(())
 }
 
 /// Lowercase hexadecimal text of `bytes`.

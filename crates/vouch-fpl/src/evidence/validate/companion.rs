@@ -119,6 +119,37 @@ impl CSide<'_> {
         v
     }
 
+    /// What is wrong with the run repeated from the changed copy of the state, if anything: the
+    /// finding's text and that run's lines.
+    fn second_differs(
+        &self,
+        (copy, changes): &(Vec<u8>, Vec<Option<cview::Change>>),
+        second: &Second,
+        state: &[u8],
+        events: &[String],
+        after: &[u8],
+    ) -> Option<(String, Vec<String>)> {
+        let (how, lines) = match second {
+            Second::Differs(ev2) => ("its events differ".to_string(), ev2.clone()),
+            Second::Same(after2) => {
+                let id =
+                    cview::second_ok(&self.vars, self.driver, changes, state, copy, after, after2)?;
+                (
+                    format!("{} ends differently", self.vars.names[id]),
+                    self.lines_after(events, after2),
+                )
+            }
+        };
+        let changed: Vec<&str> = changes
+            .iter()
+            .enumerate()
+            .filter(|c| c.1.is_some())
+            .map(|(i, _)| self.vars.names[i].as_str())
+            .collect();
+        let what = format!("the C reads state the semantics says it cannot: the same run from the C state with {} changed (dead for the semantics): {how} (first: the run from the state, then: the run from the changed state)", changed.join(", "));
+        Some((what, lines))
+    }
+
     /// Compares one interpreter successor with the C run of the same move.
     #[allow(clippy::too_many_arguments)]
     fn compare(
@@ -191,28 +222,9 @@ impl CSide<'_> {
             );
             return None;
         }
-        if let (Some((copy, changes)), Some(second)) = (copy, second) {
+        if let (Some(copy), Some(second)) = (copy, second) {
             self.second_runs += 1;
-            let changed: Vec<&str> = changes
-                .iter()
-                .enumerate()
-                .filter(|c| c.1.is_some())
-                .map(|(i, _)| self.vars.names[i].as_str())
-                .collect();
-            let bad = match second {
-                Second::Differs(ev2) => Some(("its events differ".to_string(), ev2.clone())),
-                Second::Same(after2) => {
-                    cview::second_ok(&self.vars, self.driver, changes, state, copy, after, after2)
-                        .map(|id| {
-                            (
-                                format!("{} ends differently", self.vars.names[id]),
-                                self.lines_after(events, after2),
-                            )
-                        })
-                }
-            };
-            if let Some((how, ev2)) = bad {
-                let what = format!("the C reads state the semantics says it cannot: the same run from the C state with {} changed (dead for the semantics): {how} (first: the run from the state, then: the run from the changed state)", changed.join(", "));
+            if let Some((what, ev2)) = self.second_differs(copy, second, state, events, after) {
                 self.find(node, mv, what, actual, ev2);
                 return None;
             }
