@@ -93,7 +93,7 @@ pub struct Edge {
 pub struct Explored {
     /// Node 0 is the initial state.
     pub nodes: Vec<Node>,
-    /// With [`SpaceOptions::record_edges`].
+    /// With [`super::SpaceOptions::record_edges`].
     pub edges: Vec<Edge>,
     /// Transitions taken (compared, when validating).
     pub transitions: usize,
