@@ -210,6 +210,28 @@ fn deep_mutants_are_caught() {
     }
 }
 
+/// A loop bounded by a plan variable: its counters are merged by class, and every run is
+/// repeated with the counter and the bound moved within the class, so a test that also leaves
+/// the loop when the counter reaches 40 is caught although no explored bound gets there.
+#[test]
+fn symbolic_bound_mutants_are_caught() {
+    let Some(_cc) = common::c_compiler() else { return };
+    let (fp, h) = plan_and_header("symbolic.xml");
+    let r = validate_header(&fp, &h, &full()).expect("driver builds");
+    assert!(r.passed() && r.fixpoint, "{:?}", r.counterexample);
+    assert_eq!(r.abstracted.symbolic_loops.len(), 1);
+    let mutated =
+        mutate(&h, "if (++_var_n > _var_n_to)", "if (++_var_n > _var_n_to || _var_n == 40)");
+    let cx = caught("counter compared with a constant", &fp, &mutated, &full());
+    // call 1 enters the loop with laps = 2 (answer 4: the first bound whose body state has
+    // another iteration left); call 2, repeated with the pair shifted by 38, leaves the loop
+    assert!(cx.what.contains("reads state the semantics says it cannot"), "{}", cx.what);
+    assert_eq!((cx.calls, cx.transitions, cx.answers.clone()), (2, 2, vec![4]));
+    let mutated = mutate(&h, "_var_n_to = FP_V(\"laps\");", "_var_n_to = FP_V(\"laps\") + 1;");
+    let cx = caught("bound off by one", &fp, &mutated, &full());
+    assert_eq!((cx.calls, cx.transitions), (1, 1));
+}
+
 /// A C call that crashes is a disagreement (the driver is restarted and the walk goes on).
 #[test]
 fn a_crash_is_reported_on_its_path() {

@@ -61,7 +61,7 @@ struct Proc {
     stdout: BufReader<ChildStdout>,
 }
 
-/// The run of the same answers from the second (perturbed) state.
+/// The run of the same answers from a copy of the state with its dropped parts changed.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Second {
     /// Same questions and events; the state after it.
@@ -74,13 +74,14 @@ pub enum Second {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum CRun {
     /// A complete path or jump: answers consumed (empty for a jump), event lines, state after,
-    /// and offsets of the watched segment it wrote outside the registered variables.
+    /// the runs from the copies (in order, up to the first that differs), and offsets of the
+    /// watched segment written outside the registered variables.
     Done {
         jump: Option<usize>,
         answers: Vec<i64>,
         events: Vec<String>,
         after: Vec<u8>,
-        second: Option<Second>,
+        seconds: Vec<Second>,
         hidden: Vec<usize>,
     },
     /// The call asked more questions than the limit (a loop inside one call).
@@ -348,16 +349,20 @@ impl Driver {
         }
     }
 
-    /// Every path of one call from `state` (and the same answers from `second`, when given),
-    /// then, when `jumps` is set, an operator jump to every block.
+    /// Every path of one call from `state` (each repeated from every copy), then, when `jumps`
+    /// is set, an operator jump to every block.
     pub fn expand(
         &mut self,
         state: &[u8],
-        second: Option<&[u8]>,
+        copies: &[Vec<u8>],
         jumps: bool,
     ) -> Result<Expansion, DriverError> {
-        let second_hex = second.map_or_else(|| "-".to_string(), hex);
-        self.send(&format!("X {} {} {second_hex}", u8::from(jumps), hex(state)))?;
+        let mut line = format!("X {} {} {}", u8::from(jumps), hex(state), copies.len());
+        for c in copies {
+            line.push(' ');
+            line.push_str(&hex(c));
+        }
+        self.send(&line)?;
         let mut ex = Expansion::default();
         let mut cur: Option<CRun> = None;
         loop {
@@ -387,7 +392,7 @@ impl Driver {
                     ex.cut = rest.trim() == "1";
                     return Ok(ex);
                 }
-                _ => record_line(&mut ex, &mut cur, &l, (state, second))?,
+                _ => record_line(&mut ex, &mut cur, &l, (state, copies))?,
             }
         }
     }
@@ -436,7 +441,7 @@ fn done_run(jump: Option<usize>, answers: Vec<i64>) -> CRun {
         answers,
         events: Vec::new(),
         after: Vec::new(),
-        second: None,
+        seconds: Vec::new(),
         hidden: Vec::new(),
     }
 }
@@ -452,12 +457,12 @@ fn crashed(rest: &str) -> Result<CRun, DriverError> {
 }
 
 /// One line of an `X` answer other than its end: a record starts (`P`, `J`, `L`) or the current
-/// one goes on (`S`, `T`, `H`, event lines). `states` are the requested state and second state.
+/// one goes on (`S`, `T`, `H`, event lines). `states` are the requested state and its copies.
 fn record_line(
     ex: &mut Expansion,
     cur: &mut Option<CRun>,
     l: &str,
-    states: (&[u8], Option<&[u8]>),
+    states: (&[u8], &[Vec<u8>]),
 ) -> Result<(), DriverError> {
     let (tag, rest) = l.split_once(' ').unwrap_or((l, ""));
     match (tag, cur.as_mut()) {
@@ -474,20 +479,23 @@ fn record_line(
             ex.runs.push(CRun::TooLong { answers: parse_answers(rest)? });
         }
         ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
-        ("T", Some(CRun::Done { second, .. })) => {
-            let base = states.1.ok_or_else(|| protocol("T line without a second state"))?;
-            *second = Some(if rest.trim() == "!" {
+        ("T", Some(CRun::Done { seconds, .. })) => {
+            let (i, changes) = rest.split_once(' ').unwrap_or((rest, ""));
+            let base = states.1.get(parse_num(i)?).ok_or_else(|| protocol("T line for no copy"))?;
+            seconds.push(if changes.trim() == "!" {
                 Second::Differs(Vec::new())
             } else {
-                Second::Same(apply_changes(base, rest)?)
+                Second::Same(apply_changes(base, changes)?)
             })
         }
         // (a run that did not end is reported as such already)
         ("H", Some(CRun::Done { hidden, .. })) => hidden.push(parse_num(rest)?),
         ("H", _) => {}
         ("S" | "T", _) => return Err(protocol(format!("{tag} line outside a run"))),
-        (_, Some(CRun::Done { second: Some(Second::Differs(events)), .. }))
-        | (_, Some(CRun::Done { events, .. })) => events.push(l.to_string()),
+        (_, Some(CRun::Done { seconds, events, .. })) => match seconds.last_mut() {
+            Some(Second::Differs(ev2)) => ev2.push(l.to_string()),
+            _ => events.push(l.to_string()),
+        },
         _ => return Err(protocol(format!("unexpected line '{l}'"))),
     }
     Ok(())

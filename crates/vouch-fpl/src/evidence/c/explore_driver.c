@@ -16,18 +16,19 @@
  *
  *   I                       auto_nav_init() from the initial state:
  *                             I, its event lines, Z <state hex>
- *   X <jumps> <hex> <hex2>  every path of one auto_nav() call from state <hex>: at each question
+ *   X <jumps> <hex> <n> <hex1> .. <hexn>
+ *                           every path of one auto_nav() call from state <hex>: at each question
  *                           (condition 0/1, non-literal value: every int8_t) the call is run
  *                           again from the restored state with a longer answer prefix:
  *                             P k a1..ak, event lines, S <changes>     one complete path
- *                             T <changes> | T !                         the same answers from <hex2>
+ *                             T i <changes> | T i !                     the same answers from <hexi>
  *                             L k a1..ak                                more questions than allowed
  *                           then, when <jumps> is 1, an operator jump to every block:
  *                             J b, event lines, S <changes>, T ...
- *                           <hex2> is "-" or a second state (the first with its abstracted
- *                           variables changed); T gives the changes from <hex2>, or "!" (then
- *                           that run's event lines) when it asked other questions or produced
- *                           other events.
+ *                           <hex1>..<hexn> are copies of the state with the parts the validator
+ *                           drops changed; T gives the changes from copy i, or "!" (then that
+ *                           run's event lines, and no more T lines for the record) when it asked
+ *                           other questions or produced other events.
  *                           <changes>: " offset=value" for every byte that differs.
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
@@ -80,7 +81,9 @@ struct driver {
   size_t n_vars, state_len;
   struct vouch_var **vars;
   size_t *offset;
-  unsigned char *init_state, *state, *state2, *after;
+  unsigned char *init_state, *state, *after;
+  unsigned char *copies;   /* n_copies states */
+  size_t n_copies, cap_copies;
   /* the watched data segment and its image */
   char *lo, *hi;
   unsigned char *image;
@@ -190,7 +193,6 @@ static void collect_vars(void)
   D->offset[D->n_vars] = D->state_len;
   D->init_state = grow(NULL, D->state_len);
   D->state = grow(NULL, D->state_len);
-  D->state2 = grow(NULL, D->state_len);
   D->after = grow(NULL, D->state_len);
 }
 
@@ -419,26 +421,28 @@ static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int 
   return ended;
 }
 
-/* The same answers from the second state: "T changes", or "T !" when the run asked other
+/* The same answers from copy i: "T i changes", or "T i !" (and 0) when the run asked other
  * questions or produced other events than the first one (whose events are in D->ev). */
-static void replay_second(size_t n, const unsigned char *s2, int jump_to)
+static int replay_copy(size_t n, size_t i, int jump_to)
 {
-  memcpy(D->prefix, D->taken, n * sizeof(long));
+  const unsigned char *s2 = D->copies + i * D->state_len;
   D->n_prefix = n;
   int ended = run_from(s2, &D->ev2, FORCED, jump_to);
+  put_s(&D->out, "T ");
+  put_l(&D->out, (long)i);
   if (!ended || D->deviated || D->n_taken != n || D->ev2.len != D->ev.len
       || memcmp(D->ev2.p, D->ev.p, D->ev.len) != 0) {
-    /* the second run's events follow */
-    put_s(&D->out, "T !\n");
+    /* the copy's events follow */
+    put_s(&D->out, " !\n");
     put(&D->out, D->ev2.p, D->ev2.len);
-    return;
+    return 0;
   }
-  put_s(&D->out, "T");
   put_changes(s2, D->after);
+  return 1;
 }
 
 /* P or J record of the run just made (events in D->ev, answers in D->taken). */
-static void put_run(int jump_to, int second)
+static void put_run(int jump_to)
 {
   if (jump_to < 0) {
     put_s(&D->out, "P ");
@@ -451,11 +455,16 @@ static void put_run(int jump_to, int second)
   put(&D->out, D->ev.p, D->ev.len);
   put_s(&D->out, "S");
   put_changes(D->state, D->after);
-  if (second) { replay_second(D->n_taken, D->state2, jump_to); }
+  size_t n = D->n_taken;
+  /* the answers of this run, for every copy (the copies' runs overwrite D->taken) */
+  memcpy(D->prefix, D->taken, n * sizeof(long));
+  for (size_t i = 0; i < D->n_copies; i++) {
+    if (!replay_copy(n, i, jump_to)) { break; }
+  }
   put_hidden();
 }
 
-static void explore(int jumps, int second)
+static void explore(int jumps)
 {
   long leaves = 0;
   int cut = 0;
@@ -466,7 +475,7 @@ static void explore(int jumps, int second)
     int ended = run_from(D->state, &D->ev, EXPLORE, -1);
     leaves++;
     if (ended) {
-      put_run(-1, second);
+      put_run(-1);
     } else {
       put_s(&D->out, "L ");
       put_answers(&D->out, D->taken, D->n_taken);
@@ -478,7 +487,7 @@ static void explore(int jumps, int second)
   for (int b = 0; jumps && b < NB_BLOCK; b++) {
     D->n_prefix = 0;
     run_from(D->state, &D->ev, FORCED, b);
-    put_run(b, second);
+    put_run(b);
   }
   put_s(&D->out, "done ");
   put_l(&D->out, cut);
@@ -575,10 +584,19 @@ static void request(const char *line)
     int jumps = (int)strtol(p, &end, 10);
     p = end;
     if (!parse_hex(&p, D->state)) { put_s(&D->out, "done 0\n"); return; }
-    while (*p == ' ') { p++; }
-    int second = *p != '-' && parse_hex(&p, D->state2);
+    long n = strtol(p, &end, 10);
+    p = end;
+    D->n_copies = 0;
+    if (n > 0 && (size_t)n > D->cap_copies) {
+      D->cap_copies = (size_t)n;
+      D->copies = grow(D->copies, D->cap_copies * (D->state_len ? D->state_len : 1));
+    }
+    for (long i = 0; i < n; i++) {
+      if (!parse_hex(&p, D->copies + (size_t)i * D->state_len)) { break; }
+      D->n_copies++;
+    }
     alarm(ALARM_SECONDS);
-    explore(jumps, second);
+    explore(jumps);
     alarm(0);
     return;
   }

@@ -123,7 +123,7 @@ impl CSide<'_> {
     /// finding's text and that run's lines.
     fn second_differs(
         &self,
-        (copy, changes): &(Vec<u8>, Vec<Option<cview::Change>>),
+        cview::Copy { bytes: copy, changes }: &cview::Copy,
         second: &Second,
         state: &[u8],
         events: &[String],
@@ -159,7 +159,7 @@ impl CSide<'_> {
         from_block: usize,
         s: &Succ<'_>,
         run: Option<&CRun>,
-        copy: Option<&(Vec<u8>, Vec<Option<cview::Change>>)>,
+        copies: &[cview::Copy],
         state: &[u8],
     ) -> Option<CState> {
         let want: Vec<String> = s.events.iter().map(|e| e.line()).collect();
@@ -168,7 +168,7 @@ impl CSide<'_> {
         expected.push(state_line([e[0], e[1], e[2], e[3]]));
         expected.push(format!("last_wp {}", e[4]));
         let mv = Some(s.mv.clone());
-        let (events, after, second) = match run {
+        let (events, after, seconds) = match run {
             None => {
                 self.find(
                     node,
@@ -185,7 +185,7 @@ impl CSide<'_> {
                 self.find(node, mv, what, expected, actual);
                 return None;
             }
-            Some(CRun::Done { events, after, second, .. }) => (events, after, second),
+            Some(CRun::Done { events, after, seconds, .. }) => (events, after, seconds),
             Some(CRun::TooLong { .. }) => {
                 self.find(node, mv, NOT_ENDING, expected, vec![]);
                 return None;
@@ -222,7 +222,7 @@ impl CSide<'_> {
             );
             return None;
         }
-        if let (Some(copy), Some(second)) = (copy, second) {
+        for (copy, second) in copies.iter().zip(seconds) {
             self.second_runs += 1;
             if let Some((what, ev2)) = self.second_differs(copy, second, state, events, after) {
                 self.find(node, mv, what, actual, ev2);
@@ -275,9 +275,13 @@ impl<'p> Companion<'p> for CSide<'_> {
         c: &CState,
         succ: &[Succ<'p>],
     ) -> Result<Vec<Option<CState>>, ValidateError> {
-        let copy =
-            self.perturb.then(|| cview::perturb(&self.vars, self.driver, space, from, &c.bytes));
-        let ex = self.driver.expand(&c.bytes, copy.as_ref().map(|x| x.0.as_slice()), self.jumps)?;
+        let copies = if self.perturb {
+            cview::copies(&self.vars, self.driver, space, from, &c.bytes)
+        } else {
+            Vec::new()
+        };
+        let bytes: Vec<Vec<u8>> = copies.iter().map(|c| c.bytes.clone()).collect();
+        let ex = self.driver.expand(&c.bytes, &bytes, self.jumps)?;
         if ex.cut {
             self.cut = Some("the C side's path budget of one call ran out".into());
         }
@@ -308,7 +312,7 @@ impl<'p> Companion<'p> for CSide<'_> {
                 Move::Call(a) => calls.remove(a.as_slice()),
                 Move::Jump(b) => jumps.remove(b),
             };
-            out.push(self.compare(space, id, from.block, s, run, copy.as_ref(), &c.bytes));
+            out.push(self.compare(space, id, from.block, s, run, &copies, &c.bytes));
         }
         // whatever the C did that the semantics did not (only meaningful on complete trees)
         if !ex.cut {

@@ -26,8 +26,8 @@ pub(super) type CKey = Vec<Part>;
 pub(super) enum Change {
     /// Bits flipped.
     Flipped,
-    /// A live counter pair of a loop with a non-literal bound, both shifted by this much
-    /// (the same number of iterations left).
+    /// A live counter pair of a loop with a non-literal bound, both shifted by this much (the
+    /// counter alone when the loop is endless): the same number of iterations left.
     Shifted(u8),
 }
 
@@ -161,46 +161,82 @@ pub(super) fn key(
         .collect()
 }
 
-/// A copy of `state` with every dropped variable changed (and the live counter pairs of loops
-/// with non-literal bounds shifted), and what was changed.
-pub(super) fn perturb(
+/// A copy of a C state with parts the view drops changed, and what was changed.
+#[derive(Debug, Clone)]
+pub(super) struct Copy {
+    pub bytes: Vec<u8>,
+    pub changes: Vec<Option<Change>>,
+}
+
+impl Copy {
+    fn new(state: &[u8], n: usize) -> Copy {
+        Copy { bytes: state.to_vec(), changes: vec![None; n] }
+    }
+
+    fn set(&mut self, driver: &Driver, id: usize, f: &dyn Fn(u8) -> u8, c: Change) {
+        if let (Some(&a), Some(&b)) = (driver.offsets.get(id), driver.offsets.get(id + 1)) {
+            let end = b.min(self.bytes.len());
+            for x in &mut self.bytes[a.min(end)..end] {
+                *x = f(*x);
+            }
+            self.changes[id] = Some(c);
+        }
+    }
+}
+
+/// The copies every run from `state` is repeated from: one with every dead part changed (bits
+/// flipped), then, for each live counter pair of a loop with a non-literal bound, one per
+/// shift of the pair that keeps the iterations left (the counter alone when the loop is
+/// endless) and one per other bound of the same class. So within a class the C is run with
+/// every value of the counter and of the bound (each varied alone).
+pub(super) fn copies(
     vars: &Vars,
     driver: &Driver,
     space: &Space<'_>,
     at: &State<'_>,
     state: &[u8],
-) -> (Vec<u8>, Vec<Option<Change>>) {
+) -> Vec<Copy> {
     let live = space.live_loops(at);
-    let mut out = state.to_vec();
-    let mut changes = vec![None; vars.names.len()];
-    let mut set = |id: usize, f: &dyn Fn(u8) -> u8, c: Change| {
-        if let (Some(&a), Some(&b)) = (driver.offsets.get(id), driver.offsets.get(id + 1)) {
-            for x in &mut out[a..b.min(state.len())] {
-                *x = f(*x);
-            }
-            changes[id] = Some(c);
-        }
-    };
-    for id in 0..vars.names.len() {
+    let n = vars.names.len();
+    let mut out = Vec::new();
+    let mut dead = Copy::new(state, n);
+    for id in 0..n {
         if vars.dropped(id, &live, space) {
-            set(id, &|x| x ^ 0x55, Change::Flipped);
+            dead.set(driver, id, &|x| x ^ 0x55, Change::Flipped);
         }
+    }
+    if dead.changes.iter().any(Option::is_some) {
+        out.push(dead);
     }
     for l in live.iter().filter(|l| space.is_symbolic(**l)) {
         let Some((vi, ti)) = vars.pair(*l) else { continue };
         let (v, t) = (byte(driver, state, vi) as i8, byte(driver, state, ti) as i8);
         let left = iterations_left(v, t);
-        let shift = [1i8, -1, 2, -2, 3, -3].into_iter().find(|d| {
-            let (v2, t2) = (v.checked_add(*d), t.checked_add(*d));
-            matches!((v2, t2), (Some(v2), Some(t2)) if iterations_left(v2, t2) == left)
-        });
-        if let Some(d) = shift {
+        for d in (-255i16..=255).filter(|d| *d != 0) {
+            let Ok(d) = i8::try_from(d) else { continue };
+            let keeps = |v2: Option<i8>, t2: Option<i8>| matches!((v2, t2), (Some(v2), Some(t2)) if iterations_left(v2, t2) == left);
             let c = Change::Shifted(d as u8);
-            set(vi, &|x| x.wrapping_add(d as u8), c);
-            set(ti, &|x| x.wrapping_add(d as u8), c);
+            // the pair shifted together (an endless loop stays endless whatever its counter)
+            let t2 = if left.is_none() { Some(t) } else { t.checked_add(d) };
+            if keeps(v.checked_add(d), t2) {
+                let mut copy = Copy::new(state, n);
+                copy.set(driver, vi, &|x| x.wrapping_add(d as u8), c);
+                if left.is_some() {
+                    copy.set(driver, ti, &|x| x.wrapping_add(d as u8), c);
+                }
+                out.push(copy);
+            }
+            // the bound alone, in the same class
+            if left.is_some()
+                && t.checked_add(d).is_some_and(|t2| loop_class(v, t2) == loop_class(v, t))
+            {
+                let mut copy = Copy::new(state, n);
+                copy.set(driver, ti, &|x| x.wrapping_add(d as u8), c);
+                out.push(copy);
+            }
         }
     }
-    (out, changes)
+    out
 }
 
 /// Checks the run from the perturbed copy against the run from the state: every variable the
