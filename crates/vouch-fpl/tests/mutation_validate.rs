@@ -59,7 +59,24 @@ fn caught(name: &str, fp: &vouch_fpl::passes::fp::Fp, h: &str, o: &Options) -> C
     );
     // the driver's question limit (the static bound) stops looping calls quickly
     assert!(!cx.what.contains("died"), "{name}: {}", cx.what);
+    if cx.what == "different events or state" {
+        replays(fp, &cx);
+    }
     cx
+}
+
+/// The counterexample's answers and jumps, replayed on the interpreter the way `vouch fpl sim
+/// --conditions --jumps` does, end in the state the counterexample gives for the semantics.
+fn replays(fp: &vouch_fpl::passes::fp::Fp, cx: &Counterexample) {
+    use vouch_fpl::semantics::oracle::Scripted;
+    let mut interp = vouch_fpl::semantics::Interp::new(fp);
+    let mut oracle = Scripted::new(cx.answers.clone());
+    let run = interp.run_with_jumps(&mut oracle, cx.calls, &cx.jumps).expect("replays");
+    assert_eq!(oracle.consumed(), cx.answers.len(), "every answer used");
+    let last = run.steps.last().expect("at least one call");
+    let a = last.after;
+    let want = format!("S {} {} {} {}", a.block, a.stage, a.last_block, a.last_stage);
+    assert!(cx.expected.contains(&want), "{want} in {:?}", cx.expected);
 }
 
 #[test]

@@ -214,12 +214,16 @@ fn random_runs(
                 i + 1
             );
             let path = RunPath { transitions: step, calls: step, ..RunPath::default() };
-            report.counterexample = Some(Counterexample::new(
+            let mut cx = Counterexample::new(
                 path,
                 what,
                 wl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
                 cl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
-            ));
+            );
+            cx.replay = format!(
+                "vouch fpl sim PLAN --seed {seed} --percent-true {percent} --steps {step} --trace"
+            );
+            report.counterexample = Some(cx);
             return Ok(());
         }
     }

@@ -39,6 +39,16 @@ impl RunPath {
         self.jumps.iter().map(|j| j.0).max().unwrap_or(0).max(self.calls)
     }
 
+    /// The `vouch fpl sim` command that replays the run on the semantics (ANSWERS and JUMPS
+    /// are files holding the numbers above).
+    pub fn replay(&self) -> String {
+        let jumps = if self.jumps.is_empty() { "" } else { " --jumps JUMPS" };
+        format!(
+            "vouch fpl sim PLAN --conditions ANSWERS{jumps} --steps {} --trace",
+            self.replay_steps()
+        )
+    }
+
     fn render(&self, indent: &str) -> String {
         let answers: Vec<String> = self.answers.iter().map(|x| x.to_string()).collect();
         let mut s = format!(
@@ -47,17 +57,10 @@ impl RunPath {
             self.transitions,
             if answers.is_empty() { "none".to_string() } else { answers.join(" ") }
         );
-        let jumps = if self.jumps.is_empty() {
-            String::new()
-        } else {
+        if !self.jumps.is_empty() {
             let j: Vec<String> = self.jumps.iter().map(|(c, b)| format!("{c} {b}")).collect();
             s.push_str(&format!("{indent}operator jumps (call, block): {}\n", j.join(", ")));
-            " --jumps JUMPS".to_string()
-        };
-        s.push_str(&format!(
-            "{indent}replay: vouch fpl sim PLAN --conditions ANSWERS{jumps} --steps {} --trace\n",
-            self.replay_steps()
-        ));
+        }
         s
     }
 }
@@ -80,11 +83,14 @@ pub struct Counterexample {
     pub actual: Vec<String>,
     /// For a state-relation conflict: the other run that reaches the same interpreter state.
     pub other: Option<RunPath>,
+    /// The command that replays the run on the semantics.
+    pub replay: String,
 }
 
 impl Counterexample {
     pub fn new(path: RunPath, what: String, expected: Vec<String>, actual: Vec<String>) -> Self {
         Counterexample {
+            replay: path.replay(),
             calls: path.calls,
             transitions: path.transitions,
             answers: path.answers,
@@ -106,6 +112,7 @@ impl Counterexample {
         };
         let mut s = format!("  {}\n", self.what);
         s.push_str(&path.render("  run: "));
+        s.push_str(&format!("  replay: {}\n", self.replay));
         let (a, b) = match &self.other {
             Some(o) => {
                 s.push_str(&o.render("  first run: "));
