@@ -25,7 +25,7 @@ fn replay(fp: &vouch_fpl::passes::fp::Fp, cx: &check::Counterexample) -> usize {
 fn forbidden_deroute_blocks_and_deadlocks() {
     let fp = fp_of("forbidden.xml");
     let g = build(&fp, 10_000, false).expect("builds");
-    assert!(g.cut.is_none());
+    assert!(g.cut.is_none() && g.fixpoint);
     let o = check::check_no_blocked(&g);
     assert!(!o.holds);
     let cx = o.counterexample.expect("counterexample");
@@ -71,6 +71,29 @@ fn operator_jumps_reach_every_block() {
     let cx = o.counterexample.expect("cx");
     assert_eq!(cx.steps.len(), 1);
     assert_eq!(cx.steps[0].operator.as_deref(), Some("Land"));
+}
+
+/// A property naming the last block gets a graph that keeps it; the run of the full check says
+/// "fixpoint reached".
+#[test]
+fn last_block_properties_see_the_last_block() {
+    use vouch_fpl::model_check::{run, Spec};
+    let fp = fp_of("pingpong.xml");
+    let spec = Spec {
+        properties: vec!["never (block(Refuel) && !last_block(Patrol))".into()],
+        ..Spec::default()
+    };
+    let r = run(&fp, &spec).expect("runs");
+    assert!(
+        r.fixpoint
+            && r.render("pingpong").lines().next().is_some_and(|l| l.ends_with("fixpoint reached"))
+    );
+    assert!(r.outcomes[0].holds, "Refuel is only entered from Patrol's deroute");
+    // with operator jumps, Refuel can be entered from anywhere
+    let r = run(&fp, &Spec { operator: true, ..spec }).expect("runs");
+    assert!(!r.outcomes[0].holds);
+    let cx = r.outcomes[0].counterexample.as_ref().expect("counterexample");
+    assert!(cx.steps.iter().any(|s| s.operator.is_some()));
 }
 
 #[test]

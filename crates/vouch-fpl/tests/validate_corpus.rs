@@ -1,23 +1,23 @@
 //! Translation validation on the corpus: for every plan upstream compiles, the compiled
 //! `auto_nav` (instrumented header + stub runtime, built with the system `cc`) and the
-//! reference interpreter agree on every path of the first 8 calls (exhaustive over condition
-//! answers, states merged) and on seeded random runs.
+//! reference interpreter agree on every call path and operator jump from every reachable state
+//! pair (the walk reaches its fixpoint), and on seeded random runs.
 
 mod common;
 
 use rayon::prelude::*;
 use std::time::Instant;
-use vouch_fpl::evidence::validate::{validate, Options};
+use vouch_fpl::evidence::validate::{validate, Options, Report};
 
 #[test]
-fn every_corpus_plan_validates_at_depth_8() {
+fn every_corpus_plan_validates_to_the_fixpoint() {
     let Some(_cc) = common::c_compiler() else { return };
     let Some(dir) = common::corpus_dir() else { return };
     let plans = common::corpus_plans(&dir);
     assert_eq!(plans.len(), 104);
     let t0 = Instant::now();
-    let opts = Options { depth: 8, random_runs: 3, random_steps: 300, ..Options::default() };
-    let results: Vec<(String, Result<vouch_fpl::evidence::validate::Report, String>)> = plans
+    let opts = Options { random_runs: 3, random_steps: 300, ..Options::default() };
+    let results: Vec<(String, Result<Report, String>)> = plans
         .par_iter()
         .map(|p| {
             let name = p.strip_prefix(&dir).unwrap_or(p).display().to_string();
@@ -28,31 +28,37 @@ fn every_corpus_plan_validates_at_depth_8() {
         })
         .collect();
     let mut failures = Vec::new();
-    let (mut states, mut paths, mut random, mut cut, mut covered) = (0, 0, 0, 0, 0.0);
+    let (mut states, mut transitions, mut second, mut random) = (0, 0, 0, 0);
+    let mut slowest: Vec<(f64, &str, usize, usize)> = Vec::new();
     for (name, r) in &results {
         match r {
             Ok(rep) => {
                 states += rep.states;
-                paths += rep.call_paths;
+                transitions += rep.transitions;
+                second += rep.second_runs;
                 random += rep.random_calls;
-                covered += rep.runs_covered;
-                assert!(rep.runs_covered >= 1.0, "{name}: covers at least one run");
-                if rep.cut.is_some() {
-                    cut += 1;
-                    failures.push(format!("{name}: exploration cut: {:?}", rep.cut));
+                slowest.push((rep.seconds, name, rep.states, rep.transitions));
+                if !rep.fixpoint {
+                    failures.push(format!("{name}: no fixpoint ({:?})", rep.cut));
                 }
                 if let Some(cx) = &rep.counterexample {
-                    failures.push(format!("{name}: {cx:?}"));
+                    failures.push(format!("{name}: {}", cx.render()));
                 }
+                assert!(rep.second_runs >= rep.transitions, "{name}: every run repeated");
                 assert!(rep.max_events_seen <= rep.bound.max_events, "{name}: bound");
+                assert!(rep.abstracted.watched_bytes.is_some(), "{name}: data segment watched");
             }
             Err(e) => failures.push(format!("{name}: {e}")),
         }
     }
+    slowest.sort_by(|a, b| b.0.total_cmp(&a.0));
     eprintln!(
-        "validate: {} plans, depth 8, {states} states, {paths} call paths compared (covering {covered:.3e} complete 8-call runs), {random} random calls, {cut} cut, {:.1} s",
+        "validate: {} plans to the fixpoint, {states} states, {transitions} transitions compared, {second} changed-state runs, {random} random calls, {:.1} s",
         results.len(),
         t0.elapsed().as_secs_f64()
     );
+    for (s, name, st, tr) in slowest.iter().take(5) {
+        eprintln!("  {name}: {st} states, {tr} transitions, {s:.2} s");
+    }
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
 }

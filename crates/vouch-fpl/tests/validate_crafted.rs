@@ -13,14 +13,16 @@ fn plan(name: &str) -> vouch_fpl::ast::FlightPlan {
 #[test]
 fn crafted_plans_validate() {
     let Some(_cc) = vouch_testkit::c_compiler() else { return };
-    for name in ["pingpong.xml", "forbidden.xml", "mutation.xml", "lint_misc.xml", "wcet.xml"] {
+    for name in
+        ["pingpong.xml", "forbidden.xml", "mutation.xml", "lint_misc.xml", "wcet.xml", "deep.xml"]
+    {
         let r = validate(
             &plan(name),
-            &Options { depth: 10, random_runs: 2, random_steps: 300, ..Options::default() },
+            &Options { random_runs: 2, random_steps: 300, ..Options::default() },
         )
         .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(r.passed(), "{name}: {:?}", r.counterexample);
-        assert!(r.cut.is_none(), "{name}");
+        assert!(r.cut.is_none() && r.fixpoint, "{name}");
         assert!(r.max_events_seen <= r.bound.max_events);
     }
 }

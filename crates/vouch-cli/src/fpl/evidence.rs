@@ -14,18 +14,22 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
 pub struct ValidateArgs {
     #[command(flatten)]
     plan: PlanArgs,
-    /// Calls explored exhaustively
-    #[arg(long, default_value_t = 8)]
-    depth: usize,
-    /// Seeded random runs compared after the exhaustive part
+    /// Bound the walk to N transitions (calls and operator jumps) from the start; the result is
+    /// then labelled "bounded". Default: explore every reachable state (fixpoint)
+    #[arg(long, value_name = "N")]
+    depth: Option<usize>,
+    /// Leave operator jumps (the ground station's "go to block") out of the walk
+    #[arg(long)]
+    no_operator_jumps: bool,
+    /// Seeded random runs compared after the walk
     #[arg(long, default_value_t = 3)]
     random_runs: usize,
     /// Calls in each random run
     #[arg(long, default_value_t = 500)]
     random_steps: usize,
-    /// Work budget: call paths compared before the exploration is cut
-    #[arg(long, default_value_t = 500_000)]
-    max_paths: usize,
+    /// State budget: beyond it the walk is cut (and reported as not a fixpoint)
+    #[arg(long, default_value_t = 200_000)]
+    max_states: usize,
     /// Also print the static per-block bound (stages and external events per call)
     #[arg(long)]
     bounds: bool,
@@ -66,9 +70,9 @@ pub struct CheckArgs {
     #[arg(long)]
     deadlock_free: bool,
     /// State budget: beyond it the state space is cut and "holds" is not established
-    #[arg(long, default_value_t = 200_000)]
+    #[arg(long, default_value_t = 1_000_000)]
     max_states: usize,
-    /// Also model ground-station jumps to any block at any call
+    /// Also model ground-station jumps to any block between calls
     #[arg(long)]
     operator: bool,
     /// Print the outcomes as one JSON document
@@ -92,9 +96,10 @@ pub fn validate(a: ValidateArgs, ctx: &mut Ctx) -> CmdResult {
     lowered(&plan)?;
     let opts = validate::Options {
         depth: a.depth,
+        operator_jumps: !a.no_operator_jumps,
         random_runs: a.random_runs,
         random_steps: a.random_steps,
-        max_paths: a.max_paths,
+        max_states: a.max_states,
         ..validate::Options::default()
     };
     let report = validate::validate(&plan, &opts).map_err(|e| {

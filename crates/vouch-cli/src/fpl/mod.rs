@@ -37,17 +37,16 @@ pub enum FplCmd {
     #[command(after_help = "Example:\n  vouch fpl sim examples/fpl/demo.xml --steps 50 --seed 7")]
     Sim(sim::SimArgs),
     /// Translation validation: the compiled header (built with `cc` and the stub runtime) against
-    /// the reference semantics, exhaustively over every condition outcome of the first --depth
-    /// calls plus seeded random runs. Exit 0 agree, 1 plan rejected, 2 error, 3 mismatch.
-    #[command(
-        after_help = "Example:\n  vouch fpl validate examples/fpl/demo.xml --depth 6 --bounds"
-    )]
+    /// the reference semantics, on every call path and operator jump from every reachable state
+    /// (to the fixpoint; --depth N bounds it), plus seeded random runs. Exit 0 agree, 1 plan
+    /// rejected, 2 error, 3 mismatch.
+    #[command(after_help = "Example:\n  vouch fpl validate examples/fpl/demo.xml --bounds")]
     Validate(evidence::ValidateArgs),
     /// Mission-level warnings (codes fpl::W001...), located in the XML. Exit 0, or 3 with
     /// --strict when there are warnings.
     #[command(after_help = "Example:\n  vouch fpl lint examples/fpl/demo.xml --strict")]
     Lint(evidence::LintArgs),
-    /// Model checking of the abstract state space (block, stage, last block, last stage; free
+    /// Model checking on the plan's whole reachable state graph (the validator's walk, free
     /// conditions). Default: --no-blocked --deadlock-free. Exit 3 when a property fails.
     #[command(
         after_help = "Example:\n  vouch fpl check examples/fpl/demo.xml --property 'never block(HOME)' --safe-blocks Standby,Land"

@@ -23,6 +23,10 @@ pub struct SimArgs {
     /// Seed of the random oracle
     #[arg(long)]
     seed: Option<u64>,
+    /// File of operator jumps: "call block" pairs, each a ground-station jump to the block just
+    /// before that call (the jumps of a `vouch fpl validate` counterexample)
+    #[arg(long, value_name = "FILE")]
+    jumps: Option<PathBuf>,
     /// Percentage of true conditions for --seed
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(0..=100))]
     percent_true: u64,
@@ -46,7 +50,15 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
         (None, Some(s)) => Box::new(Seeded::new(s, a.percent_true)),
         (None, None) => Box::new(Scripted::default()),
     };
-    let run = sim::simulate(&fp, oracle.as_mut(), a.steps).map_err(Failure::rejected)?;
+    let jumps = match &a.jumps {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| Failure::io(path, &e))?;
+            sim::parse_jumps(&text, fp.blocks.len()).map_err(Failure::rejected)?
+        }
+        None => Vec::new(),
+    };
+    let run = sim::simulate_with_jumps(&fp, oracle.as_mut(), a.steps, &jumps)
+        .map_err(Failure::rejected)?;
     if a.json {
         ctx.out.json(&sim::document(&fp, &run))?;
     } else if a.trace {

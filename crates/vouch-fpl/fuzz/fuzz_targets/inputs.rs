@@ -1,6 +1,7 @@
 //! Fuzz target: the small languages given on the command line — the model checker's property
-//! language (`vouch fpl check --property`) and answer files (`vouch fpl sim --conditions`) —
-//! must reject any text with a located error, never panic.
+//! language (`vouch fpl check --property`), answer files (`vouch fpl sim --conditions`) and
+//! jumps files (`vouch fpl sim --jumps`) — must reject any text with a located error, never
+//! panic.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -13,5 +14,9 @@ fuzz_target!(|data: &[u8]| {
     }
     if let Err(e) = vouch_fpl::semantics::oracle::Scripted::parse(&text) {
         assert!(e.at.offset() + e.at.len() <= text.len());
+    }
+    match vouch_fpl::semantics::sim::parse_jumps(&text, blocks.len()) {
+        Ok(jumps) => assert!(jumps.iter().all(|&(_, b)| b < blocks.len())),
+        Err(e) => assert!(e.at.offset() + e.at.len() <= text.len()),
     }
 });

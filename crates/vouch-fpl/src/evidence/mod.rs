@@ -3,5 +3,6 @@
 //! of one call ([`wcet`]).
 
 pub mod cdriver;
+pub mod cstate;
 pub mod validate;
 pub mod wcet;

@@ -359,5 +359,14 @@ pub fn render(o: &Outcome) -> String {
 /// Parses a property against the graph's block names and checks it.
 pub fn check_text(g: &Graph, text: &str) -> Result<Outcome, PropertyError> {
     let p = super::property::parse(text, &g.block_names)?;
+    if p.formula.uses_last_block() && !g.last_block_kept {
+        return Err(PropertyError {
+            message:
+                "last_block(..) needs a graph that keeps the last block (BuildOptions::last_block)"
+                    .into(),
+            text: text.to_string(),
+            at: (0, text.len()).into(),
+        });
+    }
     Ok(check_property(g, text, &p))
 }

@@ -1,14 +1,17 @@
 //! Explicit-state model checking of a plan (`vouch fpl check`).
 //!
-//! The abstract state is the interpreter's: (block, stage, last block, last stage), plus the
-//! `for` counters, with every condition *free* (both answers explored at every question; `for`
-//! bounds from [`crate::semantics::explore::VALUE_CHOICES`]). One transition is one `auto_nav`
-//! call. The graph is built with the same call enumeration the validator uses, on the reference
-//! semantics itself, so the model cannot drift from the interpreter.
+//! The graph is the plan's reachable state space walked to a fixpoint by
+//! [`crate::semantics::space`] — the same walk, transition relation and state view as the
+//! translation validator, without the C beside it: one transition is one `auto_nav` call with
+//! every condition *free* (both answers) and every `int8_t` value of a non-literal `for` bound,
+//! or, with `operator`, a ground-station jump to any block between two calls (the runtime's
+//! `nav_goto_block`, which does not consult forbidden deroutes). The interpreter *is* the
+//! transition relation, so the model cannot drift from the semantics.
 //!
 //! Forbidden deroutes are observed by rewriting each `forbidden_deroute` of a copy of the FP
-//! with a marker condition (`only_when` absent: a marker answered true without branching;
-//! present: a free marker), so every transition knows which block changes were refused.
+//! with a marker condition (`only_when` absent: a marker answered true without asking;
+//! present: the same question as the real plan's), so every transition knows which block
+//! changes were refused and its answers replay on the real plan.
 //!
 //! Properties: [`property`]; algorithms and counterexamples: [`check`].
 
@@ -18,25 +21,22 @@ mod report;
 
 pub use report::{run, CheckError, CheckReport, Spec};
 
-use std::collections::HashMap;
-
 use serde::Serialize;
 
 use crate::passes::fp::Fp;
-use crate::semantics::explore::{
-    enumerate_call, state_key, CallPath, StateKey, FORCED_SUFFIX, MARKER_PREFIX,
-};
+use crate::semantics::explore::{FORCED_SUFFIX, MARKER_PREFIX};
+use crate::semantics::space::{self, Alone, Move, Space, SpaceOptions};
 use crate::semantics::trace::Observation;
-use crate::semantics::{Interp, StepError};
+use crate::semantics::StepError;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Edge {
     pub to: usize,
-    /// Answers of the call (shortest found) that take this transition.
+    /// Answers of the call (the first found, breadth first) that take this transition.
     pub answers: Vec<i64>,
     /// Block changes refused by a forbidden deroute during the call (from, to).
     pub blocked: Vec<(usize, usize)>,
-    /// With operator jumps modelled: the block the operator jumped to instead of the call.
+    /// An operator jump to this block instead of a call.
     pub operator: Option<usize>,
 }
 
@@ -46,33 +46,21 @@ pub struct Graph {
     pub states: Vec<Observation>,
     /// Outgoing transitions of every state (state 0 is the initial state).
     pub edges: Vec<Vec<Edge>>,
+    /// Every reachable state was expanded (no budget cut the walk).
+    pub fixpoint: bool,
     /// Set when the state budget stopped the construction (properties are then checked on a
     /// part of the state space only, and are reported as not established).
     pub cut: Option<String>,
     /// States some of whose transitions were dropped by the budget (their successor lists are
     /// incomplete; checks that need every successor treat them as unknown).
     pub incomplete: Vec<bool>,
+    /// The last block is part of the states (properties naming `last_block`).
+    pub last_block_kept: bool,
 }
 
-const OPERATOR: &str = "op:";
-
-/// Copy of the FP with forbidden deroutes observable and, when `operator` is set, one free
-/// global exception per block standing for a ground-station jump to it (tested first, so at
-/// any call the operator may jump anywhere; such a jump obeys forbidden deroutes like any
-/// block change, and a refused jump is dropped from the graph).
-fn marked(fp: &Fp, operator: bool) -> Fp {
+/// Copy of the FP with forbidden deroutes observable.
+fn marked(fp: &Fp) -> Fp {
     let mut m = fp.clone();
-    if operator {
-        let jumps = (0..fp.blocks.len()).map(|t| crate::passes::fp::FpException {
-            cond: format!("{MARKER_PREFIX}{OPERATOR}{t}"),
-            target: t,
-            exec: None,
-            span: crate::span::Span::default(),
-        });
-        let mut ex: Vec<_> = jumps.collect();
-        ex.extend(m.exceptions);
-        m.exceptions = ex;
-    }
     for (i, f) in m.forbidden.iter_mut().enumerate() {
         f.only_when = Some(match &f.only_when {
             None => format!("{MARKER_PREFIX}{i}{FORCED_SUFFIX}"),
@@ -82,135 +70,87 @@ fn marked(fp: &Fp, operator: bool) -> Fp {
     m
 }
 
-fn operator_target(text: &str) -> Option<usize> {
-    text.strip_prefix(MARKER_PREFIX)?.strip_prefix(OPERATOR)?.parse().ok()
-}
-
 fn marker_index(text: &str) -> Option<usize> {
     let rest = text.strip_prefix(MARKER_PREFIX)?;
-    if rest.starts_with(OPERATOR) {
-        return None;
-    }
     let end = rest.find(':').unwrap_or(rest.len());
     rest[..end].parse().ok()
 }
 
+/// How the graph is built.
+#[derive(Debug, Clone, Copy)]
+pub struct BuildOptions {
+    /// State budget.
+    pub max_states: usize,
+    /// Ground-station jumps to any block between calls.
+    pub operator: bool,
+    /// Keep the last block in the states (needed by `last_block(..)` atoms).
+    pub last_block: bool,
+}
+
 /// Builds the reachable state graph, at most `max_states` states; `operator` adds
-/// ground-station jumps to any block at any call.
+/// ground-station jumps to any block between calls.
 pub fn build(fp: &Fp, max_states: usize, operator: bool) -> Result<Graph, StepError> {
-    let m = marked(fp, operator);
-    let mut interp = Interp::new(&m);
-    let init = interp.state.clone();
-    let mut index: HashMap<StateKey, usize> = HashMap::new();
-    index.insert(state_key(&interp, &init), 0);
-    let mut states = vec![init];
-    let mut graph = Graph {
-        block_names: fp.blocks.iter().map(|b| b.name.clone()).collect(),
-        states: Vec::new(),
-        edges: Vec::new(),
-        cut: None,
-        incomplete: Vec::new(),
+    build_with(fp, BuildOptions { max_states, operator, last_block: false })
+}
+
+/// [`build`] with every option.
+pub fn build_with(fp: &Fp, o: BuildOptions) -> Result<Graph, StepError> {
+    let m = marked(fp);
+    let opts = SpaceOptions {
+        operator_jumps: o.operator,
+        depth: None,
+        max_states: o.max_states,
+        max_paths_per_call: 100_000,
+        keep_last_block: o.last_block,
+        record_edges: true,
+        drop_dead: true,
     };
-    let mut next = 0;
-    while next < states.len() {
-        let from = states[next].clone();
-        interp.state = from.clone();
-        graph.states.push(interp.observe());
-        let tree = enumerate_call(&mut interp, &from, 100_000)?;
-        let mut incomplete = tree.cut;
-        if tree.cut {
-            graph.cut = Some("more than 100000 paths in one call".into());
+    let mut space = Space::new(&m, opts);
+    let walk = space::explore(&mut space, &mut Alone)?;
+    let mut edges: Vec<Vec<Edge>> = vec![Vec::new(); walk.nodes.len()];
+    for e in walk.edges {
+        let (answers, operator) = match e.mv {
+            Move::Call(a) => (a, None),
+            Move::Jump(b) => (Vec::new(), Some(b)),
+        };
+        let mut blocked: Vec<(usize, usize)> = e
+            .markers
+            .iter()
+            .filter_map(|t| marker_index(t))
+            .filter_map(|i| fp.forbidden.get(i).map(|f| (f.from, f.to)))
+            .collect();
+        blocked.sort();
+        blocked.dedup();
+        let out = &mut edges[e.from];
+        match out
+            .iter_mut()
+            .find(|x| x.to == e.to && x.blocked == blocked && x.operator == operator)
+        {
+            Some(x) if x.answers.len() <= answers.len() => {}
+            Some(x) => x.answers = answers,
+            None => out.push(Edge { to: e.to, answers, blocked, operator }),
         }
-        let mut out: Vec<Edge> = Vec::new();
-        for p in tree.paths {
-            let op = p.markers.iter().find_map(|t| operator_target(t));
-            let refused = p.markers.iter().any(|t| marker_index(t).is_some());
-            if op.is_some() && refused {
-                continue;
-            }
-            let k = state_key(&interp, &p.state);
-            let to = match index.get(&k) {
-                Some(&i) => i,
-                None => {
-                    if states.len() >= max_states {
-                        graph.cut = Some(format!("more than {max_states} states"));
-                        incomplete = true;
-                        continue;
-                    }
-                    index.insert(k, states.len());
-                    states.push(p.state.clone());
-                    states.len() - 1
-                }
-            };
-            let mut blocked: Vec<(usize, usize)> = p
-                .markers
-                .iter()
-                .filter_map(|t| marker_index(t))
-                .filter_map(|i| fp.forbidden.get(i).map(|f| (f.from, f.to)))
-                .collect();
-            blocked.sort();
-            blocked.dedup();
-            // Answers without the forced marker answers, so they replay on the real plan.
-            let answers = strip_forced(&p.answers, &p.events_markers_forced());
-            match out.iter_mut().find(|e| e.to == to && e.blocked == blocked && e.operator == op) {
-                Some(e) if e.answers.len() <= answers.len() => {}
-                Some(e) => e.answers = answers,
-                None => out.push(Edge { to, answers, blocked, operator: op }),
-            }
-        }
-        graph.edges.push(out);
-        graph.incomplete.push(incomplete);
-        next += 1;
     }
-    Ok(graph)
-}
-
-fn strip_forced(answers: &[i64], forced: &[usize]) -> Vec<i64> {
-    answers.iter().enumerate().filter(|(i, _)| !forced.contains(i)).map(|(_, a)| *a).collect()
-}
-
-trait ForcedPositions {
-    fn events_markers_forced(&self) -> Vec<usize>;
-}
-
-impl ForcedPositions for CallPath<'_> {
-    /// Positions in `answers` of the questions the real plan does not ask (forced forbidden
-    /// markers, operator jumps): the questions are the condition and non-literal value events,
-    /// in order.
-    fn events_markers_forced(&self) -> Vec<usize> {
-        use crate::semantics::oracle::literal_value;
-        use crate::semantics::trace::Event;
-        let mut pos = 0;
-        let mut forced = Vec::new();
-        for e in &self.events {
-            match e {
-                Event::Cond { text, .. } => {
-                    let hidden = text.starts_with(MARKER_PREFIX)
-                        && (text.ends_with(FORCED_SUFFIX) || operator_target(text).is_some());
-                    if hidden {
-                        forced.push(pos);
-                    }
-                    pos += 1;
-                }
-                Event::Value { text, .. } if literal_value(text).is_none() => pos += 1,
-                _ => {}
-            }
-        }
-        forced
-    }
+    Ok(Graph {
+        block_names: fp.blocks.iter().map(|b| b.name.clone()).collect(),
+        states: walk.nodes.iter().map(|n| n.obs).collect(),
+        edges,
+        fixpoint: walk.fixpoint,
+        cut: walk.cut,
+        incomplete: walk.incomplete,
+        last_block_kept: o.last_block || space.abstraction.has_return,
+    })
 }
 
 impl Graph {
     pub fn describe(&self, s: usize) -> String {
         let o = self.states[s];
         let name = |b: usize| self.block_names.get(b).cloned().unwrap_or_else(|| b.to_string());
-        format!(
-            "block '{}' stage {} (last: '{}' stage {})",
-            name(o.block),
-            o.stage,
-            name(o.last_block),
-            o.last_stage
-        )
+        if self.last_block_kept {
+            format!("block '{}' stage {} (last: '{}')", name(o.block), o.stage, name(o.last_block))
+        } else {
+            format!("block '{}' stage {}", name(o.block), o.stage)
+        }
     }
 
     pub fn block_index(&self, name: &str) -> Option<usize> {

@@ -68,6 +68,18 @@ pub struct Property {
 }
 
 impl StateFormula {
+    /// Whether the formula names the last block (the state graph must then keep it).
+    pub fn uses_last_block(&self) -> bool {
+        match self {
+            StateFormula::LastBlock(_) => true,
+            StateFormula::Not(f) => f.uses_last_block(),
+            StateFormula::And(a, b) | StateFormula::Or(a, b) => {
+                a.uses_last_block() || b.uses_last_block()
+            }
+            _ => false,
+        }
+    }
+
     pub fn holds(&self, o: &Observation) -> bool {
         match self {
             StateFormula::True => true,

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use super::check::{self, Outcome};
 use super::property::PropertyError;
-use super::{build, Graph};
+use super::{build_with, BuildOptions, Graph};
 use crate::passes::fp::Fp;
 use crate::semantics::StepError;
 
@@ -34,7 +34,7 @@ impl Default for Spec {
             safe_blocks: Vec::new(),
             no_blocked: false,
             deadlock_free: false,
-            max_states: 200_000,
+            max_states: 1_000_000,
             operator: false,
         }
     }
@@ -65,9 +65,11 @@ pub enum CheckError {
 /// The state graph's size and every outcome.
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckReport {
-    /// Abstract states reached.
+    /// Every reachable state was expanded: the properties are decided on the whole graph.
+    pub fixpoint: bool,
+    /// States reached.
     pub states: usize,
-    /// Transitions between them.
+    /// Distinct transitions between them.
     pub transitions: usize,
     /// Why the graph is incomplete, when the budget cut it.
     pub cut: Option<String>,
@@ -83,9 +85,13 @@ impl CheckReport {
 
     /// The text of `vouch fpl check`: a summary line for `name`, then every outcome.
     pub fn render(&self, name: &str) -> String {
-        let cut = self.cut.as_ref().map(|c| format!(" (cut: {c})")).unwrap_or_default();
+        let reached = match &self.cut {
+            None if self.fixpoint => "fixpoint reached".to_string(),
+            None => "not a fixpoint".to_string(),
+            Some(c) => format!("cut: {c}, not a fixpoint"),
+        };
         let mut s = format!(
-            "{name}: {} abstract states, {} transitions{cut}\n",
+            "{name}: {} states, {} transitions, {reached}\n",
             self.states, self.transitions
         );
         for o in &self.outcomes {
@@ -97,10 +103,20 @@ impl CheckReport {
 
 /// Builds the state graph of `fp` and checks everything `spec` asks for.
 pub fn run(fp: &Fp, spec: &Spec) -> Result<CheckReport, CheckError> {
-    let g = build(fp, spec.max_states, spec.operator)?;
+    let names: Vec<String> = fp.blocks.iter().map(|b| b.name.clone()).collect();
+    let properties = spec
+        .properties
+        .iter()
+        .map(|t| super::property::parse(t, &names).map(|p| (t, p)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let last_block = properties.iter().any(|(_, p)| p.formula.uses_last_block());
+    let g = build_with(
+        fp,
+        BuildOptions { max_states: spec.max_states, operator: spec.operator, last_block },
+    )?;
     let mut outcomes = Vec::new();
-    for text in &spec.properties {
-        outcomes.push(check::check_text(&g, text)?);
+    for (text, p) in &properties {
+        outcomes.push(check::check_property(&g, text, p));
     }
     if !spec.safe_blocks.is_empty() {
         let ids = spec
@@ -121,6 +137,7 @@ pub fn run(fp: &Fp, spec: &Spec) -> Result<CheckReport, CheckError> {
         outcomes.push(check::check_deadlock_free(&g));
     }
     Ok(CheckReport {
+        fixpoint: g.fixpoint,
         states: g.states.len(),
         transitions: g.edges.iter().map(Vec::len).sum(),
         cut: g.cut.clone(),

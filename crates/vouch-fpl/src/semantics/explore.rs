@@ -3,20 +3,22 @@
 //! A call asks the oracle a sequence of questions (conditions, non-literal `for` bounds). The
 //! answers form a tree; [`enumerate_call`] walks it depth first by re-running the call from the
 //! same starting state with a longer answer prefix each time. Conditions branch on false/true;
-//! integer values branch on [`VALUE_CHOICES`] (a small sample: the value domain is unbounded).
+//! integer values (the bounds of `for` loops) branch on every value of [`VALUE_RANGE`]: the C
+//! stores them in `int8_t` counters, so these 256 values are every value the C can hold.
 //!
 //! Answers are encoded as the numbers of the shared oracle convention
 //! ([`super::oracle`]): a condition is `0`/`1`, a value `v` is `2 * v`, so the same
 //! answer list drives the C stub and the interpreter.
 //!
-//! The validator and the model checker both build on this, so they explore the same tree.
+//! The state-space walk of [`super::space`], hence the validator and the model checker, build
+//! on this, so they explore the same tree.
 
 use super::oracle::{literal_value, Oracle};
 use super::trace::{Event, Observation};
-use super::{Interp, Item, State, StepError};
+use super::{Interp, State, StepError};
 
-/// Values tried for a non-literal integer (a `for` bound).
-pub const VALUE_CHOICES: [i64; 3] = [0, 1, 3];
+/// Values tried for a non-literal integer (a `for` bound): every `int8_t` (inclusive range).
+pub const VALUE_RANGE: (i64, i64) = (i8::MIN as i64, i8::MAX as i64);
 
 /// Condition texts starting with this prefix are never shown to the user: the model checker
 /// uses them to observe forbidden deroutes (see [`crate::model_check`]). They are answered
@@ -28,10 +30,10 @@ pub const FORCED_SUFFIX: &str = ":forced";
 enum Asked {
     Cond,
     Value,
-    Forced,
 }
 
-/// Answers from a prefix; beyond it, the first choice, remembering what was asked.
+/// Answers from a prefix; beyond it, the first choice, remembering what was asked (forced
+/// markers are answered without being a question).
 struct PrefixOracle {
     prefix: Vec<i64>,
     taken: Vec<(Asked, i64)>,
@@ -41,11 +43,7 @@ struct PrefixOracle {
 
 impl PrefixOracle {
     fn next(&mut self, kind: Asked) -> i64 {
-        let i = self.taken.len();
-        let n = match kind {
-            Asked::Forced => 1,
-            _ => self.prefix.get(i).copied().unwrap_or(0),
-        };
+        let n = self.prefix.get(self.taken.len()).copied().unwrap_or(0);
         self.taken.push((kind, n));
         n
     }
@@ -54,7 +52,7 @@ impl PrefixOracle {
 impl Oracle for PrefixOracle {
     fn cond(&mut self, text: &str) -> bool {
         let forced = text.starts_with(MARKER_PREFIX) && text.ends_with(FORCED_SUFFIX);
-        let v = self.next(if forced { Asked::Forced } else { Asked::Cond }) & 1 != 0;
+        let v = forced || self.next(Asked::Cond) & 1 != 0;
         if v && text.starts_with(MARKER_PREFIX) {
             self.markers_true.push(text.to_string());
         }
@@ -71,7 +69,7 @@ impl Oracle for PrefixOracle {
 /// One complete path of one call.
 #[derive(Debug, Clone)]
 pub struct CallPath<'p> {
-    /// The answer numbers consumed by the call (forced marker answers included, as `1`).
+    /// The answer numbers consumed by the call (forced markers ask nothing).
     pub answers: Vec<i64>,
     pub events: Vec<Event>,
     pub after: Observation,
@@ -88,8 +86,8 @@ pub struct CallTree<'p> {
     pub cut: bool,
 }
 
-/// Every path of one call from `from`, in depth-first order (false before true, values in
-/// [`VALUE_CHOICES`] order), at most `max_paths` of them.
+/// Every path of one call from `from`, in depth-first order (false before true, value 0
+/// before the others), at most `max_paths` of them.
 pub fn enumerate_call<'p>(
     interp: &mut Interp<'p>,
     from: &State<'p>,
@@ -110,10 +108,11 @@ pub fn enumerate_call<'p>(
         // first so it is popped last: the walk is depth first in lexicographic answer order.
         for i in plen..oracle.taken.len() {
             let base: Vec<i64> = oracle.taken[..i].iter().map(|t| t.1).collect();
-            let alts: &[i64] = match oracle.taken[i].0 {
-                Asked::Cond => &[1],
-                Asked::Value => &[2, 6],
-                Asked::Forced => &[],
+            let alts: Vec<i64> = match oracle.taken[i].0 {
+                Asked::Cond => vec![1],
+                Asked::Value => {
+                    (VALUE_RANGE.0..=VALUE_RANGE.1).filter(|v| *v != 0).map(|v| 2 * v).collect()
+                }
             };
             for a in alts.iter().rev() {
                 let mut p = base.clone();
@@ -130,32 +129,6 @@ pub fn enumerate_call<'p>(
         });
     }
     Ok(CallTree { paths, cut: false })
-}
-
-/// A hashable, exact summary of an interpreter state: the stage number of every item of both
-/// continuation stacks (which identifies each item: a stage, its loop test, its loop-back and
-/// its navigation main step all have distinct numbers), both blocks, and the `for` counters.
-/// Stage numbers are the interpreter's own ([`Interp::item_number`]).
-#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct StateKey {
-    pub obs: (usize, usize, usize, usize),
-    pub remaining: Vec<usize>,
-    pub last_remaining: Vec<usize>,
-    pub counters: Vec<((usize, usize), (i8, i8))>,
-}
-
-/// The key of `state`, with the interpreter's own stage numbering.
-pub fn state_key<'p>(interp: &Interp<'p>, state: &State<'p>) -> StateKey {
-    let numbers = |stack: &[Item<'p>]| stack.iter().map(|i| interp.item_number(i)).collect();
-    let o = interp.observe_state(state);
-    let mut counters: Vec<_> = state.counters.iter().map(|(k, v)| (*k, *v)).collect();
-    counters.sort();
-    StateKey {
-        obs: (o.block, o.stage, o.last_block, o.last_stage),
-        remaining: numbers(&state.remaining),
-        last_remaining: numbers(&state.last_remaining),
-        counters,
-    }
 }
 
 #[cfg(test)]
@@ -184,11 +157,8 @@ mod tests {
         // the budget cuts and says so
         let cut = enumerate_call(&mut interp, &init, 2).expect("runs");
         assert!(cut.cut && cut.paths.len() == 2);
-        // equal states have equal keys, different ones differ
-        let k0 = state_key(&interp, &tree.paths[0].state);
-        let k1 = state_key(&interp, &tree.paths[1].state);
-        assert_eq!(k0.obs.0, 1);
-        assert_ne!(k0, k1);
-        assert_eq!(k1, state_key(&interp, &init), "f() true stays on the call stage");
+        // f() true stays on the call stage
+        let stays = interp.observe_state(&tree.paths[1].state);
+        assert_eq!(stays, interp.observe_state(&init));
     }
 }

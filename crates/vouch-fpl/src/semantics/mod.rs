@@ -22,6 +22,7 @@
 pub mod explore;
 pub mod oracle;
 pub mod sim;
+pub mod space;
 pub mod trace;
 
 use std::collections::HashMap;
@@ -69,6 +70,9 @@ pub struct State<'p> {
     pub last_remaining: Vec<Item<'p>>,
     /// `for` counters (`_var_v`, `_var_v_to`) keyed by (block, init stage number).
     pub counters: HashMap<(BlockIx, usize), (i8, i8)>,
+    /// The waypoint a `go` stage remembers when it is reached (the runtime's `last_wp`,
+    /// `NextStageAndBreakFrom`); it steers nothing in the plan, the firmware reads it.
+    pub last_wp: usize,
 }
 
 /// The interpreter of one plan.
@@ -144,6 +148,7 @@ impl<'p> Interp<'p> {
             last_block: 0,
             last_remaining: full0,
             counters: HashMap::new(),
+            last_wp: 0,
         };
         Interp { fp, first, ends, state, calls: 0, forbidden_off: false }
     }
@@ -154,6 +159,11 @@ impl<'p> Interp<'p> {
             push_list(&mut v, &b.stages);
         }
         v
+    }
+
+    /// The plan this interpreter runs.
+    pub fn fp(&self) -> &'p Fp {
+        self.fp
     }
 
     /// Events of `auto_nav_init()`.
@@ -299,7 +309,7 @@ impl<'p> Interp<'p> {
             let Some(block) = fp.blocks.get(b) else {
                 return Ok(StepRecord {
                     call: self.calls,
-                    operator_goto: None,
+                    operator_gotos: Vec::new(),
                     before,
                     events: ev,
                     after: self.observe(),
@@ -317,7 +327,7 @@ impl<'p> Interp<'p> {
         }
         Ok(StepRecord {
             call: self.calls,
-            operator_goto: None,
+            operator_gotos: Vec::new(),
             before,
             events: ev,
             after: self.observe(),
@@ -337,7 +347,7 @@ impl<'p> Interp<'p> {
     }
 
     /// Runs `n` calls; `jumps` lists (call number, block) operator block changes applied just
-    /// before that call.
+    /// before that call (several before one call run in their order).
     pub fn run_with_jumps(
         &mut self,
         oracle: &mut dyn Oracle,
@@ -350,10 +360,13 @@ impl<'p> Interp<'p> {
         };
         for _ in 0..n {
             let call = self.calls + 1;
-            let op =
-                jumps.iter().find(|(c, _)| *c == call).map(|&(_, b)| (b, self.operator_goto(b)));
+            let ops: Vec<(usize, Vec<Event>)> = jumps
+                .iter()
+                .filter(|(c, _)| *c == call)
+                .map(|&(_, b)| (b, self.operator_goto(b)))
+                .collect();
             let mut rec = self.step(oracle)?;
-            rec.operator_goto = op;
+            rec.operator_gotos = ops;
             run.steps.push(rec);
         }
         Ok(run)
@@ -538,11 +551,12 @@ impl<'p> Interp<'p> {
             Self::code(ev, c);
         }
         let mut run_lines = true;
-        if let Some((cond, _wp)) = &n.approach {
+        if let Some((cond, wp)) = &n.approach {
             if Self::cond(ev, oracle, cond) {
                 if let Some(c) = &n.post_call {
                     Self::code(ev, c);
                 }
+                self.state.last_wp = *wp;
                 self.pop();
                 return Flow::Break;
             }

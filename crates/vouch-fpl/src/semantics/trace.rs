@@ -39,10 +39,10 @@ pub struct Observation {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct StepRecord {
     pub call: usize,
-    /// An operator block change (GCS "go to block") applied just before this call, with the
-    /// events of the exit/enter hooks it ran.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub operator_goto: Option<(usize, Vec<Event>)>,
+    /// Operator block changes (GCS "go to block") applied just before this call, in order,
+    /// with the events of the exit/enter hooks each ran.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub operator_gotos: Vec<(usize, Vec<Event>)>,
     pub before: Observation,
     pub events: Vec<Event>,
     pub after: Observation,
@@ -88,7 +88,7 @@ impl Run {
             out.push('\n');
         }
         for s in &self.steps {
-            if let Some((b, evs)) = &s.operator_goto {
+            for (b, evs) in &s.operator_gotos {
                 out.push_str(&format!("goto {b}\n"));
                 for e in evs {
                     out.push_str(&e.line());

@@ -2,7 +2,8 @@
  * vouch stub driver: runs a generated (instrumented) flight_plan.h step by step.
  * usage: driver ANSWERS_FILE STEPS [JUMPS_FILE]
  * JUMPS_FILE holds "call block" pairs: an operator block change (nav_goto_block, as the ground
- * station does) applied just before that call; printed as "goto B" followed by its hook events.
+ * station does) applied just before that call (several for one call in their order); printed as
+ * "goto B" followed by its hook events.
  * Prints "init", the events of auto_nav_init(), then for each call "step N", its events and
  * "S block stage last_block last_stage". The Rust interpreter prints the same format.
  */
@@ -39,7 +40,6 @@ int main(int argc, char **argv)
       if (jump_call[j] == i) {
         printf("goto %ld\n", jump_block[j]);
         nav_goto_block((uint8_t)jump_block[j]);
-        break;
       }
     }
     printf("step %ld\n", i);

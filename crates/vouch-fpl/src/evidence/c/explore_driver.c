@@ -1,27 +1,45 @@
 /*
  * vouch translation-validation driver (evidence module). Linked with the generated
- * instrumented flight_plan.h and the project's stub runtime (tests/stub/fp_stub.c, whose own
- * scripted oracle is renamed away at compile time). It answers requests on stdin, one per line:
+ * instrumented flight_plan.h (plus one VOUCH_REGISTER line after each of its static
+ * declarations, written by evidence/cstate.rs) and the project's stub runtime
+ * (tests/stub/fp_stub.c, whose own scripted oracle is renamed away at compile time).
  *
- *   E <calls> <n> a1 .. an   replay auto_nav_init() and <calls> calls with the answers a1..an,
- *                            then explore the next call: at every question (condition or
- *                            non-literal value) the process forks, one child per answer
- *                            (conditions 0/1, values 0/2/6 = 0/1/3), so the replayed prefix is
- *                            shared and every leaf is one complete path of the call. Output:
- *                              [I + init events, when calls = 0]
- *                              Q b s lb ls                       state after the replay
- *                              P k b1..bk, event lines, S b s lb ls   one record per leaf
- *                              L k b1..bk                        a path asked more questions than
- *                                                                the limit (argv[2]): a loop
- *                              A status k b1..bk                 a path crashed or timed out
- *   W <calls> <n> a1 .. an   one plain run of <calls> calls (answers beyond n are 0), printed in
- *                            the format of tests/stub/driver.c.
+ * The C state. Every registered variable (header statics, `for` counters inside auto_nav,
+ * runtime globals of fp_stub.h) is one field of the *state bytes*, in registration order. A
+ * request gives a state; the driver writes it into the variables ("restore"), runs, and reads
+ * them back. Whatever else the program keeps in static storage must never change: after every
+ * run the driver compares the whole writable data segment of the executable (found from
+ * /proc/self/maps and the linker's `edata`/`end`) outside the registered variables with its
+ * image taken at start-up, and reports any difference (`H`): state the validator does not see.
  *
- * Each request ends with "done <cut>" where cut is 1 when the leaf budget ran out.
- * Every request runs in a fresh child of this server, so the function-local `static` for-loop
- * counters of auto_nav() start from zero each time, as in a fresh process.
- * All output goes through write(2) in whole records; processes never run concurrently (a
- * parent waits for its child), so records never interleave.
+ * Requests on stdin, one per line; every answer ends with "done <cut>":
+ *
+ *   I                       auto_nav_init() from the initial state:
+ *                             I, its event lines, Z <state hex>
+ *   X <jumps> <hex> <n> <hex1> .. <hexn>
+ *                           every path of one auto_nav() call from state <hex>: at each question
+ *                           (condition 0/1, non-literal value: every int8_t) the call is run
+ *                           again from the restored state with a longer answer prefix:
+ *                             P k a1..ak, event lines, S <changes>     one complete path
+ *                             T i <changes> | T i !                     the same answers from <hexi>
+ *                             L k a1..ak                                more questions than allowed
+ *                           then, when <jumps> is 1, an operator jump to every block:
+ *                             J b, event lines, S <changes>, T ...
+ *                           <hex1>..<hexn> are copies of the state with the parts the validator
+ *                           drops changed; T gives the changes from copy i, or "!" (then that
+ *                           run's event lines, and no more T lines for the record) when it asked
+ *                           other questions or produced other events.
+ *                           <changes>: " offset=value" for every byte that differs.
+ *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
+ *                           beyond n are 0, printed in the format of tests/stub/driver.c.
+ *
+ *   H <offset>              (after a record) its runs wrote outside the registered variables
+ *   A <signal> k a1..ak     the process dies (crash, time-out) on that answer prefix (or
+ *   A <signal> J b          during the jump to block b); the answer is then "done 0" and the
+ *                           process exits.
+ *
+ * argv: leaf budget (paths per request), question limit (per call), lowest and highest value
+ * tried for a non-literal value.
  */
 #define _GNU_SOURCE
 /* The stub runtime is compiled in the same cc call with its own oracle renamed away
@@ -33,51 +51,104 @@
 #include <stdlib.h>
 #include <string.h>
 #include <errno.h>
+#include <setjmp.h>
 #include <unistd.h>
 #include <signal.h>
 #include <sys/types.h>
 #include <sys/wait.h>
-#include <sys/mman.h>
+
+struct vouch_var { unsigned long magic; long id; void *addr; unsigned long size; };
+#define VOUCH_MAGIC 0x766f7563685f7661UL
+#define VOUCH_REGISTER(id, name) \
+  static struct vouch_var vouch_var_##id __attribute__((used, section("vouch_vars"))) = \
+    { VOUCH_MAGIC, id, (void *)&(name), sizeof(name) };
 #include "fp_stub.h"
+#include "vouch_runtime_vars.h"
 #define NAV_C
 #include "flight_plan.h"
 
-#define MAX_QUESTIONS 4096
-static long question_limit = MAX_QUESTIONS;
-#define ALARM_SECONDS 5
+extern struct vouch_var __start_vouch_vars[], __stop_vouch_vars[];
+extern char edata, end;
 
-/* ---- output buffer ---- */
-static char *buf;
-static size_t blen, bcap;
+#define ALARM_SECONDS 20
+enum mode { SCRIPT, EXPLORE, FORCED };
 
-static void put(const char *s, size_t n)
+struct buf { char *p; size_t len, cap; };
+
+/* All mutable driver state lives on the heap, outside the data segment it watches. */
+struct driver {
+  /* registered variables, by id */
+  size_t n_vars, state_len;
+  struct vouch_var **vars;
+  size_t *offset;
+  unsigned char *init_state, *state, *after;
+  unsigned char *copies;   /* n_copies states */
+  size_t n_copies, cap_copies;
+  /* the watched data segment and its image */
+  char *lo, *hi;
+  unsigned char *image;
+  size_t n_clean;
+  size_t (*clean)[2];
+  int watching;
+  long hidden[8];          /* offsets written outside the registered variables, this run */
+  size_t n_hidden;
+  /* answers */
+  enum mode mode;
+  long *prefix, *taken;
+  size_t n_prefix, n_taken, cap_answers;
+  long *pending;           /* stacked prefixes: values, then their length */
+  size_t n_pending, cap_pending;
+  int deviated;
+  int jumping;             /* the block of the operator jump in progress, or -1 */
+  long question_limit, leaf_budget, value_lo, value_hi;
+  jmp_buf too_long;
+  /* output: events are recorded into *rec when it is set */
+  struct buf *rec;
+  struct buf ev, ev2, out;
+  char *line;
+  size_t line_cap;
+};
+static struct driver *D;
+
+static void *grow(void *p, size_t n)
 {
-  if (blen + n > bcap) {
-    size_t cap = bcap ? bcap : 4096;
-    while (cap < blen + n) { cap *= 2; }
-    buf = realloc(buf, cap);
-    if (buf == NULL) { _exit(4); }
-    bcap = cap;
+  void *q = realloc(p, n ? n : 1);
+  if (q == NULL) { _exit(4); }
+  return q;
+}
+
+/* ---- output ---- */
+static void put(struct buf *b, const char *s, size_t n)
+{
+  if (b->len + n > b->cap) {
+    size_t cap = b->cap ? b->cap : 4096;
+    while (cap < b->len + n) { cap *= 2; }
+    b->p = grow(b->p, cap);
+    b->cap = cap;
   }
-  memcpy(buf + blen, s, n);
-  blen += n;
+  memcpy(b->p + b->len, s, n);
+  b->len += n;
 }
-static void put_s(const char *s) { put(s, strlen(s)); }
-static void put_l(long v)
+static void put_s(struct buf *b, const char *s) { put(b, s, strlen(s)); }
+/* async-signal-safe decimal printing */
+static void put_l(struct buf *b, long v)
 {
-  char tmp[32];
-  int k = snprintf(tmp, sizeof tmp, "%ld", v);
-  put(tmp, (size_t)k);
+  char tmp[24];
+  int k = 24;
+  unsigned long u = v < 0 ? 0UL - (unsigned long)v : (unsigned long)v;
+  do { tmp[--k] = (char)('0' + u % 10); u /= 10; } while (u > 0);
+  if (v < 0) { tmp[--k] = '-'; }
+  put(b, tmp + k, (size_t)(24 - k));
 }
-static void put_text(const char *t)
+static void put_text(struct buf *b, const char *t)
 {
   for (; *t; t++) {
-    if (*t == '\\') { put_s("\\\\"); }
-    else if (*t == '\n') { put_s("\\n"); }
-    else if (*t == '\r') { put_s("\\r"); }
-    else { put(t, 1); }
+    if (*t == '\\') { put_s(b, "\\\\"); }
+    else if (*t == '\n') { put_s(b, "\\n"); }
+    else if (*t == '\r') { put_s(b, "\\r"); }
+    else { put(b, t, 1); }
   }
-  put_s("\n");
+  put_s(b, "\n");
 }
 static void write_all(const char *s, size_t n)
 {
@@ -88,77 +159,200 @@ static void write_all(const char *s, size_t n)
     n -= (size_t)w;
   }
 }
-static void flush_buf(void) { write_all(buf, blen); blen = 0; }
+static void flush_out(void) { write_all(D->out.p, D->out.len); D->out.len = 0; }
+static void put_answers(struct buf *b, const long *a, size_t n)
+{
+  put_l(b, (long)n);
+  for (size_t i = 0; i < n; i++) { put_s(b, " "); put_l(b, a[i]); }
+  put_s(b, "\n");
+}
+
+/* ---- the registered variables and the watched segment ---- */
+static void collect_vars(void)
+{
+  size_t n = 0, max_id = 0;
+  char *p = (char *)__start_vouch_vars, *q = (char *)__stop_vouch_vars;
+  /* entries may be padded apart: find them by their magic word */
+  for (char *c = p; c + sizeof(struct vouch_var) <= q; c += sizeof(long)) {
+    struct vouch_var *v = (struct vouch_var *)c;
+    if (v->magic == VOUCH_MAGIC) { n++; if ((size_t)v->id > max_id) { max_id = (size_t)v->id; } }
+  }
+  D->n_vars = n ? max_id + 1 : 0;
+  D->vars = grow(NULL, D->n_vars * sizeof *D->vars);
+  D->offset = grow(NULL, (D->n_vars + 1) * sizeof *D->offset);
+  memset(D->vars, 0, D->n_vars * sizeof *D->vars);
+  for (char *c = p; c + sizeof(struct vouch_var) <= q; c += sizeof(long)) {
+    struct vouch_var *v = (struct vouch_var *)c;
+    if (v->magic == VOUCH_MAGIC) { D->vars[v->id] = v; }
+  }
+  D->state_len = 0;
+  for (size_t i = 0; i < D->n_vars; i++) {
+    D->offset[i] = D->state_len;
+    D->state_len += D->vars[i] ? D->vars[i]->size : 0;
+  }
+  D->offset[D->n_vars] = D->state_len;
+  D->init_state = grow(NULL, D->state_len);
+  D->state = grow(NULL, D->state_len);
+  D->after = grow(NULL, D->state_len);
+}
+
+static void capture(unsigned char *s)
+{
+  for (size_t i = 0; i < D->n_vars; i++) {
+    if (D->vars[i]) { memcpy(s + D->offset[i], D->vars[i]->addr, D->vars[i]->size); }
+  }
+}
+static void restore(const unsigned char *s)
+{
+  for (size_t i = 0; i < D->n_vars; i++) {
+    if (D->vars[i]) { memcpy(D->vars[i]->addr, s + D->offset[i], D->vars[i]->size); }
+  }
+}
+
+static int registered(const char *a)
+{
+  for (size_t i = 0; i < D->n_vars; i++) {
+    const char *v = D->vars[i] ? (const char *)D->vars[i]->addr : NULL;
+    if (v != NULL && a >= v && a < v + D->vars[i]->size) { return 1; }
+  }
+  return 0;
+}
+
+/* The writable mappings covering [start of the one holding edata, end). */
+static void watch_segment(void)
+{
+  FILE *f = fopen("/proc/self/maps", "r");
+  unsigned long a, b, lo = 0, hi = 0;
+  char perms[8];
+  unsigned long e = (unsigned long)&edata - 1, stop = (unsigned long)&end;
+  if (f == NULL) { return; }
+  while (fscanf(f, "%lx-%lx %7s%*[^\n]", &a, &b, perms) == 3) {
+    if (perms[0] != 'r' || perms[1] != 'w') { continue; }
+    if (a <= e && e < b) { lo = a; hi = b; }
+    else if (lo != 0 && a == hi && a < stop) { hi = b; }
+  }
+  fclose(f);
+  if (lo == 0 || hi < stop) { return; }
+  D->lo = (char *)lo;
+  D->hi = (char *)stop;
+  D->image = grow(NULL, (size_t)(D->hi - D->lo));
+  D->clean = grow(NULL, sizeof *D->clean);
+  D->n_clean = 0;
+  /* runs of bytes outside every registered variable */
+  for (char *c = D->lo; c < D->hi;) {
+    while (c < D->hi && registered(c)) { c++; }
+    char *s = c;
+    while (c < D->hi && !registered(c)) { c++; }
+    if (c > s) {
+      D->clean = grow(D->clean, (D->n_clean + 1) * sizeof *D->clean);
+      D->clean[D->n_clean][0] = (size_t)(s - D->lo);
+      D->clean[D->n_clean][1] = (size_t)(c - D->lo);
+      D->n_clean++;
+    }
+  }
+  memcpy(D->image, D->lo, (size_t)(D->hi - D->lo));
+  D->watching = 1;
+}
+
+/* Notes bytes written outside the registered variables (D->hidden, printed with the record of
+ * the run) and puts them back. */
+static void hidden_check(void)
+{
+  if (!D->watching) { return; }
+  for (size_t k = 0; k < D->n_clean; k++) {
+    size_t a = D->clean[k][0], b = D->clean[k][1];
+    if (memcmp(D->lo + a, D->image + a, b - a) == 0) { continue; }
+    for (size_t i = a; i < b; i++) {
+      if ((unsigned char)D->lo[i] != D->image[i]) {
+        if (D->n_hidden < sizeof D->hidden / sizeof D->hidden[0]) { D->hidden[D->n_hidden++] = (long)i; }
+        break;
+      }
+    }
+    memcpy(D->lo + a, D->image + a, b - a);
+  }
+}
+
+static void put_hidden(void)
+{
+  for (size_t i = 0; i < D->n_hidden; i++) {
+    put_s(&D->out, "H ");
+    put_l(&D->out, D->hidden[i]);
+    put_s(&D->out, "\n");
+  }
+  D->n_hidden = 0;
+}
 
 /* ---- answers ---- */
-static long *answers;
-static size_t n_answers, next_answer;
-static int recording, exploring;
-static long taken[MAX_QUESTIONS];
-static size_t n_taken;
-static long *shared; /* [0] = leaves written, [1] = cut flag, [2] = leaf budget */
-
-static void put_taken(long extra, int with_extra)
+static void push_pending(size_t keep, long alt)
 {
-  put_l((long)n_taken + (with_extra ? 1 : 0));
-  for (size_t i = 0; i < n_taken; i++) { put_s(" "); put_l(taken[i]); }
-  if (with_extra) { put_s(" "); put_l(extra); }
-  put_s("\n");
+  size_t need = D->n_pending + keep + 2;
+  if (need > D->cap_pending) {
+    D->cap_pending = need * 2;
+    D->pending = grow(D->pending, D->cap_pending * sizeof(long));
+  }
+  memcpy(D->pending + D->n_pending, D->taken, keep * sizeof(long));
+  D->pending[D->n_pending + keep] = alt;
+  D->pending[D->n_pending + keep + 1] = (long)(keep + 1);
+  D->n_pending += keep + 2;
+}
+
+static int pop_pending(void)
+{
+  if (D->n_pending == 0) { return 0; }
+  size_t n = (size_t)D->pending[D->n_pending - 1];
+  D->n_pending -= n + 1;
+  memcpy(D->prefix, D->pending + D->n_pending, n * sizeof(long));
+  D->n_prefix = n;
+  return 1;
+}
+
+static void reserve_answers(size_t n)
+{
+  if (n > D->cap_answers) {
+    D->cap_answers = n * 2;
+    D->prefix = grow(D->prefix, D->cap_answers * sizeof(long));
+    D->taken = grow(D->taken, D->cap_answers * sizeof(long));
+  }
 }
 
 static long next_number(int is_value)
 {
-  static const long cond_choices[2] = {0, 1};
-  static const long value_choices[3] = {0, 2, 6};
-  const long *choices = is_value ? value_choices : cond_choices;
-  int k = is_value ? 3 : 2;
-  if (!exploring) { return next_answer < n_answers ? answers[next_answer++] : 0; }
-  if (n_taken >= (size_t)question_limit) {
-    blen = 0;
-    put_s("L ");
-    put_taken(0, 0);
-    flush_buf();
-    _exit(0);
+  long n;
+  if (D->mode == SCRIPT) {
+    n = D->n_taken < D->n_prefix ? D->prefix[D->n_taken] : 0;
+    D->n_taken++;
+    return n;
   }
-  for (int i = 0; i < k - 1; i++) {
-    pid_t pid = fork();
-    if (pid < 0) { _exit(6); }
-    if (pid == 0) {
-      alarm(ALARM_SECONDS);
-      taken[n_taken++] = choices[i];
-      return choices[i];
+  if (D->n_taken >= (size_t)D->question_limit) { longjmp(D->too_long, 1); }
+  if (D->n_taken < D->n_prefix) {
+    n = D->prefix[D->n_taken];
+  } else if (D->mode == EXPLORE) {
+    n = 0;
+    if (is_value) {
+      for (long v = D->value_hi; v >= D->value_lo; v--) {
+        if (v != 0) { push_pending(D->n_taken, 2 * v); }
+      }
+    } else {
+      push_pending(D->n_taken, 1);
     }
-    int st = 0;
-    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) { }
-    if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
-      /* the record is built in a fresh buffer: this process's events stay untouched */
-      char *keep = buf;
-      size_t keep_len = blen, keep_cap = bcap;
-      buf = NULL; blen = 0; bcap = 0;
-      put_s("A ");
-      put_l(WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st));
-      put_s(" ");
-      put_taken(choices[i], 1);
-      flush_buf();
-      free(buf);
-      buf = keep; blen = keep_len; bcap = keep_cap;
-    }
-    if (shared[1]) { _exit(0); }
+  } else {
+    D->deviated |= D->mode == FORCED;
+    n = 0;
   }
-  taken[n_taken++] = choices[k - 1];
-  return choices[k - 1];
+  D->taken[D->n_taken++] = n;
+  return n;
 }
 
 bool fp_cond(const char *text)
 {
   bool v = (next_number(0) & 1) != 0;
-  if (recording) { put_s(v ? "C 1 " : "C 0 "); put_text(text); }
+  if (D->rec) { put_s(D->rec, v ? "C 1 " : "C 0 "); put_text(D->rec, text); }
   return v;
 }
 
 void fp_code(const char *text)
 {
-  if (recording) { put_s("X "); put_text(text); }
+  if (D->rec) { put_s(D->rec, "X "); put_text(D->rec, text); }
 }
 
 int fp_value(const char *text)
@@ -168,104 +362,288 @@ int fp_value(const char *text)
   if (!fp_literal_value(text, &v)) {
     v = fp_value_of_number(next_number(1));
   }
-  if (recording) { put_s("V "); put_l(v); put_s(" "); put_text(text); }
+  if (D->rec) { put_s(D->rec, "V "); put_l(D->rec, v); put_s(D->rec, " "); put_text(D->rec, text); }
   return (int)v;
 }
 
-static void put_state(const char *tag)
+/* ---- crashes and time-outs ---- */
+static void on_signal(int sig)
 {
-  put_s(tag);
-  put_l(nav_block); put_s(" "); put_l(nav_stage); put_s(" ");
-  put_l(last_block); put_s(" "); put_l(last_stage); put_s("\n");
+  flush_out();
+  put_s(&D->out, "A ");
+  put_l(&D->out, 128 + sig);
+  put_s(&D->out, " ");
+  if (D->jumping >= 0) {
+    put_s(&D->out, "J ");
+    put_l(&D->out, D->jumping);
+    put_s(&D->out, "\n");
+  } else {
+    put_answers(&D->out, D->taken, D->mode == SCRIPT ? 0 : D->n_taken);
+  }
+  put_s(&D->out, "done 0\n");
+  flush_out();
+  _exit(0);
 }
 
-/* ---- requests ---- */
-static void explore(long calls)
+/* ---- runs ---- */
+static void put_changes(const unsigned char *from, const unsigned char *to)
 {
-  nav_block = 0; nav_stage = 0; last_block = 0; last_stage = 0;
-  recording = calls == 0;
-  if (recording) { put_s("I\n"); }
-  auto_nav_init();
-  for (long i = 0; i < calls; i++) { auto_nav(); }
-  put_state("Q ");
-  flush_buf();
-  recording = 1;
-  exploring = 1;
-  auto_nav();
-  /* a leaf: one complete path */
-  if (shared[0] >= shared[2]) { shared[1] = 1; _exit(0); }
-  shared[0]++;
-  {
-    char *events = malloc(blen + 1);
-    size_t elen = blen;
-    if (events == NULL) { _exit(4); }
-    memcpy(events, buf, blen);
-    blen = 0;
-    put_s("P ");
-    put_taken(0, 0);
-    put(events, elen);
-    free(events);
+  for (size_t i = 0; i < D->state_len; i++) {
+    if (from[i] != to[i]) {
+      put_s(&D->out, " ");
+      put_l(&D->out, (long)i);
+      put_s(&D->out, "=");
+      put_l(&D->out, to[i]);
+    }
   }
-  put_state("S ");
-  flush_buf();
-  _exit(0);
+  put_s(&D->out, "\n");
+}
+
+/* One call (jump_to < 0) or an operator jump from state `s` with the current prefix; events
+ * in `ev`, the state after in D->after; 0 when the call asked more questions than allowed. */
+static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int jump_to)
+{
+  restore(s);
+  D->mode = mode;
+  D->n_taken = 0;
+  D->deviated = 0;
+  ev->len = 0;
+  D->rec = ev;
+  int ended = setjmp(D->too_long) == 0;
+  D->jumping = jump_to;
+  if (ended) {
+    if (jump_to < 0) { auto_nav(); } else { nav_goto_block((uint8_t)jump_to); }
+  }
+  D->jumping = -1;
+  D->rec = NULL;
+  capture(D->after);
+  hidden_check();
+  return ended;
+}
+
+/* The same answers from copy i: "T i changes", or "T i !" (and 0) when the run asked other
+ * questions or produced other events than the first one (whose events are in D->ev). */
+static int replay_copy(size_t n, size_t i, int jump_to)
+{
+  const unsigned char *s2 = D->copies + i * D->state_len;
+  D->n_prefix = n;
+  int ended = run_from(s2, &D->ev2, FORCED, jump_to);
+  put_s(&D->out, "T ");
+  put_l(&D->out, (long)i);
+  if (!ended || D->deviated || D->n_taken != n || D->ev2.len != D->ev.len
+      || memcmp(D->ev2.p, D->ev.p, D->ev.len) != 0) {
+    /* the copy's events follow */
+    put_s(&D->out, " !\n");
+    put(&D->out, D->ev2.p, D->ev2.len);
+    return 0;
+  }
+  put_changes(s2, D->after);
+  return 1;
+}
+
+/* P or J record of the run just made (events in D->ev, answers in D->taken). */
+static void put_run(int jump_to)
+{
+  if (jump_to < 0) {
+    put_s(&D->out, "P ");
+    put_answers(&D->out, D->taken, D->n_taken);
+  } else {
+    put_s(&D->out, "J ");
+    put_l(&D->out, jump_to);
+    put_s(&D->out, "\n");
+  }
+  put(&D->out, D->ev.p, D->ev.len);
+  put_s(&D->out, "S");
+  put_changes(D->state, D->after);
+  size_t n = D->n_taken;
+  /* the answers of this run, for every copy (the copies' runs overwrite D->taken) */
+  memcpy(D->prefix, D->taken, n * sizeof(long));
+  for (size_t i = 0; i < D->n_copies; i++) {
+    if (!replay_copy(n, i, jump_to)) { break; }
+  }
+  put_hidden();
+}
+
+static void explore(int jumps)
+{
+  long leaves = 0;
+  int cut = 0;
+  D->n_pending = 0;
+  D->n_prefix = 0;
+  for (;;) {
+    if (leaves >= D->leaf_budget) { cut = 1; break; }
+    int ended = run_from(D->state, &D->ev, EXPLORE, -1);
+    leaves++;
+    if (ended) {
+      put_run(-1);
+    } else {
+      put_s(&D->out, "L ");
+      put_answers(&D->out, D->taken, D->n_taken);
+      put_hidden();
+    }
+    if (D->out.len > (1 << 16)) { flush_out(); }
+    if (!pop_pending()) { break; }
+  }
+  for (int b = 0; jumps && b < NB_BLOCK; b++) {
+    D->n_prefix = 0;
+    run_from(D->state, &D->ev, FORCED, b);
+    put_run(b);
+  }
+  put_s(&D->out, "done ");
+  put_l(&D->out, cut);
+  put_s(&D->out, "\n");
+}
+
+static void initial(void)
+{
+  restore(D->init_state);
+  put_s(&D->out, "I\n");
+  D->ev.len = 0;
+  D->mode = SCRIPT;
+  D->n_prefix = 0;
+  D->n_taken = 0;
+  D->rec = &D->ev;
+  auto_nav_init();
+  D->rec = NULL;
+  put(&D->out, D->ev.p, D->ev.len);
+  capture(D->after);
+  hidden_check();
+  put_hidden();
+  put_s(&D->out, "Z ");
+  for (size_t i = 0; i < D->state_len; i++) {
+    static const char hex[] = "0123456789abcdef";
+    put(&D->out, &hex[D->after[i] >> 4], 1);
+    put(&D->out, &hex[D->after[i] & 15], 1);
+  }
+  put_s(&D->out, "\ndone 0\n");
+}
+
+static void put_state(struct buf *b)
+{
+  put_l(b, nav_block); put_s(b, " "); put_l(b, nav_stage); put_s(b, " ");
+  put_l(b, last_block); put_s(b, " "); put_l(b, last_stage); put_s(b, "\n");
 }
 
 static void walk(long calls)
 {
-  nav_block = 0; nav_stage = 0; last_block = 0; last_stage = 0;
-  recording = 1;
-  put_s("init\n");
-  auto_nav_init();
-  for (long i = 1; i <= calls; i++) {
-    put_s("step "); put_l(i); put_s("\n");
-    auto_nav();
-    put_state("S ");
-    if (blen > 65536) { flush_buf(); }
+  pid_t pid = fork();
+  if (pid < 0) { _exit(6); }
+  if (pid == 0) {
+    static const int sigs[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM };
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) { signal(sigs[i], SIG_DFL); }
+    alarm(ALARM_SECONDS);
+    restore(D->init_state);
+    D->mode = SCRIPT;
+    D->n_taken = 0;
+    D->ev.len = 0;
+    D->rec = &D->ev;
+    put_s(&D->ev, "init\n");
+    auto_nav_init();
+    for (long i = 1; i <= calls; i++) {
+      put_s(&D->ev, "step "); put_l(&D->ev, i); put_s(&D->ev, "\n");
+      auto_nav();
+      put_s(&D->ev, "S ");
+      put_state(&D->ev);
+    }
+    write_all(D->ev.p, D->ev.len);
+    _exit(0);
   }
-  flush_buf();
-  _exit(0);
+  int st = 0;
+  while (waitpid(pid, &st, 0) < 0 && errno == EINTR) { }
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
+    put_s(&D->out, "A ");
+    put_l(&D->out, WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st));
+    put_s(&D->out, " 0\n");
+  }
+  put_s(&D->out, "done 0\n");
+}
+
+static int parse_hex(const char **p, unsigned char *s)
+{
+  const char *c = *p;
+  while (*c == ' ') { c++; }
+  for (size_t i = 0; i < D->state_len; i++) {
+    int v = 0;
+    for (int k = 0; k < 2; k++, c++) {
+      int d = *c >= 'a' ? *c - 'a' + 10 : *c - '0';
+      if (d < 0 || d > 15) { return 0; }
+      v = v * 16 + d;
+    }
+    s[i] = (unsigned char)v;
+  }
+  *p = c;
+  return 1;
+}
+
+static void request(const char *line)
+{
+  char *end;
+  const char *p = line + 1;
+  if (line[0] == 'I') { initial(); return; }
+  if (line[0] == 'X') {
+    int jumps = (int)strtol(p, &end, 10);
+    p = end;
+    if (!parse_hex(&p, D->state)) { put_s(&D->out, "done 0\n"); return; }
+    long n = strtol(p, &end, 10);
+    p = end;
+    D->n_copies = 0;
+    if (n > 0 && (size_t)n > D->cap_copies) {
+      D->cap_copies = (size_t)n;
+      D->copies = grow(D->copies, D->cap_copies * (D->state_len ? D->state_len : 1));
+    }
+    for (long i = 0; i < n; i++) {
+      if (!parse_hex(&p, D->copies + (size_t)i * D->state_len)) { break; }
+      D->n_copies++;
+    }
+    alarm(ALARM_SECONDS);
+    explore(jumps);
+    alarm(0);
+    return;
+  }
+  if (line[0] == 'W') {
+    long calls = strtol(p, &end, 10);
+    long n = strtol(end, &end, 10);
+    D->n_prefix = 0;
+    reserve_answers(n > 0 ? (size_t)n : 0);
+    for (long i = 0; i < n; i++) {
+      D->prefix[D->n_prefix++] = strtol(end, &end, 10);
+    }
+    walk(calls);
+  }
 }
 
 int main(int argc, char **argv)
 {
-  char *line = NULL;
-  size_t cap = 0;
-  shared = mmap(NULL, 3 * sizeof(long), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-  if (shared == MAP_FAILED) { return 2; }
-  shared[2] = argc > 1 ? strtol(argv[1], NULL, 10) : 100000;
-  /* questions allowed in one explored call: the static bound of the plan, so a call that
-   * loops is reported as soon as it asks more than any correct call can */
-  if (argc > 2) { question_limit = strtol(argv[2], NULL, 10); }
-  if (question_limit < 1 || question_limit > MAX_QUESTIONS) { question_limit = MAX_QUESTIONS; }
-  while (getline(&line, &cap, stdin) > 0) {
-    char *p = line + 1, *end;
-    char kind = line[0];
-    long calls, n;
-    if (kind != 'E' && kind != 'W') { continue; }
-    calls = strtol(p, &end, 10); p = end;
-    n = strtol(p, &end, 10); p = end;
-    free(answers);
-    answers = malloc((size_t)(n > 0 ? n : 1) * sizeof(long));
-    if (answers == NULL) { return 4; }
-    n_answers = 0;
-    for (long i = 0; i < n; i++) { answers[n_answers++] = strtol(p, &end, 10); p = end; }
-    next_answer = 0;
-    shared[0] = 0; shared[1] = 0;
-    pid_t pid = fork();
-    if (pid < 0) { return 6; }
-    if (pid == 0) {
-      alarm(ALARM_SECONDS * 4);
-      if (kind == 'E') { explore(calls); } else { walk(calls); }
-    }
-    int st = 0;
-    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) { }
-    blen = 0;
-    if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
-      put_s("A "); put_l(WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st)); put_s(" 0\n");
-    }
-    put_s("done "); put_l(shared[1]); put_s("\n");
-    flush_buf();
+  static const int sigs[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM };
+  D = calloc(1, sizeof *D);
+  if (D == NULL) { return 4; }
+  D->jumping = -1;
+  D->leaf_budget = argc > 1 ? strtol(argv[1], NULL, 10) : 100000;
+  D->question_limit = argc > 2 ? strtol(argv[2], NULL, 10) : 4096;
+  D->value_lo = argc > 3 ? strtol(argv[3], NULL, 10) : -128;
+  D->value_hi = argc > 4 ? strtol(argv[4], NULL, 10) : 127;
+  if (D->question_limit < 1 || D->question_limit > 1 << 20) { D->question_limit = 4096; }
+  D->cap_answers = (size_t)D->question_limit + 1 > 1 << 16 ? (size_t)D->question_limit + 1 : 1 << 16;
+  D->prefix = grow(NULL, D->cap_answers * sizeof(long));
+  D->taken = grow(NULL, D->cap_answers * sizeof(long));
+  collect_vars();
+  capture(D->init_state);
+  for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) { signal(sigs[i], on_signal); }
+  /* the variable table: id and size of every registered variable */
+  put_s(&D->out, "vars ");
+  put_l(&D->out, (long)D->n_vars);
+  for (size_t i = 0; i < D->n_vars; i++) {
+    put_s(&D->out, " ");
+    put_l(&D->out, D->vars[i] ? (long)D->vars[i]->size : 0);
+  }
+  put_s(&D->out, "\nwatch ");
+  watch_segment();
+  put_l(&D->out, D->watching ? (long)(D->hi - D->lo) : -1);
+  put_s(&D->out, "\n");
+  flush_out();
+  while (getline(&D->line, &D->line_cap, stdin) > 0) {
+    request(D->line);
+    flush_out();
   }
   return 0;
 }

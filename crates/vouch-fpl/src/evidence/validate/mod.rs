@@ -1,140 +1,76 @@
 //! Translation validation of one plan: the compiled C (`auto_nav` of the generated header, run
-//! by the stub runtime) against the reference interpreter.
+//! by the stub runtime) against the reference interpreter, over the plan's whole reachable
+//! state space.
 //!
-//! * **Exhaustive part.** Breadth first over calls: for every distinct interpreter state reached
-//!   after `d < depth` calls, the C driver replays the answer prefix that reached it and forks
-//!   at every question of call `d + 1`; the interpreter enumerates the same call
-//!   ([`crate::semantics::explore::enumerate_call`]). Both path sets must be equal (answers consumed,
-//!   events, and the state after the call), which checks both directions: nothing the C does
-//!   that the semantics does not, and the reverse. States are merged by
-//!   [`crate::semantics::explore::StateKey`], so equal subtrees are explored once; this assumes the C has
-//!   no hidden state beyond what the interpreter tracks (the random runs below do not merge).
-//! * **Random part.** Long seeded runs compared trace against trace.
-//! * **Bound.** Every compared call must stay within the static bound of [`super::wcet`].
+//! * **The walk.** [`crate::semantics::space::explore`] walks the reachable states breadth
+//!   first to a fixpoint: every path of every call (every condition answer, every `int8_t`
+//!   value of a non-literal `for` bound) and every operator jump. Beside each interpreter
+//!   state runs the C state the same moves produced (module `companion`): the driver restores it,
+//!   runs every path and jump, and both sides must agree on every one (answers consumed,
+//!   events, block, stage, last block and stage, `last_wp`, every `for` counter, the static
+//!   bound), in both directions.
+//! * **The state relation.** The explored state is the pair (interpreter view, C view); the
+//!   C view holds every registered static variable ([`crate::evidence::cstate`]), minus what the
+//!   interpreter's view drops. The walk checks that the relation is a function: one
+//!   interpreter state never meets two C states.
+//! * **The dropped parts.** Every run is repeated from a copy of the C state whose dropped
+//!   parts are changed (module `cview`): the C must not read them either.
+//! * **Random runs.** Long seeded runs from a fresh process, compared trace against trace,
+//!   without restoring or merging anything.
 //!
-//! Breadth-first order makes the first counterexample one with the fewest calls; among those the
-//! one with the fewest answers is reported.
+//! Breadth-first order makes the first disagreement one with the fewest transitions; among
+//! those the one with the fewest answers is reported.
 
-mod exhaustive;
+mod companion;
+mod cview;
+mod report;
 
 use std::time::Instant;
 
-use serde::Serialize;
+pub use report::{Abstracted, Counterexample, Report, RunPath};
 
-use super::cdriver::{Driver, DriverError};
-use super::wcet::{self, PlanBound};
+use super::cdriver::{Driver, DriverError, Limits};
+use super::wcet;
 use crate::ast::FlightPlan;
 use crate::emit::{compile_plan, EmitOptions, Flavor};
 use crate::passes::fp::Fp;
 use crate::passes::CompileError;
+use crate::semantics::explore::VALUE_RANGE;
 use crate::semantics::oracle::{seeded_sequence, Scripted};
+use crate::semantics::space::{self, Space, SpaceOptions};
 use crate::semantics::{Interp, StepError};
+use companion::{CSide, Finding};
 
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// Calls explored exhaustively.
-    pub depth: usize,
+    /// A bound on the transitions from the initial state; `None` walks to the fixpoint.
+    pub depth: Option<usize>,
+    /// Operator jumps to every block are transitions of every state.
+    pub operator_jumps: bool,
+    /// Merge states that differ only in parts the plan cannot read, and repeat every run from a
+    /// copy of the C state with those parts changed (`false`: exact states, nothing merged
+    /// that differs).
+    pub perturb: bool,
     /// Seeded random runs and their length.
     pub random_runs: usize,
     pub random_steps: usize,
-    /// Work budget: call paths compared in the exhaustive part.
-    pub max_paths: usize,
-    /// Paths of one call (per starting state).
+    /// State budget (pairs).
+    pub max_states: usize,
+    /// Paths of one call.
     pub max_paths_per_call: usize,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
-            depth: 8,
+            depth: None,
+            operator_jumps: true,
+            perturb: true,
             random_runs: 3,
             random_steps: 500,
-            max_paths: 500_000,
+            max_states: 200_000,
             max_paths_per_call: 20_000,
         }
-    }
-}
-
-/// A disagreement, with everything needed to replay it (`vouch fpl sim --conditions`).
-#[derive(Debug, Clone, Serialize)]
-pub struct Counterexample {
-    /// Number of `auto_nav` calls (the last one shows the disagreement).
-    pub calls: usize,
-    /// Answer numbers from the start (oracle convention: condition = odd, value = n / 2).
-    pub answers: Vec<i64>,
-    pub what: String,
-    /// Events and state of the last call according to the semantics / the compiled C.
-    pub expected: Vec<String>,
-    pub actual: Vec<String>,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct Report {
-    pub depth: usize,
-    /// Distinct interpreter states expanded (each with one C request).
-    pub states: usize,
-    /// Call paths compared in the exhaustive part.
-    pub call_paths: usize,
-    /// Complete `depth`-call runs (answer sequences) the exhaustive part covers: the size of
-    /// the unmerged tree, counted on the merged graph.
-    pub runs_covered: f64,
-    /// Calls compared in the random runs.
-    pub random_calls: usize,
-    /// The work budget stopped the exhaustive part before `depth`.
-    pub cut: Option<String>,
-    pub bound: PlanBound,
-    /// Largest number of events seen in one call.
-    pub max_events_seen: usize,
-    pub counterexample: Option<Counterexample>,
-    /// Wall time of the whole validation, measured by this run.
-    pub seconds: f64,
-}
-
-impl Report {
-    /// Whether the C and the semantics agreed everywhere they were compared.
-    pub fn passed(&self) -> bool {
-        self.counterexample.is_none()
-    }
-
-    /// The text of `vouch fpl validate` for the plan called `name`.
-    pub fn render(&self, name: &str) -> String {
-        let verdict = if self.passed() { "C and semantics agree" } else { "MISMATCH" };
-        let mut s = format!(
-            "{name}: {verdict} ({} states, {} call paths compared exhaustively over {} calls = {:.3e} complete runs, {} random calls, {:.2} s)\n",
-            self.states, self.call_paths, self.depth, self.runs_covered, self.random_calls, self.seconds
-        );
-        if let Some(c) = &self.cut {
-            s.push_str(&format!("  exploration cut: {c} (the exhaustive part is incomplete)\n"));
-        }
-        s.push_str(&format!(
-            "  bound per call: at most {} stages and {} external events (largest seen: {} events)\n",
-            self.bound.max_stages, self.bound.max_events, self.max_events_seen
-        ));
-        if let Some(cx) = &self.counterexample {
-            s.push_str(&cx.render());
-        }
-        s
-    }
-}
-
-impl Counterexample {
-    /// The counterexample with the answers to replay it.
-    pub fn render(&self) -> String {
-        let answers: Vec<String> = self.answers.iter().map(|x| x.to_string()).collect();
-        let mut s = format!("  {} after {} call(s)\n", self.what, self.calls);
-        s.push_str(&format!(
-            "  answers (replay with `vouch fpl sim --conditions FILE`): {}\n",
-            answers.join(" ")
-        ));
-        s.push_str("  semantics:\n");
-        for l in &self.expected {
-            s.push_str(&format!("    {l}\n"));
-        }
-        s.push_str("  compiled C:\n");
-        for l in &self.actual {
-            s.push_str(&format!("    {l}\n"));
-        }
-        s
     }
 }
 
@@ -174,21 +110,61 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
     let started = Instant::now();
     let bound = wcet::bound(fp);
     // A correct call asks at most as many questions as it has events.
-    let mut driver = Driver::build(header, opts.max_paths_per_call, bound.max_events + 1)?;
-    let mut interp = Interp::new(fp);
-    let mut report = Report {
+    let limits = Limits {
+        leaf_budget: opts.max_paths_per_call,
+        question_limit: bound.max_events + 1,
+        values: VALUE_RANGE,
+    };
+    let mut driver = Driver::build(header, limits)?;
+    let space_opts = SpaceOptions {
+        operator_jumps: opts.operator_jumps,
         depth: opts.depth,
-        states: 0,
-        call_paths: 0,
-        runs_covered: 0.0,
+        max_states: opts.max_states,
+        max_paths_per_call: opts.max_paths_per_call,
+        keep_last_block: false,
+        record_edges: false,
+        // parts are dropped from the states only when every run checks that the C ignores them
+        drop_dead: opts.perturb,
+    };
+    let mut space = Space::new(fp, space_opts);
+    let vars = cview::Vars::new(&driver, fp, space.interp())
+        .map_err(|name| DriverError::Protocol(format!("the stub runtime declares no '{name}'")))?;
+    let names = vars.names.clone();
+    let mut side = CSide::new(&mut driver, vars, bound.clone(), opts);
+    let walk = space::explore(&mut space, &mut side)?;
+    let findings = std::mem::take(&mut side.findings);
+    let (cut_c, max_events_seen, second_runs) =
+        (side.cut.clone(), side.max_events_seen, side.second_runs);
+    let cx = report::shortest(findings.into_iter().map(|f| counterexample(&walk, f)).collect());
+    let symbolic_loops = space
+        .abstraction
+        .symbolic
+        .iter()
+        .map(|l| format!("block {} '{}' {}", l.block, fp.blocks[l.block].name, l.var))
+        .collect();
+    let mut report = Report {
+        fixpoint: walk.fixpoint && cut_c.is_none(),
+        depth: opts.depth,
+        operator_jumps: opts.operator_jumps,
+        states: walk.nodes.len(),
+        transitions: walk.transitions,
+        max_depth: walk.max_depth,
+        second_runs,
+        abstracted: Abstracted {
+            c_variables: names,
+            watched_bytes: driver.watched,
+            exact: space.abstraction.exact,
+            last_position_kept: space.abstraction.has_return,
+            symbolic_loops,
+            restarts: driver.restarts,
+        },
         random_calls: 0,
-        cut: None,
+        cut: walk.cut.or(cut_c),
         bound,
-        max_events_seen: 0,
-        counterexample: None,
+        max_events_seen,
+        counterexample: cx,
         seconds: 0.0,
     };
-    exhaustive::exhaustive(&mut driver, &mut interp, opts, &mut report)?;
     if report.counterexample.is_none() {
         random_runs(&mut driver, fp, opts, &mut report)?;
     }
@@ -196,14 +172,13 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
     Ok(report)
 }
 
-fn keep_shortest(slot: &mut Option<Counterexample>, cx: Counterexample) {
-    let better = match slot {
-        None => true,
-        Some(old) => (cx.calls, cx.answers.len()) < (old.calls, old.answers.len()),
-    };
-    if better {
-        *slot = Some(cx);
-    }
+/// The counterexample of a finding: the path to its node, then its move.
+fn counterexample(walk: &space::Explored, f: Finding) -> Counterexample {
+    let mut moves = walk.path_to(f.node);
+    moves.extend(f.mv);
+    let mut cx = Counterexample::new(RunPath::of(&moves), f.what, f.expected, f.actual);
+    cx.other = f.other.map(|o| RunPath::of(&walk.path_to(o)));
+    cx
 }
 
 fn random_runs(
@@ -224,19 +199,6 @@ fn random_runs(
         report.random_calls += opts.random_steps;
         for s in &r.steps {
             report.max_events_seen = report.max_events_seen.max(s.events.len());
-            let limit = report.bound.blocks.get(s.before.block).map(|b| b.events).unwrap_or(0);
-            if s.events.len() > limit {
-                report.counterexample = Some(Counterexample {
-                    calls: s.call,
-                    answers: numbers[..oracle.consumed().min(numbers.len())].to_vec(),
-                    what: format!(
-                        "random run {run}: call exceeds the static bound of {limit} events"
-                    ),
-                    expected: vec![],
-                    actual: s.events.iter().map(|e| e.line()).collect(),
-                });
-                return Ok(());
-            }
         }
         if want != c_text || !ok {
             let (wl, cl): (Vec<&str>, Vec<&str>) =
@@ -247,16 +209,21 @@ fn random_runs(
                 .position(|(a, b)| a != b)
                 .unwrap_or(wl.len().min(cl.len()));
             let step = wl[..i.min(wl.len())].iter().filter(|l| l.starts_with("step ")).count();
-            report.counterexample = Some(Counterexample {
-                calls: step,
-                answers: Vec::new(),
-                what: format!(
-                    "random run {run} (seed {seed:#x}, {percent}% true) differs at trace line {}",
-                    i + 1
-                ),
-                expected: wl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
-                actual: cl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
-            });
+            let what = format!(
+                "random run {run} (seed {seed:#x}, {percent}% true) differs at trace line {}",
+                i + 1
+            );
+            let path = RunPath { transitions: step, calls: step, ..RunPath::default() };
+            let mut cx = Counterexample::new(
+                path,
+                what,
+                wl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
+                cl.iter().skip(i).take(5).map(|s| s.to_string()).collect(),
+            );
+            cx.replay = format!(
+                "vouch fpl sim PLAN --seed {seed} --percent-true {percent} --steps {step} --trace"
+            );
+            report.counterexample = Some(cx);
             return Ok(());
         }
     }

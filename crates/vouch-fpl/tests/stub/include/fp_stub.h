@@ -60,6 +60,11 @@ int fp_value(const char *text);
  * literal (its value in *v), and the value an oracle number n stands for (n/2, toward zero). */
 bool fp_literal_value(const char *text, long *v);
 long fp_value_of_number(long n);
+/* Registration of a state variable for the translation-validation driver
+ * (src/evidence/c/explore_driver.c defines it; everywhere else it is nothing). */
+#ifndef VOUCH_REGISTER
+#define VOUCH_REGISTER(id, name)
+#endif
 #define FP_C(text) fp_cond(text)
 #define FP_X(text) { fp_code(text); }
 #define FP_V(text) fp_value(text)
