@@ -33,6 +33,13 @@ pub struct CompileArgs {
     /// the stage index used by the ground station
     #[arg(long, value_name = "FILE")]
     dump: Option<PathBuf>,
+    /// Print exactly what upstream's generator prints, its known mistakes included (EGM96
+    /// heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates)
+    #[arg(long)]
+    upstream_compat: bool,
+    /// Also show the mission-level warnings of `vouch fpl lint`
+    #[arg(long)]
+    lint: bool,
     /// Emit the instrumented flavour (user C wrapped in FP_C/FP_X/FP_V/FP_I for the stub runtime)
     #[arg(long)]
     instrumented: bool,
@@ -49,21 +56,31 @@ pub fn parse(a: ParseArgs, ctx: &mut Ctx) -> CmdResult {
     Ok(Exit::Ok)
 }
 
-/// `vouch fpl compile`: the header (and the dump); lint findings are shown as warnings.
+/// `vouch fpl compile`: the header (and the dump); corrections of upstream's output are shown as
+/// warnings.
 pub fn compile(a: CompileArgs, ctx: &mut Ctx) -> CmdResult {
     let plan = a.plan.load(ctx, true)?;
-    for w in vouch_fpl::lint::lint(&plan) {
-        ctx.warn(&w);
+    if a.lint {
+        for w in vouch_fpl::lint::lint(&plan) {
+            ctx.warn(&w);
+        }
     }
     let opts = EmitOptions {
         source_path: a.plan.name(),
         flavor: if a.instrumented { Flavor::Instrumented } else { Flavor::DropIn },
+        upstream_compat: a.upstream_compat,
         ..EmitOptions::default()
     };
-    let header = vouch_fpl::emit::compile_plan(&plan, &opts)
+    let emitted = vouch_fpl::emit::compile_plan_full(&plan, &opts)
         .map_err(|e| rejected(e.to_diagnostics(&plan.sources)))?;
+    for c in &emitted.corrections {
+        ctx.warn(c);
+    }
+    let header = emitted.header;
     if ctx.verbosity == Verbosity::Verbose {
-        ctx.note(format_args!("geoid heights: {}", vouch_fpl::emit::geoid::source_name()));
+        if let Ok(g) = opts.geoid() {
+            ctx.note(format_args!("geoid heights: {}", g.describe()));
+        }
     }
     match &a.output {
         Some(path) => write_file(path, header.as_bytes())?,

@@ -8,8 +8,8 @@ use crate::passes::size::Fps;
 use crate::passes::{lower, CompileError};
 
 use super::geo::{self, Geo, Utm};
-use super::geoid::geoid_height;
-use super::{EmitOptions, Flavor, Writer, HEADER_MARKER};
+use super::{EmitOptions, Flavor, GeoidUse, Writer, HEADER_MARKER};
+use crate::front::values::ocaml_float;
 
 /// One row of the waypoint tables (the implicit `dummy` waypoint is row 0).
 struct WpRow {
@@ -20,17 +20,21 @@ struct WpRow {
     /// The ALT column of `WAYPOINTS_UTM`, a text.
     alt_text: String,
     alt: f64,
+    /// `WAYPOINTS_GLOBAL`: the waypoint is given by latitude and longitude.
     global: bool,
+    /// What upstream prints there: TRUE only when both texts are OCaml float literals.
+    global_upstream: bool,
     /// Geodetic position when already known (LTP frame).
     geo: Option<Geo>,
     /// LTP frame: the ENU row is simply (x, y, ALT - ground_alt) of the written coordinates.
     ltp_enu: Option<[f64; 3]>,
+    span: crate::span::Span,
 }
 
 fn parse_alt(text: &str, what: &str, span: crate::span::Span) -> Result<f64, CompileError> {
-    text.trim()
-        .parse::<f64>()
-        .map_err(|_| CompileError::new(format!("{what}: altitude '{text}' is not a number"), span))
+    ocaml_float(text).ok_or_else(|| {
+        CompileError::new(format!("{what}: altitude '{text}' is not a number"), span)
+    })
 }
 
 fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, CompileError> {
@@ -44,75 +48,102 @@ fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, Compil
         alt: parse_alt(&plan_alt, "flight plan", plan.span)?,
         alt_text: plan_alt.clone(),
         global: false,
+        global_upstream: false,
         geo: None,
         ltp_enu: None,
+        span: plan.lat0.text.span,
     }];
-    if ltp {
-        out[0].ltp_enu = Some([0.0, 0.0, out[0].alt - ground]);
-    }
     let ecef0 = geo::ecef_of_geo(ref_geo, ground);
+    if ltp {
+        // The dummy waypoint (0, 0) goes through the tangent plane like every LTP waypoint.
+        let (x, y, g) = ltp_position(0.0, 0.0, out[0].alt - ground, ecef0, utm0);
+        let dummy = &mut out[0];
+        (dummy.x, dummy.y, dummy.geo) = (x, y, Some(g));
+        dummy.ltp_enu = Some([0.0, 0.0, dummy.alt - ground]);
+    }
     for w in &plan.waypoints {
-        let alt_text = match (&w.alt, &w.height) {
-            (Some(a), _) => a.text.value.clone(),
-            (None, Some(h)) => ocaml_float_text(h.value + ground),
-            (None, None) => plan_alt.clone(),
-        };
-        let alt = parse_alt(&alt_text, &format!("waypoint '{}'", w.name.value), w.span)?;
-        let latlon = match (&w.lat, &w.lon) {
-            (Some(la), Some(lo)) => Some((la.value, lo.value)),
-            _ => None,
-        };
-        let (x, y, g) = match (latlon, ltp) {
-            (Some(_), true) => {
-                return Err(CompileError::new(
-                    format!(
-                        "waypoint '{}': lat/lon waypoints are not supported with wp_frame=\"ltp\" \
-                         (upstream crashes here, quirk 10)",
-                        w.name.value
-                    ),
-                    w.span,
-                ))
-            }
-            (Some((la, lo)), false) => {
-                // Projected in the reference zone, then printed "%.2f" and parsed back.
-                let u = geo::utm_of(geo::geo_of_deg(la, lo), Some(utm0.zone));
-                let x: f64 = format!("{:.2}", u.x - utm0.x).parse().unwrap_or(0.0);
-                let y: f64 = format!("{:.2}", u.y - utm0.y).parse().unwrap_or(0.0);
-                (x, y, None)
-            }
-            (None, _) => {
-                let (Some(x), Some(y)) = (&w.x, &w.y) else {
-                    return Err(CompileError::new(
-                        format!("waypoint '{}' needs x/y or lat/lon", w.name.value),
-                        w.span,
-                    ));
-                };
-                if ltp {
-                    let ecef = geo::ecef_of_ned(ecef0, [y.value, x.value, -(alt - ground)]);
-                    let (g, _) = geo::geo_of_ecef(ecef);
-                    let u = geo::utm_of(g, Some(utm0.zone));
-                    (u.x - utm0.x, u.y - utm0.y, Some(g))
-                } else {
-                    (x.value, y.value, None)
-                }
-            }
-        };
-        let ltp_enu = match (&w.x, &w.y) {
-            (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
-            _ => None,
-        };
-        out.push(WpRow {
-            name: w.name.value.clone(),
-            x,
-            y,
-            alt_text,
-            alt,
-            global: latlon.is_some(),
-            geo: g,
-            ltp_enu,
-        });
+        out.push(row(w, &plan_alt, ground, ltp, ecef0, utm0)?);
     }
     Ok(out)
+}
+
+/// A tangent-plane waypoint: its UTM offset in the reference zone and its geodetic position.
+fn ltp_position(x: f64, y: f64, height: f64, ecef0: [f64; 3], utm0: Utm) -> (f64, f64, Geo) {
+    let (g, _) = geo::geo_of_ecef(geo::ecef_of_ned(ecef0, [y, x, -height]));
+    let u = geo::utm_of(g, Some(utm0.zone));
+    (u.x - utm0.x, u.y - utm0.y, g)
+}
+
+fn row(
+    w: &crate::ast::Waypoint,
+    plan_alt: &str,
+    ground: f64,
+    ltp: bool,
+    ecef0: [f64; 3],
+    utm0: Utm,
+) -> Result<WpRow, CompileError> {
+    let alt_text = match (&w.alt, &w.height) {
+        (Some(a), _) => a.text.value.clone(),
+        (None, Some(h)) => ocaml_float_text(h.value + ground),
+        (None, None) => plan_alt.to_string(),
+    };
+    let alt = parse_alt(&alt_text, &format!("waypoint '{}'", w.name.value), w.span)?;
+    let latlon = match (&w.lat, &w.lon) {
+        (Some(la), Some(lo)) => Some((la, lo)),
+        _ => None,
+    };
+    let (x, y, g) = match (latlon, ltp) {
+        (Some(_), true) => {
+            return Err(CompileError::new(
+                format!(
+                    "waypoint '{}': lat/lon waypoints are not supported with wp_frame=\"ltp\" \
+                     (upstream crashes here, quirk 10)",
+                    w.name.value
+                ),
+                w.span,
+            ))
+        }
+        (Some((la, lo)), false) => {
+            // Projected in the reference zone, then printed "%.2f" and parsed back.
+            let u = geo::utm_of(geo::geo_of_deg(la.value, lo.value), Some(utm0.zone));
+            let x: f64 = format!("{:.2}", u.x - utm0.x).parse().unwrap_or(0.0);
+            let y: f64 = format!("{:.2}", u.y - utm0.y).parse().unwrap_or(0.0);
+            (x, y, None)
+        }
+        (None, _) => {
+            let (Some(x), Some(y)) = (&w.x, &w.y) else {
+                return Err(CompileError::new(
+                    format!("waypoint '{}' needs x/y or lat/lon", w.name.value),
+                    w.span,
+                ));
+            };
+            if ltp {
+                let (x, y, g) = ltp_position(x.value, y.value, alt - ground, ecef0, utm0);
+                (x, y, Some(g))
+            } else {
+                (x.value, y.value, None)
+            }
+        }
+    };
+    let ltp_enu = match (&w.x, &w.y) {
+        (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
+        _ => None,
+    };
+    let global_upstream = latlon.is_some_and(|(la, lo)| {
+        ocaml_float(&la.text.value).is_some() && ocaml_float(&lo.text.value).is_some()
+    });
+    Ok(WpRow {
+        name: w.name.value.clone(),
+        x,
+        y,
+        alt_text,
+        alt,
+        global: latlon.is_some(),
+        global_upstream,
+        geo: g,
+        ltp_enu,
+        span: latlon.map_or(w.span, |(la, _)| la.text.span),
+    })
 }
 
 fn is_c_suffix(name: &str) -> bool {
@@ -194,9 +225,10 @@ pub(super) fn top(
     w.raw(&format!("#define NAV_LAT0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lat)));
     w.raw(&format!("#define NAV_LON0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lon)));
     w.raw(&format!("#define NAV_ALT0 {:.0} /* mm above msl */", 1000.0 * ground));
+    let msl0 = w.geoid_height(ref_geo, plan.lat0.text.span, GeoidUse::Reference);
     w.raw(&format!(
         "#define NAV_MSL0 {:.0} /* mm, EGM96 geoid-height (msl) over ellipsoid */",
-        1000.0 * geoid_height(ref_geo.lat, ref_geo.lon)
+        1000.0 * msl0
     ));
     w.raw(&format!("#define QFU {:.1}", plan.qfu.as_ref().map(|q| q.value).unwrap_or(0.0)));
     for (i, r) in wps.iter().enumerate() {
@@ -204,13 +236,13 @@ pub(super) fn top(
             w.raw(&format!("#define WP_{} {i}", r.name));
         }
     }
-    waypoint_tables(w, &wps, ref_geo, utm0, ground);
+    waypoint_tables(w, &wps, utm0, geo::ecef_of_geo(ref_geo, ground));
     w.raw(&format!("#define NB_WAYPOINT {}", wps.len()));
     w.raw("#define FP_BLOCKS { \\");
     for b in &fps.plan().blocks {
         w.raw(&format!(" \"{}\" , \\", b.name));
     }
-    w.raw("} ");
+    w.raw("}");
     w.raw(&format!("#define NB_BLOCK {}", fps.nb_block()));
     altitudes(w, plan);
     w.raw("");
@@ -285,15 +317,12 @@ fn altitudes(w: &mut Writer, plan: &FlightPlan) {
     }
 }
 
-fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, ground: f64) {
-    let _ = ref_geo;
+fn waypoint_tables(w: &mut Writer, wps: &[WpRow], utm0: Utm, ecef0: [f64; 3]) {
     w.raw("#define WAYPOINTS_UTM { \\");
     for r in wps {
         w.raw(&format!(" {{{:.1}, {:.1}, {}}},\\", r.x, r.y, r.alt_text));
     }
     w.raw("};");
-    // Upstream takes the ENU origin from the reference UTM converted back to geodetic.
-    let ecef0 = geo::ecef_of_geo(geo::of_utm(utm0), ground);
     let geo_of = |r: &WpRow| {
         r.geo.unwrap_or_else(|| {
             geo::of_utm(Utm { x: utm0.x + r.x, y: utm0.y + r.y, zone: utm0.zone })
@@ -319,7 +348,7 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, groun
         w.raw(&format!("#define {name} {{ \\"));
         for r in wps {
             let g = geo_of(r);
-            let geoid = geoid_height(g.lat, g.lon);
+            let geoid = w.geoid_height(g, r.span, GeoidUse::Row(above_ellipsoid));
             let (alt, datum) = if above_ellipsoid {
                 (r.alt + geoid, "above WGS84 ref ellipsoid".to_string())
             } else {
@@ -336,7 +365,8 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, groun
     }
     w.raw("#define WAYPOINTS_GLOBAL { \\");
     for r in wps {
-        w.raw(if r.global { " TRUE, \\" } else { " FALSE, \\" });
+        let global = w.global_flag(r.global, r.global_upstream, &r.name, r.span);
+        w.raw(if global { " TRUE, \\" } else { " FALSE, \\" });
     }
     w.raw("};");
 }

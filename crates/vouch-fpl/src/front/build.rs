@@ -45,7 +45,7 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
     check_schema(ctx, &root, validated, "flight_plan");
     check_plan_children(ctx, &root, validated);
 
-    let mut m = expand(ctx, &root);
+    let mut m = expand(ctx, &root, validated);
     for b in m.blocks.iter_mut() {
         let stages = std::mem::take(&mut b.children);
         b.children = expand_paths(ctx, stages);

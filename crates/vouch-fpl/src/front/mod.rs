@@ -21,7 +21,7 @@ mod schema;
 mod stages;
 pub mod tolerant;
 mod tree;
-mod values;
+pub(crate) mod values;
 
 use std::path::{Path, PathBuf};
 

@@ -37,6 +37,8 @@ pub enum CompileErrorKind {
     Generation,
     /// More than 256 blocks or stages, or numbering not consecutive (size verification).
     Size,
+    /// The Paparazzi home lacks the geoid grid or `conf/abi.xml` (or they are broken).
+    Environment,
 }
 
 impl CompileError {
@@ -50,11 +52,16 @@ impl CompileError {
     pub fn size(message: impl Into<String>, span: Option<Span>) -> Self {
         CompileError { message: message.into(), span, kind: CompileErrorKind::Size }
     }
+    /// A problem with the Paparazzi home's data (no span: it is not in the plan).
+    pub fn environment(message: impl Into<String>) -> Self {
+        CompileError { message: message.into(), span: None, kind: CompileErrorKind::Environment }
+    }
     /// As located diagnostics over the plan's sources (for rendering with a source excerpt).
     pub fn to_diagnostics(&self, sources: &SourceMap) -> Diagnostics {
         let kind = match self.kind {
             CompileErrorKind::Generation => ErrorKind::Generation,
             CompileErrorKind::Size => ErrorKind::TooLarge,
+            CompileErrorKind::Environment => ErrorKind::Environment,
         };
         Diagnostics::new(
             vec![Diagnostic::error(kind, self.message.clone(), self.span)],
