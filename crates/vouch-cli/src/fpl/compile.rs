@@ -87,7 +87,9 @@ pub fn compile(a: CompileArgs, ctx: &mut Ctx) -> CmdResult {
         None => ctx.out.write_all(header.as_bytes())?,
     }
     if let Some(path) = &a.dump {
-        write_file(path, vouch_fpl::emit::dump::dump(&plan).as_bytes())?;
+        let text = vouch_fpl::emit::dump::dump(&plan)
+            .map_err(|e| rejected(e.to_diagnostics(&plan.sources)))?;
+        write_file(path, text.as_bytes())?;
     }
     Ok(Exit::Ok)
 }

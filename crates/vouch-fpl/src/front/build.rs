@@ -31,7 +31,11 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
         }
     };
     ctx.warnings.extend(doc.warnings);
-    let root = doc.root;
+    let validated = doc.doctype.is_some();
+    let mut root = doc.root;
+    if validated {
+        super::expanded::sort_validated(&mut root);
+    }
     if !root.tag_is("flight_plan") {
         ctx.error_help(
             ErrorKind::WrongRoot,
@@ -41,7 +45,6 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
         );
         return None;
     }
-    let validated = doc.doctype.is_some();
     check_schema(ctx, &root, validated, "flight_plan");
     check_plan_children(ctx, &root, validated);
 
@@ -51,7 +54,11 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
         b.children = expand_paths(ctx, stages);
     }
     relative_waypoints(&mut m.blocks, &mut m.waypoints);
-    super::plan::build_plan(ctx, &root, m)
+    let had_includes = root.child("includes").is_some_and(|i| !i.children.is_empty());
+    let expanded = super::expanded::build(&root, &m, had_includes);
+    let mut plan = super::plan::build_plan(ctx, &root, m)?;
+    plan.expanded = Some(std::sync::Arc::new(expanded));
+    Some(plan)
 }
 
 /// Checks attributes against the DTD lists, recursively. Only files that declare a DOCTYPE are

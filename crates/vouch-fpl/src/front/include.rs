@@ -336,7 +336,8 @@ impl Transformer<'_> {
     fn block(&self, ctx: &mut Ctx, mut b: Elem) -> Option<Elem> {
         let name = b.attr_value("name").map(str::to_string);
         match name {
-            Some(n) => b.set_attr("name", format!("{}.{n}", self.name)),
+            // Upstream's `subst_attrib`: the renamed attribute moves to the end.
+            Some(n) => b.subst_attr("name", format!("{}.{n}", self.name)),
             None => {
                 ctx.error(ErrorKind::MissingAttribute, "<block> without 'name'", b.span);
                 return None;

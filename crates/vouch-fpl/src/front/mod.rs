@@ -15,6 +15,7 @@
 mod build;
 mod ctx;
 mod expand;
+mod expanded;
 mod include;
 mod plan;
 mod schema;

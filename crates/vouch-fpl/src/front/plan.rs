@@ -78,6 +78,7 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
         blocks,
         forbidden_deroutes,
         warnings: Vec::new(),
+        expanded: None,
     })
 }
 

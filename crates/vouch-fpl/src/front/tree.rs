@@ -66,10 +66,14 @@ impl Elem {
     pub fn child(&self, t: &str) -> Option<&Elem> {
         self.children.iter().find(|c| c.tag_is(t))
     }
-    pub fn set_attr(&mut self, name: &str, value: String) {
-        if let Some(a) = self.attrs.0.iter_mut().find(|a| a.name == name) {
-            a.value = value;
-        }
+    /// Upstream's `subst_attrib`: every `name` attribute removed, the new value appended last
+    /// (keeping the first one's spans).
+    pub fn subst_attr(&mut self, name: &str, value: String) {
+        let Some(pos) = self.attrs.0.iter().position(|a| a.name == name) else { return };
+        let mut a = self.attrs.0.remove(pos);
+        self.attrs.0.retain(|x| x.name != name);
+        a.value = value;
+        self.attrs.0.push(a);
     }
 }
 
