@@ -17,7 +17,7 @@ const PREPENDED: [&str; 5] = ["modules", "variables", "exceptions", "sectors", "
 
 /// Attribute order of upstream's DTD validation: sorted by upper-cased name, last first.
 pub fn sort_validated(e: &mut Elem) {
-    e.attrs.0.sort_by(|a, b| b.name.to_ascii_uppercase().cmp(&a.name.to_ascii_uppercase()));
+    e.attrs.0.sort_by_key(|a| std::cmp::Reverse(a.name.to_ascii_uppercase()));
     for c in e.children.iter_mut() {
         sort_validated(c);
     }
