@@ -40,6 +40,12 @@ pub struct CompileArgs {
     /// Also show the mission-level warnings of `vouch fpl lint`
     #[arg(long)]
     lint: bool,
+    /// Also write the settings made from the plan's variables (Paparazzi's settings.xml)
+    #[arg(long, value_name = "FILE")]
+    settings: Option<PathBuf>,
+    /// Also write the C header of those settings (Paparazzi's settings.h)
+    #[arg(long, value_name = "FILE")]
+    settings_header: Option<PathBuf>,
     /// Emit the instrumented flavour (user C wrapped in FP_C/FP_X/FP_V/FP_I for the stub runtime)
     #[arg(long)]
     instrumented: bool,
@@ -90,6 +96,16 @@ pub fn compile(a: CompileArgs, ctx: &mut Ctx) -> CmdResult {
         let text = vouch_fpl::emit::dump::dump(&plan)
             .map_err(|e| rejected(e.to_diagnostics(&plan.sources)))?;
         write_file(path, text.as_bytes())?;
+    }
+    if a.settings.is_some() || a.settings_header.is_some() {
+        let s = vouch_fpl::emit::settings::settings(&plan, &opts.version)
+            .map_err(|e| rejected(e.to_diagnostics(&plan.sources)))?;
+        if let Some(path) = &a.settings {
+            write_file(path, s.xml.as_bytes())?;
+        }
+        if let Some(path) = &a.settings_header {
+            write_file(path, s.header.as_bytes())?;
+        }
     }
     Ok(Exit::Ok)
 }

@@ -63,6 +63,9 @@ pub enum ErrorKind {
     Environment,
     /// A geofence limit below the ground, security or home-mode altitude (upstream: exit 1).
     Geofence,
+    /// A flight-plan variable that cannot become a setting (empty short name, `handler`
+    /// without or with both `module`/`header`, persistent setting of unknown type).
+    Settings,
     /// Non-fatal: something accepted the way upstream accepts it, worth knowing.
     Warning,
     /// Non-fatal: vouch prints a different value than upstream because upstream's is wrong.
@@ -112,6 +115,7 @@ impl ErrorKind {
             ErrorKind::TooLarge => "fpl::E024",
             ErrorKind::Environment => "fpl::E025",
             ErrorKind::Geofence => "fpl::E026",
+            ErrorKind::Settings => "fpl::E027",
             ErrorKind::Warning => "fpl::W000",
             ErrorKind::Correction => "fpl::W020",
             ErrorKind::Unread => "fpl::W021",

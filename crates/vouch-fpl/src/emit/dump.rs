@@ -32,9 +32,14 @@ pub fn dump(plan: &FlightPlan) -> Result<String, CompileError> {
     let stages = number(&mut fp);
     let root = Node::new("dump", Vec::new(), vec![fp, Node::new("stages", Vec::new(), stages)]);
     let mut out = String::with_capacity(64 * 1024);
-    print(&mut out, &root, "", false);
-    out.push('\n');
+    print_node(&mut out, &root);
     Ok(out)
+}
+
+/// A whole document the way upstream writes it (`ExtXml.to_string_fmt`, then a newline).
+pub(crate) fn print_node(out: &mut String, root: &Node) {
+    print(out, root, "", false);
+    out.push('\n');
 }
 
 /// `x`/`y` of waypoints given by latitude and longitude, relative to the reference UTM

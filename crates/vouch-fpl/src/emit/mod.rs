@@ -14,6 +14,7 @@ pub mod dump;
 pub mod geo;
 pub mod geoid;
 mod header;
+pub mod settings;
 
 use std::path::PathBuf;
 use std::sync::Arc;

@@ -39,6 +39,8 @@ pub enum CompileErrorKind {
     Size,
     /// The Paparazzi home lacks the geoid grid or `conf/abi.xml` (or they are broken).
     Environment,
+    /// A flight-plan variable that cannot become a setting.
+    Settings,
 }
 
 impl CompileError {
@@ -56,12 +58,17 @@ impl CompileError {
     pub fn environment(message: impl Into<String>) -> Self {
         CompileError { message: message.into(), span: None, kind: CompileErrorKind::Environment }
     }
+    /// A variable that cannot become a setting.
+    pub fn settings(message: impl Into<String>, span: Span) -> Self {
+        CompileError { message: message.into(), span: Some(span), kind: CompileErrorKind::Settings }
+    }
     /// As located diagnostics over the plan's sources (for rendering with a source excerpt).
     pub fn to_diagnostics(&self, sources: &SourceMap) -> Diagnostics {
         let kind = match self.kind {
             CompileErrorKind::Generation => ErrorKind::Generation,
             CompileErrorKind::Size => ErrorKind::TooLarge,
             CompileErrorKind::Environment => ErrorKind::Environment,
+            CompileErrorKind::Settings => ErrorKind::Settings,
         };
         Diagnostics::new(
             vec![Diagnostic::error(kind, self.message.clone(), self.span)],
