@@ -79,7 +79,7 @@ pub fn compile(a: CompileArgs, ctx: &mut Ctx) -> CmdResult {
     };
     let emitted = vouch_fpl::emit::compile_plan_full(&plan, &opts)
         .map_err(|e| rejected(e.to_diagnostics(&plan.sources)))?;
-    for c in &emitted.corrections {
+    for c in emitted.notices.iter().chain(&emitted.corrections) {
         ctx.warn(c);
     }
     let header = emitted.header;

@@ -158,49 +158,6 @@ fn capitalize(s: &str) -> String {
     }
 }
 
-/// C field types of an ABI message, from `$PAPARAZZI_HOME/conf/abi.xml` (class `airborne`)
-/// as upstream reads them, else from a built-in table of the messages bound with `vars` in the
-/// corpus.
-fn abi_field_types(msg: &str) -> Option<Vec<String>> {
-    if let Some(t) = abi_xml().get(msg) {
-        return Some(t.clone());
-    }
-    match msg {
-        "RANGE_FORCEFIELD" => Some(vec!["float".into(), "float".into(), "float".into()]),
-        _ => None,
-    }
-}
-
-fn abi_xml() -> &'static std::collections::HashMap<String, Vec<String>> {
-    use std::sync::OnceLock;
-    static TABLE: OnceLock<std::collections::HashMap<String, Vec<String>>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        let mut map = std::collections::HashMap::new();
-        let Ok(home) = std::env::var("PAPARAZZI_HOME") else { return map };
-        let Ok(text) = std::fs::read_to_string(std::path::Path::new(&home).join("conf/abi.xml"))
-        else {
-            return map;
-        };
-        let opts = roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() };
-        let Ok(doc) = roxmltree::Document::parse_with_options(&text, opts) else { return map };
-        for class in doc
-            .descendants()
-            .filter(|n| n.has_tag_name("msg_class") && n.attribute("name") == Some("airborne"))
-        {
-            for m in class.children().filter(|n| n.has_tag_name("message")) {
-                let Some(name) = m.attribute("name") else { continue };
-                let types = m
-                    .children()
-                    .filter(|f| f.has_tag_name("field"))
-                    .map(|f| f.attribute("type").unwrap_or("").to_string())
-                    .collect();
-                map.insert(name.to_string(), types);
-            }
-        }
-        map
-    })
-}
-
 pub(super) fn top(
     w: &mut Writer,
     plan: &FlightPlan,
@@ -412,13 +369,13 @@ fn sectors(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
     Ok(())
 }
 
-fn abi_vars(a: &AbiBinding) -> Result<Option<Vec<(String, String)>>, CompileError> {
+fn abi_vars(w: &Writer, a: &AbiBinding) -> Result<Option<Vec<(String, String)>>, CompileError> {
     let Some(vars) = &a.vars else { return Ok(None) };
-    let types = abi_field_types(&a.name.value).ok_or_else(|| {
+    let types = w.abi.fields(&a.name.value).ok_or_else(|| {
         CompileError::new(
             format!(
-                "ABI message '{}': its field types are unknown (set PAPARAZZI_HOME so conf/abi.xml is read, \
-                 or bind it with handler=...)",
+                "ABI message '{}' is not in conf/abi.xml (class airborne): its field types are unknown \
+                 (set PAPARAZZI_HOME, or bind it with handler=...)",
                 a.name.value
             ),
             a.span,
@@ -435,7 +392,7 @@ fn abi_vars(a: &AbiBinding) -> Result<Option<Vec<(String, String)>>, CompileErro
             a.span,
         ));
     }
-    Ok(Some(vars.iter().cloned().zip(types).collect()))
+    Ok(Some(vars.iter().cloned().zip(types.iter().cloned()).collect()))
 }
 
 fn variables_and_abi(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
@@ -450,7 +407,7 @@ fn variables_and_abi(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileErr
             }
             VariableDecl::Abi(a) => {
                 w.raw(&format!("static abi_event FP_{}_ev;", a.name.value));
-                if let Some(fields) = abi_vars(a)? {
+                if let Some(fields) = abi_vars(w, a)? {
                     for (var, ty) in &fields {
                         if var != "_" {
                             w.raw(&format!("static {ty} {var};"));

@@ -9,11 +9,13 @@
 //!   without the airframe's modules and record the trace. [`unwrap_instrumented`] maps it back
 //!   to the drop-in text (tested for every corpus plan).
 
+pub mod abi;
 mod auto_nav;
 pub mod dump;
 pub mod geo;
 pub mod geoid;
 mod header;
+pub mod notices;
 pub mod settings;
 
 use std::path::PathBuf;
@@ -81,6 +83,8 @@ pub struct Emitted {
     pub header: String,
     /// One warning per correction (empty with [`EmitOptions::upstream_compat`]).
     pub corrections: Vec<Diagnostic>,
+    /// Upstream's warnings and NOTICEs for this plan ([`notices::notices`]).
+    pub notices: Vec<Diagnostic>,
 }
 
 /// Which printed value a geoid height goes into (for the correction messages).
@@ -101,14 +105,21 @@ pub fn emit_header(
     fps: &Fps,
     opts: &EmitOptions,
 ) -> Result<Emitted, CompileError> {
+    if opts.flavor == Flavor::DropIn {
+        crate::passes::for_bounds(&plan.blocks)?;
+    }
+    let notices = notices::notices(plan)?;
     let mut w = Writer::new(opts.flavor);
     w.geoid = Some(opts.geoid()?);
+    if let Some(home) = &opts.paparazzi_home {
+        w.abi = abi::AbiTable::of_home(home)?;
+    }
     w.compat = opts.upstream_compat;
     header::top(&mut w, plan, fps, opts)?;
     auto_nav::functions(&mut w, plan, fps);
     header::bottom(&mut w);
     let corrections = w.corrections();
-    Ok(Emitted { header: w.out, corrections })
+    Ok(Emitted { header: w.out, corrections, notices })
 }
 
 /// Text output with upstream's margin (steps of 2 spaces) and the flavour's wrapping.
@@ -117,6 +128,8 @@ pub(crate) struct Writer {
     pub margin: usize,
     pub flavor: Flavor,
     geoid: Option<Arc<Geoid>>,
+    /// ABI message field types (`conf/abi.xml`).
+    pub abi: Arc<abi::AbiTable>,
     compat: bool,
     /// Geoid nodes where upstream prints a wrong height: (use, true metres, span) in order.
     geoid_fixes: Vec<(GeoidUse, f64, f64, Span)>,
@@ -131,6 +144,7 @@ impl Writer {
             margin: 0,
             flavor,
             geoid: None,
+            abi: abi::AbiTable::builtin(),
             compat: false,
             geoid_fixes: Vec::new(),
             global_fixes: Vec::new(),
@@ -341,7 +355,7 @@ pub fn compile_plan(plan: &FlightPlan, opts: &EmitOptions) -> Result<String, Com
 pub fn compile_plan_full(plan: &FlightPlan, opts: &EmitOptions) -> Result<Emitted, CompileError> {
     let fps = crate::passes::compile(plan)?;
     let mut e = emit_header(plan, &fps, opts)?;
-    for d in e.corrections.iter_mut() {
+    for d in e.corrections.iter_mut().chain(e.notices.iter_mut()) {
         d.locate(&plan.sources);
     }
     Ok(e)

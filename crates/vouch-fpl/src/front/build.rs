@@ -36,7 +36,20 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
     if validated {
         super::expanded::sort_validated(&mut root);
     }
-    if !root.tag_is("flight_plan") {
+    if let Some((file, span)) = &doc.dtd_file {
+        let dir = ctx.main_path.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+        // Only for plans read from a file (a text parsed on its own has no directory).
+        if ctx.main_path.is_file() && !dir.join(file).is_file() {
+            ctx.error_help(
+                ErrorKind::Xml,
+                format!("the DTD '{file}' named by the DOCTYPE does not exist"),
+                *span,
+                "upstream validates every plan that declares a DOCTYPE and stops when its DTD is missing",
+            );
+            return None;
+        }
+    }
+    if root.tag != "flight_plan" {
         ctx.error_help(
             ErrorKind::WrongRoot,
             format!("the root element is <{}>, expected <flight_plan>", root.tag),

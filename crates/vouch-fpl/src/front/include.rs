@@ -350,6 +350,16 @@ impl Transformer<'_> {
 
     fn stage(&self, ctx: &mut Ctx, mut s: Elem) -> Option<Elem> {
         let tag = s.tag.to_ascii_lowercase();
+        let leaf = ["exception", "heading", "go", "xyz", "circle", "deroute", "stay"];
+        if leaf.contains(&tag.as_str()) && !s.children.is_empty() {
+            ctx.error_help(
+                ErrorKind::ProcedureStage,
+                format!("<{}> in procedure '{}' has child elements", s.tag, self.name),
+                s.span,
+                "upstream's procedure expansion asserts that this stage is empty (Assertion failed)",
+            );
+            return None;
+        }
         let keep: &[&str] = match tag.as_str() {
             "exception" => return self.exception(ctx, s),
             "while" | "for" => {

@@ -81,6 +81,8 @@ impl Elem {
 pub struct Document {
     pub root: Elem,
     pub doctype: Option<String>,
+    /// The DTD file the DOCTYPE names (relative to the file) and the span of the DOCTYPE.
+    pub dtd_file: Option<(String, Span)>,
     /// Non-fatal notes (duplicate attributes dropped, raw characters accepted).
     pub warnings: Vec<Diagnostic>,
 }
@@ -133,7 +135,8 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Box<Diagnosti
         ))
     })?;
     let root = convert(doc.root_element(), text, file, &lines, &mut warnings, 0)?;
-    Ok(Document { root, doctype: san.doctype, warnings })
+    let dtd_file = san.dtd_file.map(|(f, at)| (f, lines.span(text, file, at, at + 9)));
+    Ok(Document { root, doctype: san.doctype, dtd_file, warnings })
 }
 
 /// Element nesting limit: real plans nest a handful of levels; the limit keeps hostile inputs
