@@ -22,7 +22,9 @@ bash -n /usr/share/bash-completion/completions/vouch || fail "bash completion sy
 [ -f /usr/share/zsh/vendor-completions/_vouch ] || fail "zsh completion missing"
 [ -f /usr/share/fish/vendor_completions.d/vouch.fish ] || fail "fish completion missing"
 [ -f /lib/systemd/system/vouch-guard.service ] || fail "systemd unit missing"
-grep -q '^ExecStart=/usr/bin/vouch mav guard' /lib/systemd/system/vouch-guard.service \
-  || fail "systemd unit does not start the guard"
+grep -q '^ExecStart=/usr/bin/vouch mav guard -c /etc/vouch/guard.conf' /lib/systemd/system/vouch-guard.service \
+  || fail "systemd unit does not start the guard with its configuration"
+/usr/bin/vouch mav guard -c /etc/vouch/guard.conf --check >/dev/null \
+  || fail "the installed guard configuration is not accepted"
 rm -rf "$out"
 echo "deb test: $deb installed, commands ran from /usr/bin, man pages, completions and unit in place"

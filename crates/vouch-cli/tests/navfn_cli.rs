@@ -6,6 +6,9 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+#[path = "navfn_cli/campaign.rs"]
+mod campaign;
+
 fn vouch(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_vouch"))
         .args(args)
@@ -215,7 +218,7 @@ fn campaign_report_and_merge_follow_the_conventions() {
     assert_eq!(code(&o), 0, "{}", text(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
     assert_eq!(v["cases"], 220);
-    assert_eq!(v["mode"], "navfn-astar");
+    assert_eq!(v["options"]["mode"], "navfn-astar");
     assert!(v["categories"]["lanes"]["checks"]["obstacle_free_queues"]["pass"].is_u64());
     // a report that is not one is rejected with its position
     std::fs::write(&a, "{\"suite\": 1}").expect("written");

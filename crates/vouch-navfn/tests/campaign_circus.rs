@@ -6,6 +6,7 @@ use vouch_navfn::campaign::exec::run_case;
 use vouch_navfn::campaign::names::Outcome;
 use vouch_navfn::campaign::optimal::{grid_optimum, path_cost};
 use vouch_navfn::campaign::pictures::counterexample_png;
+use vouch_navfn::campaign::report::CaseRecord;
 use vouch_navfn::campaign::runner::{prepare, run_campaign, to_pairs, CampaignOptions};
 use vouch_navfn::campaign::suite_io::read_test_file;
 use vouch_navfn::suite::{CaseRunner, RunMode};
@@ -20,7 +21,7 @@ fn circus_counterexample_is_reproduced() {
         .iter()
         .position(|c| (c.x0, c.y0, c.x1, c.y1) == (3, 12, 2, 1))
         .expect("the paper's case");
-    let pm = prepare(m.clone(), 0, false);
+    let pm = prepare(m.clone(), false);
     let mut runner = CaseRunner::new();
     let run = run_case(&mut runner, &m, &pm.setup_costs, &m.cases[k], RunMode::Paper, None)
         .expect("runs");
@@ -122,12 +123,12 @@ fn relaxed_optimum(costs: &[u8], w: usize, h: usize, a: (usize, usize), b: (usiz
 fn per_case_records_carry_the_circus_excess() {
     let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     let dir = shared.join("suite/circus");
-    let opts = CampaignOptions { per_case: true, ..CampaignOptions::default() };
-    let (report, _) = run_campaign(&dir, &opts, &()).expect("runs");
+    let mut records: Vec<CaseRecord> = Vec::new();
+    let report =
+        run_campaign(&dir, &CampaignOptions::default(), &(), Some(&mut records)).expect("runs");
     assert_eq!(report.failures(), 0);
-    assert_eq!(report.per_case.len(), 5, "one record per circus case");
-    let rec = report
-        .per_case
+    assert_eq!(records.len(), 5, "one record per circus case");
+    let rec = records
         .iter()
         .find(|r| r.map == "circus_12L" && r.coords == [3, 12, 2, 1])
         .expect("the paper's case");

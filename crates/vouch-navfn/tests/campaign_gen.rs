@@ -3,10 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use vouch_navfn::campaign::gen::{generate, GenOptions, CATEGORIES};
+use vouch_navfn::campaign::gen::{generate, write_generated, GenOptions, RosImport, CATEGORIES};
 use vouch_navfn::campaign::grid::OBSTACLE;
+use vouch_navfn::campaign::identity::MANIFEST;
 use vouch_navfn::campaign::names::FindingKind;
 use vouch_navfn::campaign::ros_import::import_ros_map;
+use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::campaign::suite_io::{read_suite, write_suite};
 
 fn tmp(name: &str) -> PathBuf {
@@ -162,12 +164,8 @@ fn generated_circus_maps_reproduce_the_lane_counterexample() {
     })
     .expect("gen");
     write_suite(&d, &maps).expect("write");
-    let (report, _) = run_campaign(
-        &d,
-        &CampaignOptions { metamorphic: false, ..CampaignOptions::default() },
-        &(),
-    )
-    .expect("runs");
+    let opts = CampaignOptions { metamorphic: false, ..CampaignOptions::default() };
+    let report = run_campaign(&d, &opts, &(), None).expect("runs");
     let c = &report.categories["circus"];
     assert_eq!(report.failures(), 0);
     // NavFn climbs the expensive lane on some generated tracks: paths > 10 % above the optimum.
@@ -181,4 +179,62 @@ fn generated_circus_maps_reproduce_the_lane_counterexample() {
         .iter()
         .any(|f| f.kind == FindingKind::Suboptimal && f.category == "circus"));
     let _ = std::fs::remove_dir_all(d);
+}
+
+#[test]
+fn generation_shards_are_disjoint_and_their_union_is_the_unsharded_suite_byte_for_byte() {
+    let o = GenOptions { maps_per_category: 4, ..opts(99) };
+    let whole = tmp("share-whole");
+    let w = write_generated(&whole, &o, &RosImport::default(), Shard::ALL).expect("gen");
+    assert_eq!((w.maps, w.maps_total), (36, 36));
+    let expected = tree(&whole);
+    assert!(expected.iter().any(|(n, _)| n == MANIFEST), "the manifest is written");
+    let mut union: Vec<(String, Vec<u8>)> = Vec::new();
+    let mut maps = 0;
+    for i in 0..4 {
+        let shard = Shard::new(i, 4, ShardBy::Map).expect("shard");
+        let d = tmp(&format!("share-{i}"));
+        let s = write_generated(&d, &o, &RosImport::default(), shard).expect("gen share");
+        assert_eq!(s.maps_total, 36);
+        assert!(s.maps > 0 && s.maps < 36, "shard {i} wrote {} maps", s.maps);
+        maps += s.maps;
+        let again = tmp(&format!("share-{i}-again"));
+        write_generated(&again, &o, &RosImport::default(), shard).expect("gen share");
+        assert_eq!(tree(&again), tree(&d), "a share is deterministic for its seed");
+        for (name, bytes) in tree(&d) {
+            if name == MANIFEST {
+                let want = expected.iter().find(|(n, _)| n == MANIFEST).expect("manifest");
+                assert_eq!(bytes, want.1, "every share carries the suite's manifest");
+            } else {
+                assert!(!union.iter().any(|(n, _)| *n == name), "{name} in two shares");
+                union.push((name, bytes));
+            }
+        }
+        for dir in [d, again] {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
+    assert_eq!(maps, 36);
+    union.push(expected.iter().find(|(n, _)| n == MANIFEST).expect("manifest").clone());
+    union.sort();
+    assert_eq!(union, expected, "union of the shares = the unsharded generation");
+    let _ = std::fs::remove_dir_all(whole);
+}
+
+#[test]
+fn names_sort_in_index_order_beyond_a_thousand_maps() {
+    let o = GenOptions {
+        categories: vec!["free".into()],
+        maps_per_category: 1001,
+        cases_per_map: 1,
+        min_size: 5,
+        max_size: 5,
+        ..opts(1)
+    };
+    let maps = generate(&o).expect("gen");
+    assert!(maps[0].name.starts_with("0000_"), "{}", maps[0].name);
+    let names: Vec<&str> = maps.iter().map(|m| m.name.as_str()).collect();
+    let mut sorted = names.clone();
+    sorted.sort();
+    assert_eq!(names, sorted);
 }

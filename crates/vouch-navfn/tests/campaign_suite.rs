@@ -14,7 +14,7 @@ fn shared() -> Option<PathBuf> {
 fn campaign_on_paper_suite_holds_every_property() {
     let Some(shared) = shared() else { return };
     let opts = CampaignOptions::default();
-    let (report, _) = run_campaign(&shared.join("suite"), &opts, &()).expect("campaign runs");
+    let report = run_campaign(&shared.join("suite"), &opts, &(), None).expect("campaign runs");
     println!("{}", summary_table(&report));
     let t = report.total();
     assert_eq!(report.cases, 121_404);
@@ -41,7 +41,7 @@ fn campaign_on_paper_suite_holds_every_property() {
     assert!((1.7..2.1).contains(&obtuse_pct), "obtuse turns in {obtuse_pct:.2} % of the cases");
     println!(
         "wall time {:.2} s on {} threads ({} cases, all checks, 6 metamorphic transforms per case)",
-        report.wall_seconds[0], report.threads[0], report.cases
+        report.runs[0].wall_seconds, report.runs[0].threads, report.cases
     );
 }
 
@@ -53,7 +53,7 @@ fn campaign_in_planner_dijkstra_mode_matches_golden_outcomes() {
         metamorphic: false,
         ..CampaignOptions::default()
     };
-    let (report, _) = run_campaign(&shared.join("suite"), &opts, &()).expect("campaign runs");
+    let report = run_campaign(&shared.join("suite"), &opts, &(), None).expect("campaign runs");
     let t = report.total();
     // golden/README.md, navfn mode Dijkstra: 73,800 + 2,092 found, 20 calcPath exhausted.
     assert_eq!(t.outcomes.found, 73_800);
@@ -67,6 +67,6 @@ fn campaign_in_planner_dijkstra_mode_matches_golden_outcomes() {
         t.optimality.obtuse_paths,
         t.optimality.oscillating_paths,
         report.cases,
-        report.wall_seconds[0]
+        report.runs[0].wall_seconds
     );
 }

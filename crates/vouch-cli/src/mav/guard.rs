@@ -1,134 +1,192 @@
-//! `vouch mav guard`: start the proxy, print its events until SIGINT/SIGTERM or `--duration`,
-//! then its counters.
+//! `vouch mav guard`: gather the endpoints (configuration files, `--endpoint`, mavlink-router's
+//! `-e`/`-p`/positional forms, the `--gcs`/`--vehicle` shorthands), start the router, print its
+//! events (and statistics) until SIGINT/SIGTERM or `--duration`, then its counters.
 
-use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
-use clap::Args;
+use vouch_mav::guard::conf::{self, LogLevel};
 use vouch_mav::guard::{
-    self, CounterSnapshot, Endpoint, GuardConfig, GuardEvent, Inspector, MonitorInspector,
-    PassThrough, SigningConfig,
+    self, side_word, CounterSnapshot, GuardConfig, GuardEvent, Inspector, MonitorInspector,
+    PassThrough, RoutingOptions, SigningConfig,
 };
-use vouch_mav::signing::SigningKey;
+use vouch_mav::monitor::MonitorSpec;
 
-use super::{load_failure, MonitorOpts};
-use crate::contract::{CmdResult, Ctx, Exit, Failure};
+use super::guard_args::GuardArgs;
+use super::guard_setup::{endpoints, log_paths, merged_monitor};
+use super::load_failure;
+use crate::contract::{CmdResult, Ctx, Exit, Failure, Verbosity};
 
-/// Arguments of `vouch mav guard`.
-#[derive(Args)]
-pub struct GuardArgs {
-    /// GCS side: udpin:ADDR:PORT, udpout:ADDR:PORT, tcpin:ADDR:PORT, tcpout:ADDR:PORT or
-    /// serial:DEVICE:BAUD
-    #[arg(long, value_name = "ENDPOINT")]
-    pub gcs: Endpoint,
-    /// Vehicle side, same forms (e.g. serial:/dev/ttyUSB0:57600)
-    #[arg(long, value_name = "ENDPOINT")]
-    pub vehicle: Endpoint,
-    #[command(flatten)]
-    pub monitor: MonitorOpts,
-    /// Check nothing: a plain byte-exact relay (the guard's own floor in benchmarks)
-    #[arg(long)]
-    pub relay_only: bool,
-    /// Drop violating messages and answer the sender instead of only reporting
-    #[arg(long)]
-    pub enforce: bool,
-    /// Send a STATUSTEXT to the GCS for each violation (at most 5 per second)
-    #[arg(long)]
-    pub alert_gcs: bool,
-    /// Violations log (one JSON object per line)
-    #[arg(long, value_name = "FILE.jsonl")]
-    pub log: Option<PathBuf>,
-    /// Record every received frame, both directions, as a tlog
-    #[arg(long, value_name = "FILE.tlog")]
-    pub tlog: Option<PathBuf>,
-    /// MAVLink 2 signing key required on frames from the GCS side: 64 hex digits,
-    /// passphrase:TEXT (SHA-256 of TEXT, as MAVProxy's `signing setup`), or a key file
-    #[arg(long, value_name = "KEY", value_parser = parse_key)]
-    pub signing_key: Option<SigningKey>,
-    /// (Re)sign the frames forwarded to the vehicle with the key
-    #[arg(long, requires = "signing_key")]
-    pub sign_to_vehicle: bool,
-    /// Link id the guard signs with toward the vehicle
-    #[arg(long, default_value_t = 0, value_name = "ID")]
-    pub signing_link_id: u8,
-    /// Stop by itself after this many seconds
-    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
-    pub duration: Option<Duration>,
-    /// Print the final counters as one JSON document on standard output
-    #[arg(long)]
-    pub json: bool,
-}
-
-fn parse_key(s: &str) -> Result<SigningKey, String> {
-    SigningKey::parse(s).map_err(|e| e.to_string())
-}
-
-fn parse_seconds(s: &str) -> Result<Duration, String> {
-    let secs: f64 = s.parse().map_err(|_| format!("`{s}` is not a number of seconds"))?;
-    Duration::try_from_secs_f64(secs).map_err(|_| format!("`{s}` is not a number of seconds"))
+/// The inspector the options ask for, with a description and the dialect to route by.
+fn inspector(
+    relay_only: bool,
+    spec: &MonitorSpec,
+    ctx: &Ctx,
+) -> Result<(Box<dyn Inspector>, String, RoutingOptions), Failure> {
+    if relay_only {
+        let dialect = match spec.load_dialect() {
+            Ok(d) => Some(d),
+            Err(e) => {
+                ctx.warn(&e);
+                ctx.note("vouch mav guard: no dialect: every frame is routed as a broadcast");
+                None
+            }
+        };
+        let routing = RoutingOptions { dialect, ..RoutingOptions::default() };
+        return Ok((Box::new(PassThrough), "no protocols (relay only)".into(), routing));
+    }
+    let monitor = spec.build().map_err(load_failure)?;
+    let names: Vec<&str> = monitor.protocols().protocols.iter().map(|p| p.name.as_str()).collect();
+    let what = format!("{} protocol(s): {}", names.len(), names.join(", "));
+    let routing = RoutingOptions { dialect: Some(monitor.dialect().clone()), ..Default::default() };
+    Ok((Box::new(MonitorInspector::new(monitor)), what, routing))
 }
 
 pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
-    let (inspector, what): (Box<dyn Inspector>, String) = if a.relay_only {
-        (Box::new(PassThrough), "no protocols (relay only)".into())
+    let file = if a.conf_file.is_some() || a.conf_dir.is_some() {
+        let f =
+            conf::load(a.conf_file.as_deref(), a.conf_dir.as_deref()).map_err(Failure::rejected)?;
+        f.warnings.iter().for_each(|w| ctx.warn(w));
+        Some(f)
     } else {
-        let monitor = a.monitor.spec().build().map_err(load_failure)?;
-        let names: Vec<&str> =
-            monitor.protocols().protocols.iter().map(|p| p.name.as_str()).collect();
-        let what = format!("{} protocol(s): {}", names.len(), names.join(", "));
-        (Box::new(MonitorInspector::new(monitor)), what)
+        None
     };
+    let level = a.debug_log_level.or(file.as_ref().and_then(|f| f.log_level));
+    if ctx.verbosity == Verbosity::Normal {
+        match level {
+            Some(LogLevel::Error | LogLevel::Warning) => ctx.verbosity = Verbosity::Quiet,
+            Some(LogLevel::Debug | LogLevel::Trace) => ctx.verbosity = Verbosity::Verbose,
+            _ => {}
+        }
+    }
+    let file = file.unwrap_or_default();
+    let eps = endpoints(&a, &file)?;
+    let g = &file.guard;
+    let relay_only = a.relay_only || g.relay_only.unwrap_or(false);
+    let (inspector, what, mut routing) =
+        inspector(relay_only, &merged_monitor(&a.monitor, g), ctx)?;
+    routing.sniffer_sysid = a.sniffer_sysid.or(file.sniffer_sysid);
+    routing.dedup_period = file.dedup_period;
     let stop = guard::stop_on_signals()
         .map_err(|e| Failure::usage(format_args!("cannot install signal handlers: {e}")))?;
     let (events, received) = mpsc::sync_channel(64);
-    let signing = a.signing_key.clone().map(|key| SigningConfig {
+    let sign_to_vehicle = a.sign_to_vehicle || g.sign_to_vehicle.unwrap_or(false);
+    let key = a.signing_key.clone().or(g.signing_key.clone());
+    if sign_to_vehicle && key.is_none() {
+        return Err(Failure::usage(
+            "--sign-to-vehicle needs a signing key (--signing-key or SigningKey)",
+        ));
+    }
+    let signing = key.map(|key| SigningConfig {
         key,
-        sign_to_vehicle: a.sign_to_vehicle,
-        link_id: a.signing_link_id,
+        sign_to_vehicle,
+        link_id: a.signing_link_id.or(g.signing_link_id).unwrap_or(0),
     });
+    // --check opens nothing: the log directory is neither created nor trimmed
+    let (log_path, tlog_path) = if a.check { (None, None) } else { log_paths(&a, &file)? };
     let cfg = GuardConfig {
-        enforce: a.enforce,
-        alert_gcs: a.alert_gcs,
-        log_path: a.log.clone(),
-        tlog_path: a.tlog.clone(),
+        routing,
+        enforce: a.enforce || g.enforce.unwrap_or(false),
+        alert_gcs: a.alert_gcs || g.alert_gcs.unwrap_or(false),
+        log_path,
+        tlog_path,
         signing,
         events: Some(events),
-        ..GuardConfig::new(a.gcs.clone(), a.vehicle.clone())
+        ..GuardConfig::with_endpoints(eps.iter().map(|e| e.config.clone()).collect())
     };
-    let g = guard::start(cfg, inspector).map_err(Failure::usage)?;
-    let addr = |x: Option<std::net::SocketAddr>| x.map_or("-".into(), |x| x.to_string());
-    ctx.note(format_args!(
-        "vouch mav guard: gcs {} ({}) <-> vehicle {} ({}); {what}; {} mode{}{}",
-        a.gcs,
-        addr(g.gcs_addr),
-        a.vehicle,
-        addr(g.vehicle_addr),
-        if a.enforce { "enforce" } else { "monitor" },
-        if a.signing_key.is_some() { ", signing required from the GCS side" } else { "" },
-        if a.alert_gcs { ", STATUSTEXT alerts" } else { "" },
-    ));
+    let mode = if cfg.enforce { "enforce" } else { "monitor" };
+    let extras = format!(
+        "{}{}",
+        if cfg.signing.is_some() { ", signing required from ground endpoints" } else { "" },
+        if cfg.alert_gcs { ", STATUSTEXT alerts" } else { "" }
+    );
+    if a.check {
+        ctx.note(format_args!(
+            "vouch mav guard: configuration accepted: {what}; {mode} mode{extras}"
+        ));
+        for e in &eps {
+            let c = &e.config;
+            writeln!(ctx.out, "{}\t{}\t{}", c.name, side_word(c.side), c.link)?;
+        }
+        return Ok(Exit::Ok);
+    }
+    let running = guard::start(cfg, inspector).map_err(Failure::usage)?;
+    ctx.note(format_args!("vouch mav guard: {what}; {mode} mode{extras}"));
+    for e in &eps {
+        let c = &e.config;
+        let bound = running.local_addr(&c.name).map_or(String::new(), |x| format!(" (bound {x})"));
+        ctx.note(format_args!("  {:<12} {:<7} {}{bound}", c.name, side_word(c.side), c.link));
+    }
+    let report = a.report_stats.or(file.report_stats.then_some(Duration::from_secs(1)));
     let started = Instant::now();
+    let mut last_report = Instant::now();
     while !stop.load(Ordering::Relaxed) && a.duration.is_none_or(|d| started.elapsed() < d) {
         match received.recv_timeout(Duration::from_millis(50)) {
             Ok(ev) => note_event(ctx, &ev),
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => break,
         }
+        if report.is_some_and(|p| last_report.elapsed() >= p) {
+            last_report = Instant::now();
+            stats(ctx, &running.counters(), started, a.json)?;
+        }
     }
-    let counters = g.stop();
+    let counters = running.stop();
     received.try_iter().for_each(|ev| note_event(ctx, &ev));
     finish(ctx, &counters, started, a.json)
 }
 
 fn note_event(ctx: &Ctx, ev: &GuardEvent) {
-    match ev {
-        GuardEvent::Violation { from, dropped, summary } => ctx.note(format_args!(
-            "vouch mav guard: violation from {} ({}): {summary}",
+    let line = match ev {
+        GuardEvent::Violation { from, dropped, summary, endpoint } => format!(
+            "violation from {endpoint} ({}, {}): {summary}",
             from.as_str(),
             if *dropped { "dropped" } else { "forwarded" }
-        )),
+        ),
+        GuardEvent::Connected { endpoint, peer } => format!("{endpoint}: connected {peer}"),
+        GuardEvent::Disconnected { endpoint, peer, reason, reconnect_in_s } => {
+            let again = reconnect_in_s.map_or(String::new(), |s| format!("; retrying in {s:.0} s"));
+            let who = if peer == "-" { String::new() } else { format!(" {peer}") };
+            format!("{endpoint}: disconnected{who} ({reason}){again}")
+        }
+        GuardEvent::Warning { endpoint, message } => format!("{endpoint}: warning: {message}"),
+    };
+    ctx.note(format_args!("vouch mav guard: {line}"));
+}
+
+/// Per-endpoint counters: a table on standard error, or a JSON line on standard output.
+fn stats(ctx: &mut Ctx, c: &CounterSnapshot, started: Instant, json: bool) -> Result<(), Failure> {
+    let t = started.elapsed().as_secs_f64();
+    if json {
+        ctx.out.json_line(&serde_json::json!({ "t_s": t, "stats": c }))?;
+        return ctx.out.flush();
+    }
+    ctx.note(format_args!(
+        "vouch mav guard: {t:.1} s: {} violations, {} unrouted",
+        c.violations, c.unrouted
+    ));
+    endpoint_table(ctx, c);
+    Ok(())
+}
+
+fn endpoint_table(ctx: &Ctx, c: &CounterSnapshot) {
+    ctx.note(format_args!(
+        "  {:<12} {:<7} {:>10} {:>10} {:>12} {:>8} {:>8} {:>6}",
+        "endpoint", "side", "frames in", "frames out", "bytes out", "filt in", "filt out", "conns"
+    ));
+    for e in &c.endpoints {
+        ctx.note(format_args!(
+            "  {:<12} {:<7} {:>10} {:>10} {:>12} {:>8} {:>8} {:>6}",
+            e.name,
+            e.side,
+            e.frames_in,
+            e.frames_out,
+            e.bytes_out,
+            e.filtered_in,
+            e.filtered_out,
+            e.connections
+        ));
     }
 }
 
@@ -143,6 +201,7 @@ fn finish(ctx: &mut Ctx, c: &CounterSnapshot, started: Instant, json: bool) -> C
         for (name, value) in c.rows() {
             ctx.note(format_args!("  {name:<22} {value}"));
         }
+        endpoint_table(ctx, c);
     }
     Ok(Exit::Ok)
 }

@@ -3,6 +3,8 @@
 mod bench;
 mod check;
 mod guard;
+mod guard_args;
+mod guard_setup;
 mod lint;
 
 use std::path::PathBuf;
@@ -24,13 +26,15 @@ pub enum MavCmd {
     /// Exit 0 when every file is accepted, 1 when one is rejected, 2 on an I/O error
     #[command(after_help = "Example:\n  vouch mav lint crates/vouch-mav/protocols/mission.vproto")]
     Lint(lint::LintArgs),
-    /// Proxy between ground station(s) and vehicle that checks every message against the
-    /// protocols, reporting violations (monitor) or dropping and answering them (enforce).
-    /// Runs until SIGINT/SIGTERM or --duration
+    /// MAVLink router between vehicles, ground stations and companions (any number of
+    /// endpoints, mavlink-router's configuration files and routing by target) that checks every
+    /// message against the protocols at the trust boundary it crosses, reporting violations
+    /// (monitor) or dropping and answering them (enforce). Runs until SIGINT/SIGTERM or
+    /// --duration
     #[command(
-        after_help = "Example:\n  vouch mav guard --gcs udpin:0.0.0.0:14550 --vehicle udpout:127.0.0.1:14555 --enforce --alert-gcs"
+        after_help = "Example:\n  vouch mav guard -c /etc/vouch/guard.conf\n  vouch mav guard --vehicle serial:/dev/ttyACM0:115200 --endpoint qgc=ground:udpout:127.0.0.1:14550 --enforce --alert-gcs\n  vouch mav guard -e 192.168.1.20:14550 -e 127.0.0.1:14560 /dev/ttyS1:921600"
     )]
-    Guard(guard::GuardArgs),
+    Guard(Box<guard_args::GuardArgs>),
     /// Latency, throughput and memory of the guard against a direct path and a socat relay,
     /// side by side on loopback (Linux: CPU pinning and RSS from /proc)
     #[command(after_help = "Example:\n  vouch mav bench --uploads 5 --pings 1000 --seconds 1")]
@@ -42,7 +46,7 @@ pub fn run(cmd: MavCmd, ctx: &mut Ctx) -> CmdResult {
     match cmd {
         MavCmd::Check(a) => check::run(a, ctx),
         MavCmd::Lint(a) => lint::run(a, ctx),
-        MavCmd::Guard(a) => guard::run(a, ctx),
+        MavCmd::Guard(a) => guard::run(*a, ctx),
         MavCmd::Bench(a) => bench::run(a, ctx),
     }
 }

@@ -1,17 +1,20 @@
 //! `vouch navfn suite gen`, `suite diff`, `campaign` and `report merge`.
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
 use vouch_navfn::campaign::diff::{add_oracle, describe, diff_suite, DiffOptions};
-use vouch_navfn::campaign::gen::{generate_with_ros, GenOptions};
+use vouch_navfn::campaign::gen::{write_generated, GenOptions, RosImport};
+use vouch_navfn::campaign::merge::Completeness;
 use vouch_navfn::campaign::names::FindingKind;
 use vouch_navfn::campaign::pictures::write_pictures;
-use vouch_navfn::campaign::report::{Report, Shard};
-use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions, Progress};
-use vouch_navfn::campaign::suite_io::write_suite;
+use vouch_navfn::campaign::report::{CaseRecord, Report};
+use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions, CaseSink, Progress};
+use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::campaign::summary::summary_table;
 use vouch_navfn::campaign::trace::TraceDetail;
+use vouch_navfn::campaign::CampaignError;
 
 use super::{write_file, CellModeArgs};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
@@ -19,7 +22,7 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
 /// Arguments of `vouch navfn suite gen`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn suite gen --seed 7 --categories circus,spiral --maps 3 -o /tmp/suite"
+    after_help = "Example:\n  vouch navfn suite gen --seed 7 --categories circus,spiral --maps 3 -o /tmp/suite\n  vouch navfn suite gen --seed 7 --maps 1000 --shard 3/8 -o /tmp/suite   # shard 3's maps only"
 )]
 pub struct SuiteGenArgs {
     /// Seed: the same seed always writes the same files
@@ -46,6 +49,37 @@ pub struct SuiteGenArgs {
     /// Cases per imported ROS map
     #[arg(long, default_value_t = 50)]
     ros_cases: usize,
+    /// Write only shard I of N of the maps (the maps a `campaign --shard I/N --shard-by map`
+    /// runs), or `auto` from a Slurm array / Kubernetes Indexed Job (see `campaign --shard`)
+    #[arg(long, value_parser = parse_shard_arg, value_name = "I/N|auto")]
+    shard: Option<ShardArg>,
+}
+
+/// `--shard`: a fixed `I/N`, or `auto` from the array job's environment.
+#[derive(Clone, Copy, Debug)]
+pub enum ShardArg {
+    /// `I/N`.
+    Fixed(u32, u32),
+    /// From `SLURM_ARRAY_TASK_ID`/`SLURM_ARRAY_TASK_COUNT` or `JOB_COMPLETION_INDEX`/`VOUCH_SHARD_COUNT`.
+    Auto,
+}
+
+fn parse_shard_arg(s: &str) -> Result<ShardArg, String> {
+    if s == "auto" {
+        return Ok(ShardArg::Auto);
+    }
+    let sh = Shard::parse(s, ShardBy::Map).map_err(|e| e.to_string())?;
+    Ok(ShardArg::Fixed(sh.index, sh.count))
+}
+
+/// The shard of `arg` split by `by` (the whole suite without `--shard`).
+fn resolve_shard(arg: Option<ShardArg>, by: ShardBy) -> Result<Shard, Failure> {
+    let shard = match arg {
+        None => Ok(Shard::ALL),
+        Some(ShardArg::Fixed(i, n)) => Shard::new(i, n, by),
+        Some(ShardArg::Auto) => Shard::from_env(|k| std::env::var(k).ok(), by),
+    };
+    shard.map_err(|e| Failure::from(CampaignError::from(e)))
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -56,6 +90,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 
 /// Runs `vouch navfn suite gen`.
 pub fn suite_gen(a: SuiteGenArgs, ctx: &mut Ctx) -> CmdResult {
+    let shard = resolve_shard(a.shard, ShardBy::Map)?;
     let opts = GenOptions {
         seed: a.seed,
         categories: a.categories,
@@ -64,11 +99,19 @@ pub fn suite_gen(a: SuiteGenArgs, ctx: &mut Ctx) -> CmdResult {
         max_size: a.size.1,
         cases_per_map: a.cases,
     };
-    let maps = generate_with_ros(&opts, &a.ros_maps, a.ros_cases)?;
-    write_suite(&a.output, &maps).map_err(vouch_navfn::campaign::CampaignError::from)?;
-    let cases: usize = maps.iter().map(|m| m.cases.len()).sum();
-    let (n, dir) = (maps.len(), a.output.display());
-    writeln!(ctx.out, "wrote {n} maps, {cases} cases to {dir} (seed {})", a.seed)?;
+    let ros = RosImport { maps: a.ros_maps, cases: a.ros_cases };
+    let w = write_generated(&a.output, &opts, &ros, shard)?;
+    let dir = a.output.display();
+    let share = if shard == Shard::ALL {
+        String::new()
+    } else {
+        format!(", shard {} of the suite's {} maps", shard.spec(), w.maps_total)
+    };
+    writeln!(
+        ctx.out,
+        "wrote {} maps, {} cases to {dir} (seed {}{share})",
+        w.maps, w.cases, a.seed
+    )?;
     Ok(Exit::Ok)
 }
 
@@ -138,7 +181,7 @@ pub fn suite_diff(a: SuiteDiffArgs, ctx: &mut Ctx) -> CmdResult {
 /// Arguments of `vouch navfn campaign`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn campaign examples/navfn/suite --mode navfn --algo dijkstra -o report.json --pictures pics/"
+    after_help = "Example:\n  vouch navfn campaign examples/navfn/suite --mode navfn --algo dijkstra -o report.json --pictures pics/\n  vouch navfn campaign examples/navfn/suite --shard 1/4 -o shard1.json -q\n  vouch navfn campaign SUITE --shard auto -o shard-$SLURM_ARRAY_TASK_ID.json -q   # in a Slurm array job"
 )]
 pub struct CampaignArgs {
     /// Suite folder (`<category>/<map>/test.txt`)
@@ -157,13 +200,19 @@ pub struct CampaignArgs {
     /// Write a PNG per counterexample into this folder
     #[arg(long, value_name = "DIR")]
     pictures: Option<PathBuf>,
-    /// Write one JSON line per case to this file (outcome, NavFn and optimal cost, excess, turns,
-    /// oscillations, failed checks)
+    /// Write one JSON line per case to this file, streamed in suite order (outcome, NavFn and
+    /// optimal cost, excess, turns, oscillations, failed checks)
     #[arg(long, value_name = "FILE")]
     cases_out: Option<PathBuf>,
-    /// Run only shard I of N (cases with global index ≡ I mod N); join with `report merge`
-    #[arg(long, value_parser = |s: &str| Shard::parse(s), value_name = "I/N")]
-    shard: Option<Shard>,
+    /// Run only shard I of N and join the shards with `report merge`; `auto` takes I and N from
+    /// a Slurm array job (SLURM_ARRAY_TASK_ID, SLURM_ARRAY_TASK_COUNT) or a Kubernetes Indexed
+    /// Job (JOB_COMPLETION_INDEX, and VOUCH_SHARD_COUNT for N)
+    #[arg(long, value_parser = parse_shard_arg, value_name = "I/N|auto")]
+    shard: Option<ShardArg>,
+    /// What a shard splits: whole maps (a shard reads only its maps) or the cases of every map
+    /// (balanced for suites of a few large maps; every shard reads every test file)
+    #[arg(long, value_enum, default_value = "map")]
+    shard_by: ShardByArg,
     /// Skip the metamorphic transforms
     #[arg(long)]
     no_metamorphic: bool,
@@ -175,12 +224,30 @@ pub struct CampaignArgs {
     ratio: f64,
 }
 
+/// `--shard-by`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ShardByArg {
+    /// Whole maps, by the map's home shard
+    Map,
+    /// Every map's cases round-robin from its home shard
+    Case,
+}
+
+impl From<ShardByArg> for ShardBy {
+    fn from(a: ShardByArg) -> ShardBy {
+        match a {
+            ShardByArg::Map => ShardBy::Map,
+            ShardByArg::Case => ShardBy::Case,
+        }
+    }
+}
+
 /// A progress bar on stderr.
 struct Bar(indicatif::ProgressBar);
 
 impl Progress for Bar {
-    fn start(&self, cases: u64) {
-        self.0.set_length(cases);
+    fn found(&self, cases: u64) {
+        self.0.inc_length(cases);
     }
     fn advance(&self, cases: u64) {
         self.0.inc(cases);
@@ -201,6 +268,25 @@ fn progress_bar(ctx: &Ctx) -> Option<Bar> {
     Some(Bar(indicatif::ProgressBar::new(0).with_style(style)))
 }
 
+/// `--cases-out`: one JSON line per record, written as the campaign streams.
+struct LinesFile {
+    path: PathBuf,
+    out: std::io::BufWriter<std::fs::File>,
+}
+
+impl CaseSink for LinesFile {
+    fn accept(&mut self, record: CaseRecord) -> Result<(), CampaignError> {
+        let write_err = |source| CampaignError::Write { path: self.path.clone(), source };
+        serde_json::to_writer(&mut self.out, &record).map_err(|e| write_err(e.into()))?;
+        self.out.write_all(b"\n").map_err(write_err)
+    }
+}
+
+fn lines_file(path: &Path) -> Result<LinesFile, Failure> {
+    let f = std::fs::File::create(path).map_err(|e| Failure::io(path, &e))?;
+    Ok(LinesFile { path: path.to_path_buf(), out: std::io::BufWriter::new(f) })
+}
+
 /// Runs `vouch navfn campaign`.
 pub fn campaign(a: CampaignArgs, ctx: &mut Ctx) -> CmdResult {
     if !(a.ratio.is_finite() && a.ratio >= 1.0) {
@@ -208,36 +294,35 @@ pub fn campaign(a: CampaignArgs, ctx: &mut Ctx) -> CmdResult {
     }
     let opts = CampaignOptions {
         mode: a.mode.run_mode()?,
-        shard: a.shard.unwrap_or(Shard::ALL),
+        shard: resolve_shard(a.shard, a.shard_by.into())?,
         metamorphic: !a.no_metamorphic,
         optimality: !a.no_optimality,
         suboptimal_ratio: a.ratio,
-        per_case: a.cases_out.is_some(),
         ..CampaignOptions::default()
     };
+    let mut lines = a.cases_out.as_deref().map(lines_file).transpose()?;
     let bar = progress_bar(ctx);
     let progress: &dyn Progress = match &bar {
         Some(b) => b,
         None => &(),
     };
-    let run = run_campaign(&a.suite, &opts, progress);
+    let sink = lines.as_mut().map(|l| l as &mut dyn CaseSink);
+    let run = run_campaign(&a.suite, &opts, progress, sink);
     if let Some(b) = &bar {
         b.0.finish_and_clear();
     }
-    let (mut report, maps) = run?;
+    let mut report = run?;
+    if let Some(l) = &mut lines {
+        l.out.flush().map_err(|e| Failure::io(&l.path, &e))?;
+    }
+    if report.suite.maps.is_empty() {
+        ctx.note(format_args!("note: shard {} holds no map of this suite", opts.shard.spec()));
+    }
     if let Some(cmd) = &a.oracle {
         add_oracle(&mut report, &a.suite, cmd, opts.mode, opts.shard)?;
     }
     if let Some(dir) = &a.pictures {
-        write_pictures(dir, &mut report, &maps, opts.mode)?;
-    }
-    if let Some(p) = &a.cases_out {
-        let mut lines = String::new();
-        for rec in &report.per_case {
-            lines.push_str(&serde_json::to_string(rec).map_err(Failure::usage)?);
-            lines.push('\n');
-        }
-        write_file(p, lines.as_bytes())?;
+        write_pictures(dir, &mut report, &a.suite, opts.mode)?;
     }
     if let Some(p) = &a.output {
         write_file(p, json_text(&report)?.as_bytes())?;
@@ -278,7 +363,7 @@ pub enum ReportCmd {
 /// Arguments of `vouch navfn report merge`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn report merge shard0.json shard1.json -o report.json"
+    after_help = "Example:\n  vouch navfn report merge shard0.json shard1.json shard2.json shard3.json -o report.json"
 )]
 pub struct ReportMergeArgs {
     /// Merged report to write
@@ -287,7 +372,11 @@ pub struct ReportMergeArgs {
     /// Print the merged report on stdout as one JSON document instead of the summary table
     #[arg(long)]
     json: bool,
-    /// Shard reports
+    /// Merge even when shards, maps or cases of the suite are missing (the report says which
+    /// shards it holds); without it an incomplete set is refused
+    #[arg(long)]
+    allow_partial: bool,
+    /// Shard reports (any order; merged reports may be merged again)
     #[arg(required = true, value_name = "FILE")]
     inputs: Vec<PathBuf>,
 }
@@ -301,10 +390,20 @@ fn read_report(p: &Path) -> Result<Report, Failure> {
 pub fn report(cmd: ReportCmd, ctx: &mut Ctx) -> CmdResult {
     let ReportCmd::Merge(a) = cmd;
     let reports = a.inputs.iter().map(|p| read_report(p)).collect::<Result<Vec<_>, _>>()?;
-    let merged = Report::merge(&reports).map_err(Failure::rejected)?;
+    let completeness =
+        if a.allow_partial { Completeness::AllowPartial } else { Completeness::Required };
+    let merged = Report::merge(&reports, completeness).map_err(Failure::rejected)?;
     write_file(&a.output, json_text(&merged)?.as_bytes())?;
-    if !merged.complete() {
-        ctx.note("warning: the merged shards do not cover every shard index");
+    if !merged.shards.complete() || merged.suite.content.is_none() {
+        let (n, total, count) =
+            (merged.suite.maps.len(), merged.suite.maps_total, merged.shards.count);
+        let first: Vec<String> =
+            merged.shards.missing(8).iter().map(|i| format!("{i}/{count}")).collect();
+        ctx.note(format_args!(
+            "partial merge: {} shard(s) missing [{}], {n} of the suite's {total} maps",
+            merged.shards.missing_count(),
+            first.join(", ")
+        ));
     }
     if a.json {
         ctx.out.json(&merged)?;

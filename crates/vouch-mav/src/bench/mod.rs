@@ -11,8 +11,12 @@
 //!   pinned to one core (the bench pins itself to the other);
 //! * peak RSS of the relay process (Linux `/proc`).
 //!
+//! The router scenario (`router.rs`) runs the guard with four endpoints and measures latency,
+//! *delivered* throughput and memory against the same baselines.
+//!
 //! Every loop is bounded in count and time; only 127.0.0.1 is used.
 
+mod router;
 mod traffic;
 
 use std::io;
@@ -22,6 +26,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::guard::sys::process;
+pub use router::RouterResult;
 use traffic::{handshake, ping_latencies, stream, upload_latencies, WAIT};
 
 /// What to measure.
@@ -39,6 +44,10 @@ pub struct BenchConfig {
     pub vouch_exe: PathBuf,
     /// Extra arguments for the guard in enforce mode, e.g. `--protocol FILE`.
     pub guard_args: Vec<String>,
+    /// Run the proxy scenario (one GCS, one vehicle: direct, socat, guard modes).
+    pub proxy: bool,
+    /// Run the router scenario (four endpoints: direct, socat, guard router).
+    pub router: bool,
 }
 
 /// The figures of one path.
@@ -78,8 +87,10 @@ pub struct PathResult {
 /// Everything one run measured.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct BenchReport {
-    /// One entry per path that ran, `direct` first.
+    /// Proxy scenario: one entry per path that ran, `direct` first.
     pub paths: Vec<PathResult>,
+    /// Router scenario: one entry per path that ran, `direct` first.
+    pub router: Vec<RouterResult>,
     /// Paths that could not run, with the reason (e.g. `socat` not installed).
     pub skipped: Vec<(String, String)>,
     /// The machine's load averages (1, 5, 15 min) at the end, when known.
@@ -206,7 +217,8 @@ pub fn run(a: &BenchConfig) -> io::Result<BenchReport> {
     if !socat {
         report.skipped.push(("socat".into(), "socat not found".into()));
     }
-    for (label, extra) in paths(a, socat) {
+    let proxy_paths = if a.proxy { paths(a, socat) } else { vec![] };
+    for (label, extra) in proxy_paths {
         let vehicle = sock()?;
         let v_addr = vehicle.local_addr()?;
         let entry_port = free_port()?;
@@ -237,6 +249,11 @@ pub fn run(a: &BenchConfig) -> io::Result<BenchReport> {
             Ok(r) => report.paths.push(r),
             Err(e) => report.skipped.push((label.to_string(), e.to_string())),
         }
+    }
+    if a.router {
+        let (done, skipped) = router::run(a, socat);
+        report.router = done;
+        report.skipped.extend(skipped);
     }
     report.load_average = process::load_average();
     Ok(report)

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::codec::encode::frame_v2_truncated;
+use crate::codec::split::{split_datagram, Piece};
 use crate::guard::sys::process;
 
 /// How long a receive waits before a message counts as lost.
@@ -50,11 +51,15 @@ fn mission_ack(s: u8) -> Vec<u8> {
     frame(47, 153, &[255, 190, 0, 0], 1, 1, s)
 }
 /// ATTITUDE with the sample index in `time_boot_ms`, so the receiver can match send instants.
-fn attitude(index: u32, s: u8) -> Vec<u8> {
+pub(super) fn attitude(index: u32, s: u8) -> Vec<u8> {
     let mut p = vec![0u8; 28];
     p[..4].copy_from_slice(&index.to_le_bytes());
     p[4..8].copy_from_slice(&0.1f32.to_le_bytes());
     frame(30, 39, &p, 1, 1, s)
+}
+/// HEARTBEAT of the autopilot 1/1 (quadrotor, ArduPilot).
+pub(super) fn heartbeat_vehicle(s: u8) -> Vec<u8> {
+    frame(0, 50, &[0, 0, 0, 0, 2, 3, 0, 4, 3], 1, 1, s)
 }
 fn heartbeat_gcs(s: u8) -> Vec<u8> {
     frame(0, 50, &[0, 0, 0, 0, 6, 8, 0, 0, 3], 255, 190, s)
@@ -81,22 +86,40 @@ pub(super) struct Rig {
     back: SocketAddr,
 }
 
-/// Makes the vehicle learn where the path's far end is (the relay's sending socket).
+/// Makes the vehicle learn where the path's far end is (the relay's sending socket), and the
+/// path learn both ends: each side's heartbeat reaches the other (a router sends frames that
+/// target a system only where that system has been heard).
 pub(super) fn handshake(gcs: UdpSocket, vehicle: UdpSocket, entry: SocketAddr) -> io::Result<Rig> {
     let mut buf = [0u8; 512];
     let mut seqs = Seqs(0);
     let end = Instant::now() + Duration::from_secs(5);
     vehicle.set_read_timeout(Some(Duration::from_millis(50)))?;
-    while Instant::now() < end {
+    gcs.set_read_timeout(Some(Duration::from_millis(50)))?;
+    let timed_out =
+        || io::Error::new(io::ErrorKind::TimedOut, "path did not deliver a heartbeat within 5 s");
+    let back = loop {
+        if Instant::now() > end {
+            return Err(timed_out());
+        }
         gcs.send_to(&heartbeat_gcs(seqs.next()), entry)?;
         if let Some((_, from)) = recv(&vehicle, &mut buf) {
-            // drain what else is in flight
-            while recv(&vehicle, &mut buf).is_some() {}
-            vehicle.set_read_timeout(Some(WAIT))?;
-            return Ok(Rig { gcs, vehicle, entry, back: from });
+            break from;
+        }
+    };
+    loop {
+        if Instant::now() > end {
+            return Err(timed_out());
+        }
+        vehicle.send_to(&heartbeat_vehicle(seqs.next()), back)?;
+        if recv(&gcs, &mut buf).is_some() {
+            break;
         }
     }
-    Err(io::Error::new(io::ErrorKind::TimedOut, "path did not deliver a heartbeat within 5 s"))
+    // drain what else is in flight
+    while recv(&vehicle, &mut buf).is_some() || recv(&gcs, &mut buf).is_some() {}
+    vehicle.set_read_timeout(Some(WAIT))?;
+    gcs.set_read_timeout(Some(WAIT))?;
+    Ok(Rig { gcs, vehicle, entry, back })
 }
 
 pub(super) fn upload_latencies(rig: &Rig, uploads: usize, out: &mut Vec<f64>) -> io::Result<()> {
@@ -156,21 +179,24 @@ pub(super) fn stream(
         let mut lat = Vec::with_capacity(count as usize);
         let mut got = 0u64;
         let mut last = base;
-        let mut buf = [0u8; 2048];
+        let mut buf = [0u8; 4096];
         loop {
             match gcs.recv_from(&mut buf) {
                 Ok((n, _)) => {
                     let now = base.elapsed().as_nanos() as u64;
                     last = Instant::now();
-                    got += 1;
-                    if let Some(i) = attitude_index(&buf[..n]) {
-                        if let Some(t) = s2.get(i as usize) {
+                    // a router may put several frames of one batch into one datagram
+                    let d = &buf[..n];
+                    split_datagram(d, |p| {
+                        let Piece::Frame(a, b) = p else { return };
+                        got += 1;
+                        if let Some(t) = attitude_index(&d[a..b]).and_then(|i| s2.get(i as usize)) {
                             let t = t.load(Ordering::Relaxed);
                             if t > 0 && now >= t {
                                 lat.push((now - t) as f64 / 1000.0);
                             }
                         }
-                    }
+                    });
                 }
                 Err(_) if d2.load(Ordering::Relaxed) => break,
                 Err(_) => {}

@@ -1,8 +1,25 @@
-//! The guard's counters: updated lock-free by the reader threads, read as a snapshot.
+//! The guard's counters: updated lock-free by the reader threads, read as a snapshot — for the
+//! whole router and per endpoint.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use serde::Serialize;
+
+use super::config::side_word;
+use crate::side::Side;
+
+/// Live counters of one endpoint.
+#[derive(Default)]
+pub(super) struct EndpointCounters {
+    pub(super) frames_in: AtomicU64,
+    pub(super) frames_out: AtomicU64,
+    pub(super) bytes_out: AtomicU64,
+    pub(super) filtered_in: AtomicU64,
+    pub(super) filtered_out: AtomicU64,
+    pub(super) send_errors: AtomicU64,
+    pub(super) connections: AtomicU64,
+    pub(super) connects: AtomicU64,
+}
 
 /// Live counters, updated by the reader threads.
 #[derive(Default)]
@@ -19,18 +36,48 @@ pub(super) struct Counters {
     pub(super) replies_sent: AtomicU64,
     pub(super) alerts_sent: AtomicU64,
     pub(super) alerts_suppressed: AtomicU64,
+    pub(super) unrouted: AtomicU64,
+    pub(super) duplicates: AtomicU64,
+    pub(super) endpoints: Vec<EndpointCounters>,
+}
+
+/// One endpoint's counters at one moment.
+#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+pub struct EndpointSnapshot {
+    /// The endpoint's name.
+    pub name: String,
+    /// The side its frames are trusted as: `vehicle` or `ground`.
+    pub side: String,
+    /// Its connection, e.g. `udpout:127.0.0.1:14550`.
+    pub link: String,
+    /// Intact frames received (before the incoming filter).
+    pub frames_in: u64,
+    /// Frames sent (counted once per endpoint, whatever number of connections got them).
+    pub frames_out: u64,
+    /// Bytes sent, over all its connections.
+    pub bytes_out: u64,
+    /// Frames the incoming filter dropped.
+    pub filtered_in: u64,
+    /// Frames the outgoing filter kept from it.
+    pub filtered_out: u64,
+    /// Sends that failed (no peer connected, socket error).
+    pub send_errors: u64,
+    /// Connections open now (UDP server peers, TCP clients, a connected TCP client).
+    pub connections: u64,
+    /// Connections opened so far.
+    pub connects: u64,
 }
 
 /// Counters at one moment (e.g. at shutdown).
 #[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
 pub struct CounterSnapshot {
-    /// Intact frames received from the GCS side.
+    /// Intact frames received on ground endpoints.
     pub frames_from_gcs: u64,
-    /// Intact frames received from the vehicle side.
+    /// Intact frames received on vehicle endpoints.
     pub frames_from_vehicle: u64,
-    /// Frames forwarded to the vehicle.
+    /// Frames sent to vehicle endpoints (once per endpoint).
     pub forwarded_to_vehicle: u64,
-    /// Frames forwarded to the GCS side.
+    /// Frames sent to ground endpoints (once per endpoint).
     pub forwarded_to_gcs: u64,
     /// Protocol violations (forwarded in monitor mode, dropped in enforce mode).
     pub violations: u64,
@@ -42,21 +89,27 @@ pub struct CounterSnapshot {
     pub dropped_malformed: u64,
     /// Bytes that were part of no frame.
     pub junk_bytes: u64,
-    /// Frames from the GCS side that failed the signing check.
+    /// Frames from ground endpoints that failed the signing check.
     pub signing_rejected: u64,
     /// SETUP_SIGNING frames dropped (never forwarded).
     pub setup_signing_dropped: u64,
     /// Answers sent in enforce mode.
     pub replies_sent: u64,
-    /// STATUSTEXT alerts sent to the GCS side.
+    /// STATUSTEXT alerts sent to ground endpoints.
     pub alerts_sent: u64,
     /// Alerts not sent because of the rate limit.
     pub alerts_suppressed: u64,
+    /// Admitted frames no endpoint took (a target never seen, or every route filtered it).
+    pub unrouted: u64,
+    /// Frames dropped as copies of one received within the deduplication period.
+    pub duplicates: u64,
+    /// Per endpoint, in configuration order.
+    pub endpoints: Vec<EndpointSnapshot>,
 }
 
 impl CounterSnapshot {
-    /// (name, value) in the order they are printed at shutdown.
-    pub fn rows(&self) -> [(&'static str, u64); 14] {
+    /// (name, value) of the router-wide counters, in the order they are printed.
+    pub fn rows(&self) -> [(&'static str, u64); 16] {
         [
             ("frames from gcs", self.frames_from_gcs),
             ("forwarded to vehicle", self.forwarded_to_vehicle),
@@ -72,15 +125,47 @@ impl CounterSnapshot {
             ("replies sent", self.replies_sent),
             ("alerts sent", self.alerts_sent),
             ("alerts rate-limited", self.alerts_suppressed),
+            ("unrouted", self.unrouted),
+            ("duplicates dropped", self.duplicates),
         ]
+    }
+
+    /// The counters of the endpoint named `name`.
+    pub fn endpoint(&self, name: &str) -> Option<&EndpointSnapshot> {
+        self.endpoints.iter().find(|e| e.name == name)
     }
 }
 
 impl Counters {
-    /// The values now.
-    pub(super) fn snapshot(&self) -> CounterSnapshot {
+    pub(super) fn new(endpoints: usize) -> Self {
+        Counters {
+            endpoints: (0..endpoints).map(|_| EndpointCounters::default()).collect(),
+            ..Counters::default()
+        }
+    }
+
+    /// The values now; `names` gives each endpoint's (name, side, link).
+    pub(super) fn snapshot(&self, names: &[(String, Side, String)]) -> CounterSnapshot {
         let c = self;
         let g = |a: &AtomicU64| a.load(Ordering::Relaxed);
+        let endpoints = c
+            .endpoints
+            .iter()
+            .zip(names)
+            .map(|(e, (name, side, link))| EndpointSnapshot {
+                name: name.clone(),
+                side: side_word(*side).to_string(),
+                link: link.clone(),
+                frames_in: g(&e.frames_in),
+                frames_out: g(&e.frames_out),
+                bytes_out: g(&e.bytes_out),
+                filtered_in: g(&e.filtered_in),
+                filtered_out: g(&e.filtered_out),
+                send_errors: g(&e.send_errors),
+                connections: g(&e.connections),
+                connects: g(&e.connects),
+            })
+            .collect();
         CounterSnapshot {
             frames_from_gcs: g(&c.rx[0]),
             frames_from_vehicle: g(&c.rx[1]),
@@ -96,6 +181,9 @@ impl Counters {
             replies_sent: g(&c.replies_sent),
             alerts_sent: g(&c.alerts_sent),
             alerts_suppressed: g(&c.alerts_suppressed),
+            unrouted: g(&c.unrouted),
+            duplicates: g(&c.duplicates),
+            endpoints,
         }
     }
 }

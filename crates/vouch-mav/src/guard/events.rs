@@ -23,6 +23,34 @@ pub enum GuardEvent {
         dropped: bool,
         /// One line, e.g. `MISSION_ACK: curr == n (curr=60, n=100)`.
         summary: String,
+        /// The endpoint it arrived on.
+        endpoint: String,
+    },
+    /// A connection of an endpoint opened: a TCP client connected or was accepted, a UDP server
+    /// heard a new peer.
+    Connected {
+        /// The endpoint.
+        endpoint: String,
+        /// The remote address.
+        peer: String,
+    },
+    /// A connection closed, or a TCP client could not connect.
+    Disconnected {
+        /// The endpoint.
+        endpoint: String,
+        /// The connection (remote address or client number; `-` for the endpoint's only one).
+        peer: String,
+        /// Why.
+        reason: String,
+        /// Seconds until a TCP client tries again, if it does.
+        reconnect_in_s: Option<f64>,
+    },
+    /// Something the operator should look at, e.g. autopilot heartbeats on a ground endpoint.
+    Warning {
+        /// The endpoint concerned.
+        endpoint: String,
+        /// What.
+        message: String,
     },
 }
 
@@ -36,21 +64,34 @@ pub(super) fn within_rate(window: &Mutex<(Instant, u64)>, max: u64) -> bool {
     w.1 <= max
 }
 
-/// A rate-limited, never-blocking sender of events.
+/// A rate-limited, never-blocking sender of events. Violations and connection events have a
+/// window each, so that a flood of one kind cannot hide the other.
 pub(super) struct Events {
     sink: Option<SyncSender<GuardEvent>>,
-    window: Mutex<(Instant, u64)>,
+    violations: Mutex<(Instant, u64)>,
+    links: Mutex<(Instant, u64)>,
 }
 
 impl Events {
     pub(super) fn new(sink: Option<SyncSender<GuardEvent>>) -> Self {
-        Events { sink, window: Mutex::new((Instant::now(), 0)) }
+        let window = || Mutex::new((Instant::now(), 0));
+        Events { sink, violations: window(), links: window() }
     }
 
-    /// Sends `make()` unless there is no sink, the rate is exceeded or the channel is full.
-    pub(super) fn emit(&self, make: impl FnOnce() -> GuardEvent) {
+    /// Sends a violation event unless there is no sink, the rate is exceeded or the channel is
+    /// full (`make` runs only when it is sent).
+    pub(super) fn violation(&self, make: impl FnOnce() -> GuardEvent) {
+        self.emit(&self.violations, make);
+    }
+
+    /// Sends a connection or warning event, in its own rate window.
+    pub(super) fn link(&self, make: impl FnOnce() -> GuardEvent) {
+        self.emit(&self.links, make);
+    }
+
+    fn emit(&self, window: &Mutex<(Instant, u64)>, make: impl FnOnce() -> GuardEvent) {
         if let Some(sink) = &self.sink {
-            if within_rate(&self.window, MAX_EVENTS_PER_SECOND) {
+            if within_rate(window, MAX_EVENTS_PER_SECOND) {
                 let _ = sink.try_send(make());
             }
         }

@@ -1,22 +1,34 @@
-//! The guarding proxy between ground station(s) and vehicle: it forwards every frame byte for
-//! byte and lets an [`Inspector`] (normally the protocol monitor, [`MonitorInspector`]) judge
-//! each one.
+//! The guarding router between ground stations, companions and vehicles: any number of
+//! endpoints, each trusted as the ground side or the vehicle side, routed as mavlink-router
+//! routes (by target system and component, learned from the traffic), every frame forwarded byte
+//! for byte and judged once by an [`Inspector`] (normally the protocol monitor,
+//! [`MonitorInspector`]) at the trust boundary it crosses.
 //!
-//! Data path per received datagram: split into frames (the codec's resynchronising scan) → (from
-//! the GCS, when a key is set) signing check → inspector verdict → forward the original bytes, or
-//! in enforce mode drop and answer. The guard knows sockets and bytes; protocol semantics are the
-//! monitor's. It prints nothing: what happens is reported as [`GuardEvent`]s on a channel the
-//! caller reads, and in the counters.
+//! Data path per received datagram: split into frames (the codec's resynchronising scan) →
+//! integrity, deduplication, the endpoint's incoming filter → (from a ground endpoint, when a key
+//! is set) signing check → inspector verdict → learn the sender on its connection → route by
+//! target through the outgoing filters → forward the original bytes, or in enforce mode drop and
+//! answer. The guard knows sockets and bytes; protocol semantics are the monitor's. It prints
+//! nothing: what happens is reported as [`GuardEvent`]s on a channel the caller reads, and in the
+//! counters. Endpoints come from the caller or from mavlink-router's configuration files
+//! ([`conf`]).
 
+mod admit;
+pub mod conf;
 mod config;
 mod counters;
+mod dedup;
 mod endpoint;
 mod events;
+mod filter;
 mod inspector;
 mod link;
 pub mod messages;
+mod outbox;
 pub(crate) mod portable;
-mod proxy;
+mod router;
+mod routing;
+mod state;
 
 #[cfg(target_os = "linux")]
 #[allow(unsafe_code)] // the guard's Linux I/O module: recvmmsg/sendmmsg, termios, process control
@@ -31,13 +43,19 @@ use std::io;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-pub use config::{GuardConfig, SigningConfig};
-pub use counters::CounterSnapshot;
-pub use endpoint::{Endpoint, EndpointError, SUPPORTED_BAUDS};
+pub use config::{
+    parse_side, side_word, EndpointConfig, GuardConfig, RoutingOptions, SigningConfig,
+    DEFAULT_TCP_RETRY,
+};
+pub use counters::{CounterSnapshot, EndpointSnapshot};
+pub use endpoint::{Endpoint, EndpointError, DEFAULT_BAUD, SUPPORTED_BAUDS};
 pub use events::{GuardEvent, MAX_EVENTS_PER_SECOND};
+pub use filter::{Filter, Filters};
 pub use inspector::MonitorInspector;
 pub use link::{MAX_TCP_CLIENTS, MAX_UDP_PEERS};
-pub use proxy::{start, RunningGuard};
+pub use outbox::DATAGRAM_LIMIT;
+pub use router::{start, RunningGuard, MAX_ENDPOINTS};
+pub use routing::{MAX_IDS_PER_ROUTE, MAX_ROUTES};
 
 use crate::codec::{FrameRef, InvalidKind};
 use crate::monitor::Verdict;

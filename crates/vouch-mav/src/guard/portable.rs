@@ -60,7 +60,7 @@ pub mod serial {
     use std::io;
 
     /// Always an error: serial endpoints are supported on Linux only.
-    pub fn open_raw(device: &str, _baud: u32) -> io::Result<File> {
+    pub fn open_raw(device: &str, _baud: u32, _flow_control: bool) -> io::Result<File> {
         Err(io::Error::new(
             io::ErrorKind::Unsupported,
             format!("{device}: serial endpoints are supported on Linux only"),
@@ -73,6 +73,8 @@ pub mod serial {
 pub mod process {
     use std::process::Child;
 
+    /// No-op.
+    pub fn lower_current_thread_priority(_n: i32) {}
     /// No-op.
     pub fn pin_current_thread(_cpu: usize) {}
     /// No-op.
@@ -124,6 +126,6 @@ mod tests {
         b.recv(&rx).unwrap();
         let (_, bytes, truncated) = b.get(0);
         assert_eq!((bytes.len(), truncated), (SLOT, true));
-        assert!(super::serial::open_raw("/dev/null", 57600).is_err());
+        assert!(super::serial::open_raw("/dev/null", 57600, false).is_err());
     }
 }

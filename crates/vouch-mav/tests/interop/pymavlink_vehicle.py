@@ -22,14 +22,15 @@ p.add_argument("--duration", type=float, default=30.0)
 p.add_argument("--summary", required=True)
 p.add_argument("--exit-after-upload", action="store_true", help="stop 1 s after an upload ends")
 p.add_argument("--stop-file", default=None, help="stop as soon as this file exists")
+p.add_argument("--sysid", type=int, default=1, help="this vehicle's system id")
 a = p.parse_args()
 
-m = mavutil.mavlink_connection(a.url, source_system=1, source_component=1, dialect="common")
+m = mavutil.mavlink_connection(a.url, source_system=a.sysid, source_component=1, dialect="common")
 mav = m.mav
 C = mavutil.mavlink
 params = {"WPNAV_SPEED": 500.0, "CHUTE_ENABLED": 0.0, "CHUTE_ALT_MIN": 10.0}
 summary = {"uploads": [], "parachute_commands": 0, "commands": 0, "statustext": [], "mission_acks_from_gcs": [],
-           "frames": 0}
+           "frames": 0, "types": {}}
 upload = None  # {"count", "next", "gcs", "items", "last_req"}
 stored = []
 deadline = time.time() + a.duration
@@ -56,8 +57,9 @@ while time.time() < deadline and (done_at is None or time.time() < done_at):
         continue
     summary["frames"] += 1
     t = msg.get_type()
+    summary["types"][t] = summary["types"].get(t, 0) + 1
     src = (msg.get_srcSystem(), msg.get_srcComponent())
-    if t == "MISSION_COUNT" and msg.target_system in (0, 1):
+    if t == "MISSION_COUNT" and msg.target_system in (0, a.sysid):
         upload = {"count": msg.count, "next": 0, "gcs": src, "items": [], "last_req": 0.0}
         if msg.count == 0:
             mav.mission_ack_send(src[0], src[1], C.MAV_MISSION_ACCEPTED, 0)
@@ -100,7 +102,7 @@ while time.time() < deadline and (done_at is None or time.time() < done_at):
         params[pid] = msg.param_value
         mav.param_value_send(pid.encode(), msg.param_value, C.MAV_PARAM_TYPE_REAL32, len(params),
                              list(params).index(pid))
-    elif t == "COMMAND_LONG" and msg.target_system in (0, 1):
+    elif t == "COMMAND_LONG" and msg.target_system in (0, a.sysid):
         summary["commands"] += 1
         if msg.command == C.MAV_CMD_DO_PARACHUTE:
             summary["parachute_commands"] += 1

@@ -17,7 +17,9 @@ use crate::campaign::names::FindingKind;
 use crate::campaign::oracle::{
     contract_args, emit_file, parse_answers, run_oracle, CaseAnswer, EmitOptions,
 };
-use crate::campaign::report::{Finding, Report, Shard};
+use crate::campaign::report::{Finding, Report};
+use crate::campaign::shard::Shard;
+use crate::campaign::suite_io::walk_suite;
 use crate::campaign::trace::{first_divergence, TraceDetail, TraceDivergence};
 use crate::maps::{find_test_files, read_suite_file};
 use crate::suite::RunMode;
@@ -207,8 +209,10 @@ pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, Campai
     Ok(r)
 }
 
-/// Diffs every test file below `suite` that `shard` owns (one oracle process per file) and adds
-/// the counts and the first mismatch of each file to `report` (as `oracle_mismatch` findings).
+/// Diffs every test file below `suite` whose home is `shard` (one oracle process per file, so
+/// a file is compared by its home shard in both splits), adds the counts and the first
+/// mismatch of each file to `report` (as `oracle_mismatch` findings), and records the oracle
+/// among the report's options.
 pub fn add_oracle(
     report: &mut Report,
     suite: &Path,
@@ -216,24 +220,19 @@ pub fn add_oracle(
     mode: RunMode,
     shard: Shard,
 ) -> Result<(), CampaignError> {
-    let files = find_test_files(suite, "test.txt")?;
     let dopts = DiffOptions {
         oracle: oracle.into(),
         mode,
         white_box: Some(TraceDetail::Hash),
         perturb_pri_inc: None,
     };
-    let name_of = |p: Option<&Path>| {
-        p.and_then(Path::file_name).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
-    };
-    for (i, f) in files.iter().enumerate() {
-        // Oracle comparison is sharded by file (one oracle process per file).
-        if !shard.owns(i as u64) {
+    for entry in walk_suite(suite)? {
+        let e = entry?;
+        if Shard::home(&e.key, shard.count) != shard.index {
             continue;
         }
-        let (eq, diff, m) = diff_file(f, &dopts)?;
-        let category = name_of(f.parent().and_then(Path::parent));
-        let st = report.categories.entry(category.clone()).or_default();
+        let (eq, diff, m) = diff_file(&e.test_txt, &dopts)?;
+        let st = report.categories.entry(e.category.clone()).or_default();
         st.oracle.pass += eq as u64;
         st.oracle.fail += diff as u64;
         if let Some(m) = m {
@@ -243,8 +242,8 @@ pub fn add_oracle(
                 .unwrap_or_default();
             report.findings.push(Finding {
                 kind: FindingKind::OracleMismatch,
-                category,
-                map: name_of(f.parent()),
+                category: e.category,
+                map: e.name,
                 case: m.case as u64,
                 coords: [0; 4],
                 detail: format!("{}{divergence}", m.fields.join("; ")),
@@ -253,6 +252,7 @@ pub fn add_oracle(
             });
         }
     }
+    report.options.oracle = Some(oracle.to_string());
     report.trim_findings();
     Ok(())
 }

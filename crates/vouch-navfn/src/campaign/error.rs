@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use crate::campaign::shard::ShardError;
 use crate::campaign::suite_io::SuiteIoError;
 use crate::maps::MapError;
 use crate::suite::CaseError;
@@ -39,7 +40,21 @@ pub enum CampaignError {
     #[error("vouch's own oracle output did not parse: {0}")]
     #[diagnostic(code(navfn::E051))]
     Own(String),
-    /// An output file (picture) that cannot be written.
+    /// A suite folder that does not match its manifest, or a share run in a way that cannot
+    /// cover it.
+    #[error("{}: {msg}", dir.display())]
+    #[diagnostic(code(navfn::E055))]
+    Share {
+        /// The suite folder.
+        dir: PathBuf,
+        /// What does not match.
+        msg: String,
+    },
+    /// A shard specification that cannot be used.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Shard(#[from] ShardError),
+    /// An output file (picture, per-case records) that cannot be written.
     #[error("{}: {source}", path.display())]
     #[diagnostic(code(navfn::E052))]
     Write {
@@ -65,7 +80,7 @@ impl CampaignError {
             CampaignError::Map(m) => m.is_io(),
             CampaignError::Suite(s) => s.is_io(),
             CampaignError::Write { .. } => true,
-            CampaignError::Oracle(_) | CampaignError::Gen(_) => true,
+            CampaignError::Oracle(_) | CampaignError::Gen(_) | CampaignError::Shard(_) => true,
             _ => false,
         }
     }

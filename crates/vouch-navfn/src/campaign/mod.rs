@@ -7,16 +7,22 @@
 //! * `optimal` — cost model, 8-connected optimum, obtuse turns and oscillations;
 //! * `transform` + `metamorphic` — grid symmetries, embedding, and the relations between runs;
 //! * `names` — properties, relations, outcomes and finding kinds as types;
-//! * `runner` — the parallel campaign, `report` — JSON report, shards, merge; `summary` — the
-//!   human table; `pictures` — PNG of counterexamples; `error` — what can go wrong.
+//! * `evaluate` — everything measured on one case; `runner` — the streamed, parallel campaign;
+//! * `shard` — which maps and cases a shard runs; `identity` — suite fingerprints, map digests,
+//!   content hash, the generator's manifest; `report` — the JSON report; `merge` — strict
+//!   merging of shard reports; `summary` — the human table; `pictures` — PNG of
+//!   counterexamples; `error` — what can go wrong.
 //!
 //! The campaign only calls the core through `crate::suite`; it never changes a NavFn result.
 
 pub mod diff;
 pub mod error;
+pub mod evaluate;
 pub mod exec;
 pub mod gen;
 pub mod grid;
+pub mod identity;
+pub mod merge;
 pub mod metamorphic;
 pub mod names;
 pub mod optimal;
@@ -26,6 +32,7 @@ pub mod report;
 pub mod rng;
 pub mod ros_import;
 pub mod runner;
+pub mod shard;
 pub mod suite_io;
 pub mod summary;
 pub mod trace;

@@ -3,25 +3,27 @@
 //! blue and the 8-connected optimum in green, start (NavFn start) as a green dot, goal blue.
 //! Right: the core's picture (potential heat map, NavFn path in red).
 
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::campaign::error::CampaignError;
+use crate::campaign::evaluate::{picture_path, prepare, PreparedMap};
 use crate::campaign::exec::{navfn_ends, run_case};
 use crate::campaign::grid::{Case, OBSTACLE};
 use crate::campaign::names::FindingKind;
 use crate::campaign::optimal::grid_optimum;
-use crate::campaign::report::Report;
-use crate::campaign::runner::{find_map, picture_path, PreparedMap};
+use crate::campaign::report::{Finding, Report};
+use crate::campaign::suite_io::{read_test_file, walk_suite};
 use crate::picture::{cell_scale, render, write_png, PictureInput, Rgb};
 use crate::suite::{CaseRunner, RunMode};
 
-/// Writes a picture of every finding on a map of `maps` (not the oracle mismatches and
-/// approximate relations, which a picture of one run does not show) into `dir`, and records
-/// its path in the finding.
+/// Writes a picture of every finding of `report` (not the oracle mismatches and approximate
+/// relations, which a picture of one run does not show) into `dir`, and records its path in the
+/// finding. The maps of the findings are read again from `suite`, one at a time.
 pub fn write_pictures(
     dir: &Path,
     report: &mut Report,
-    maps: &[PreparedMap],
+    suite: &Path,
     mode: RunMode,
 ) -> Result<(), CampaignError> {
     let write_err = |path: &Path| {
@@ -29,14 +31,31 @@ pub fn write_pictures(
         move |source| CampaignError::Write { path, source }
     };
     std::fs::create_dir_all(dir).map_err(write_err(dir))?;
-    for f in report.findings.iter_mut() {
-        if matches!(f.kind, FindingKind::OracleMismatch | FindingKind::ApproxRelation) {
+    let pictured =
+        |f: &Finding| !matches!(f.kind, FindingKind::OracleMismatch | FindingKind::ApproxRelation);
+    let wanted: BTreeSet<(String, String)> = report
+        .findings
+        .iter()
+        .filter(|f| pictured(f))
+        .map(|f| (f.category.clone(), f.map.clone()))
+        .collect();
+    if wanted.is_empty() {
+        return Ok(());
+    }
+    for entry in walk_suite(suite)? {
+        let entry = entry?;
+        if !wanted.contains(&(entry.category.clone(), entry.name.clone())) {
             continue;
         }
-        let Some(pm) = find_map(maps, &f.category, &f.map) else { continue };
-        let p = picture_path(dir, f);
-        counterexample_png(&p, pm, f.case as usize, mode).map_err(write_err(&p))?;
-        f.picture = Some(p.display().to_string());
+        let pm = prepare(read_test_file(&entry.test_txt, &entry.category, &entry.name)?, false);
+        for f in report.findings.iter_mut() {
+            if !pictured(f) || f.category != entry.category || f.map != entry.name {
+                continue;
+            }
+            let p = picture_path(dir, f);
+            counterexample_png(&p, &pm, f.case as usize, mode).map_err(write_err(&p))?;
+            f.picture = Some(p.display().to_string());
+        }
     }
     Ok(())
 }

@@ -1,49 +1,22 @@
-//! The campaign report: mergeable per-category statistics, counterexamples, JSON, shards and
-//! `report merge` (the human summary table is `summary.rs`).
+//! The campaign report: what was run on which suite with which options (`identity`,
+//! `ResultOptions`, `ShardSet`), mergeable per-category statistics, counterexamples, and how
+//! long each run took (`RunInfo`). Merging is `merge.rs`; the human table `summary.rs`.
 //!
-//! Every statistic is a count, a sum, a maximum or a fixed-bin histogram, so that the report
-//! of N shards merged equals (up to float summation order) the report of one unsharded run.
+//! Every statistic is a count, an integer sum (costs in millionths), a maximum, a minimum or a
+//! fixed-bin histogram, and findings are kept by a total order: merging shard reports is exact,
+//! and gives the same report whatever the order or grouping of the merge. Merged counts
+//! saturate instead of overflowing (a crafted report cannot make a merge panic), and a report
+//! read from JSON is checked for consistency before it is used.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::campaign::identity::SuiteIdentity;
 use crate::campaign::names::{Failed, FindingKind, Outcome, Property, Relation};
+use crate::campaign::shard::{Shard, ShardBy};
 use crate::suite::RunMode;
-
-/// `--shard I/N`: this process handles the cases whose global index `g` (file order over the
-/// sorted suite tree, then case order) satisfies `g % N == I`. Round-robin keeps shards
-/// balanced even though maps differ in size, and needs no coordination between machines.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    /// `I`, from 0.
-    pub index: u32,
-    /// `N`.
-    pub count: u32,
-}
-
-impl Shard {
-    /// The whole suite (shard 0 of 1).
-    pub const ALL: Shard = Shard { index: 0, count: 1 };
-
-    /// Parse `I/N` with `0 <= I < N`.
-    pub fn parse(s: &str) -> Result<Shard, String> {
-        let (i, n) =
-            s.split_once('/').ok_or_else(|| format!("shard `{s}`: expected I/N, e.g. 0/4"))?;
-        let index: u32 = i.trim().parse().map_err(|_| format!("shard `{s}`: bad index `{i}`"))?;
-        let count: u32 = n.trim().parse().map_err(|_| format!("shard `{s}`: bad count `{n}`"))?;
-        if count == 0 || index >= count {
-            return Err(format!("shard `{s}`: need 0 <= I < N"));
-        }
-        Ok(Shard { index, count })
-    }
-
-    /// Whether this shard runs the case of global index `global_case`.
-    pub fn owns(self, global_case: u64) -> bool {
-        global_case % u64::from(self.count) == u64::from(self.index)
-    }
-}
 
 /// Pass/fail counter of one check.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -63,24 +36,30 @@ impl PassFail {
             self.fail += 1
         }
     }
-    fn merge(&mut self, o: &PassFail) {
-        self.pass += o.pass;
-        self.fail += o.fail;
+    pub(crate) fn merge(&mut self, o: &PassFail) {
+        self.pass = self.pass.saturating_add(o.pass);
+        self.fail = self.fail.saturating_add(o.fail);
     }
 }
 
 /// Histogram bins of the optimality ratio `navfn_cost / optimal_cost`.
 pub const RATIO_BINS: [f64; 9] = [0.95, 1.0, 1.01, 1.05, 1.0825, 1.10, 1.25, 1.5, 2.0];
 
+/// A non-negative cost in millionths (rounded to nearest).
+fn micros(cost: f64) -> u128 {
+    (cost.max(0.0) * 1e6).round() as u128
+}
+
 /// Optimality statistics over cases where NavFn found a path and start ≠ goal.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct OptimalityStats {
     /// Paths compared with the optimum.
     pub compared: u64,
-    /// Sum of NavFn path costs (campaign model).
-    pub navfn_cost_sum: f64,
-    /// Sum of the optimal costs.
-    pub optimal_cost_sum: f64,
+    /// Sum of NavFn path costs (campaign model), in millionths of a cost unit (each path's
+    /// cost rounded once): an integer, so that sums merge exactly in any order.
+    pub navfn_cost_micros: u128,
+    /// Sum of the optimal costs, in millionths.
+    pub optimal_cost_micros: u128,
     /// Largest `navfn − optimal` and the smallest (negative: any-angle path beat the grid).
     pub excess_max: f64,
     /// Smallest `navfn − optimal`.
@@ -98,6 +77,14 @@ pub struct OptimalityStats {
 }
 
 impl OptimalityStats {
+    /// Aggregate excess of NavFn over the optimum, percent (0 when nothing was compared).
+    pub fn excess_percent(&self) -> f64 {
+        if self.optimal_cost_micros == 0 {
+            return 0.0;
+        }
+        100.0 * (self.navfn_cost_micros as f64 / self.optimal_cost_micros as f64 - 1.0)
+    }
+
     /// Counts one compared path.
     pub fn record(&mut self, navfn: f64, optimal: f64) {
         if self.ratio_hist.is_empty() {
@@ -105,8 +92,8 @@ impl OptimalityStats {
             self.excess_min = f64::INFINITY;
         }
         self.compared += 1;
-        self.navfn_cost_sum += navfn;
-        self.optimal_cost_sum += optimal;
+        self.navfn_cost_micros += micros(navfn);
+        self.optimal_cost_micros += micros(optimal);
         let excess = navfn - optimal;
         self.excess_max = self.excess_max.max(excess);
         self.excess_min = self.excess_min.min(excess);
@@ -123,18 +110,18 @@ impl OptimalityStats {
                 self.excess_min = f64::INFINITY;
             }
             for (a, b) in self.ratio_hist.iter_mut().zip(&o.ratio_hist) {
-                *a += b;
+                *a = a.saturating_add(*b);
             }
             self.excess_max = self.excess_max.max(o.excess_max);
             self.excess_min = self.excess_min.min(o.excess_min);
             self.ratio_max = self.ratio_max.max(o.ratio_max);
         }
-        self.compared += o.compared;
-        self.navfn_cost_sum += o.navfn_cost_sum;
-        self.optimal_cost_sum += o.optimal_cost_sum;
-        self.obtuse_paths += o.obtuse_paths;
-        self.oscillating_paths += o.oscillating_paths;
-        self.suboptimal_paths += o.suboptimal_paths;
+        self.compared = self.compared.saturating_add(o.compared);
+        self.navfn_cost_micros = self.navfn_cost_micros.saturating_add(o.navfn_cost_micros);
+        self.optimal_cost_micros = self.optimal_cost_micros.saturating_add(o.optimal_cost_micros);
+        self.obtuse_paths = self.obtuse_paths.saturating_add(o.obtuse_paths);
+        self.oscillating_paths = self.oscillating_paths.saturating_add(o.oscillating_paths);
+        self.suboptimal_paths = self.suboptimal_paths.saturating_add(o.suboptimal_paths);
     }
 }
 
@@ -166,18 +153,18 @@ impl Outcomes {
     }
 
     fn merge(&mut self, o: &Outcomes) {
-        self.found += o.found;
-        self.start_is_goal += o.start_is_goal;
-        self.unreachable += o.unreachable;
-        self.cycle_limit += o.cycle_limit;
-        self.path_failed += o.path_failed;
+        self.found = self.found.saturating_add(o.found);
+        self.start_is_goal = self.start_is_goal.saturating_add(o.start_is_goal);
+        self.unreachable = self.unreachable.saturating_add(o.unreachable);
+        self.cycle_limit = self.cycle_limit.saturating_add(o.cycle_limit);
+        self.path_failed = self.path_failed.saturating_add(o.path_failed);
     }
 }
 
 /// Everything counted for one category.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CategoryStats {
-    /// Maps of the category (in this shard).
+    /// Maps of the category the report read (a union over merged shards).
     pub maps: u64,
     /// Cases run.
     pub cases: u64,
@@ -191,8 +178,6 @@ pub struct CategoryStats {
     pub optimality: OptimalityStats,
     /// Differential comparison with an oracle (when one was given): equal / different cases.
     pub oracle: PassFail,
-    /// CPU time spent in this category's cases, summed over threads (seconds).
-    pub cpu_seconds: f64,
     /// Largest total occupancy of the priority buffers.
     pub max_buffer_occupancy: u64,
 }
@@ -208,15 +193,14 @@ impl CategoryStats {
     }
     /// Failed properties and exact relations (oracle disagreements not included).
     pub fn hard_failures(&self) -> u64 {
-        let checks: u64 = self.checks.values().map(|p| p.fail).sum();
-        let exact: u64 =
-            self.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail).sum();
-        checks + exact
+        let checks = self.checks.values().map(|p| p.fail).fold(0, u64::saturating_add);
+        let exact = self.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail);
+        checks.saturating_add(exact.fold(0, u64::saturating_add))
     }
-    /// Adds another category's counts.
+    /// Adds another category's counts (`maps` too: the caller decides whether they overlap).
     pub fn merge(&mut self, o: &CategoryStats) {
-        self.maps += o.maps;
-        self.cases += o.cases;
+        self.maps = self.maps.saturating_add(o.maps);
+        self.cases = self.cases.saturating_add(o.cases);
         self.outcomes.merge(&o.outcomes);
         for (k, v) in &o.checks {
             self.checks.entry(*k).or_default().merge(v);
@@ -226,7 +210,6 @@ impl CategoryStats {
         }
         self.optimality.merge(&o.optimality);
         self.oracle.merge(&o.oracle);
-        self.cpu_seconds += o.cpu_seconds;
         self.max_buffer_occupancy = self.max_buffer_occupancy.max(o.max_buffer_occupancy);
     }
 }
@@ -252,38 +235,121 @@ pub struct Finding {
     pub picture: Option<String>,
 }
 
+impl Finding {
+    /// The order findings are kept in: by kind, highest score first, then by every other
+    /// field (a total order).
+    pub fn rank(a: &Finding, b: &Finding) -> std::cmp::Ordering {
+        a.kind
+            .cmp(&b.kind)
+            .then(b.score.total_cmp(&a.score))
+            .then_with(|| (&a.category, &a.map, a.case).cmp(&(&b.category, &b.map, b.case)))
+            .then_with(|| (a.coords, &a.detail, &a.picture).cmp(&(b.coords, &b.detail, &b.picture)))
+    }
+}
+
 /// How many findings of each kind a report keeps (the worst ones by score).
 pub const FINDINGS_PER_KIND: usize = 25;
+
+/// Version of the report format; `report merge` reads only this one.
+pub const REPORT_FORMAT: u32 = 2;
+
+/// The options that change what a campaign finds: reports that differ in any of them do not
+/// merge.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ResultOptions {
+    /// The call sequence.
+    pub mode: RunMode,
+    /// Metamorphic transforms run.
+    pub metamorphic: bool,
+    /// Optimality analysed.
+    pub optimality: bool,
+    /// Optimality counterexample threshold.
+    pub ratio: f64,
+    /// Oracle command every case was compared with, if any.
+    pub oracle: Option<String>,
+}
+
+/// The shards a report covers: `indices` of `count`, split by `by`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShardSet {
+    /// `N`.
+    pub count: u32,
+    /// What was split.
+    pub by: ShardBy,
+    /// The shard indices merged into the report, ascending.
+    pub indices: Vec<u32>,
+}
+
+impl Default for ShardSet {
+    fn default() -> Self {
+        ShardSet::of(Shard::ALL)
+    }
+}
+
+impl ShardSet {
+    /// The set of one shard.
+    pub fn of(s: Shard) -> ShardSet {
+        ShardSet { count: s.count, by: s.by, indices: vec![s.index] }
+    }
+
+    /// How many indices of `0..count` are not in the set (indices are unique and below
+    /// `count` in any report that passed [`Report::inconsistency`]).
+    pub fn missing_count(&self) -> u64 {
+        u64::from(self.count).saturating_sub(self.indices.len() as u64)
+    }
+
+    /// The first `limit` indices of `0..count` not in the set, ascending.
+    pub fn missing(&self, limit: usize) -> Vec<u32> {
+        (0..self.count).filter(|i| self.indices.binary_search(i).is_err()).take(limit).collect()
+    }
+
+    /// Whether every shard is present.
+    pub fn complete(&self) -> bool {
+        self.missing_count() == 0
+    }
+}
+
+/// One process's run: where, how long, on how many threads. Not compared by merges.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunInfo {
+    /// The shard index it ran.
+    pub shard: u32,
+    /// The suite path as given to it.
+    pub suite_path: String,
+    /// Wall time, seconds.
+    pub wall_seconds: f64,
+    /// Worker threads.
+    pub threads: usize,
+    /// Time spent in each category's cases, summed over threads, seconds.
+    pub cpu_seconds: BTreeMap<String, f64>,
+}
 
 /// The JSON report.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Report {
-    /// The suite folder.
-    pub suite: String,
-    /// The call sequence.
-    pub mode: RunMode,
-    /// Shards merged into this report (one entry per shard run).
-    pub shards: Vec<Shard>,
+    /// [`REPORT_FORMAT`].
+    pub format: u32,
+    /// The vouch version that produced it.
+    pub vouch_version: String,
+    /// The suite: fingerprint, size, every map read and its digest, the content hash.
+    pub suite: SuiteIdentity,
+    /// The options that change results.
+    pub options: ResultOptions,
+    /// The shards merged into this report.
+    pub shards: ShardSet,
+    /// Cases run.
     pub cases: u64,
-    /// Wall time of each shard run, seconds.
-    pub wall_seconds: Vec<f64>,
-    /// Worker threads of each shard run.
-    pub threads: Vec<usize>,
     /// Statistics per category folder.
     pub categories: BTreeMap<String, CategoryStats>,
     /// The worst findings of each kind.
     pub findings: Vec<Finding>,
-    /// One record per case when asked for (`campaign --cases-out`); written as JSON lines, not
-    /// part of the JSON report (and not merged).
-    #[serde(skip)]
-    pub per_case: Vec<CaseRecord>,
+    /// Each shard run, by shard index.
+    pub runs: Vec<RunInfo>,
 }
 
 /// Everything the campaign says about one case (`--cases-out`, one JSON object per line).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CaseRecord {
-    /// Global index (suite file order, then case order): the key shards split on.
-    pub global: u64,
     /// Category folder.
     pub category: String,
     /// Map folder.
@@ -327,21 +393,93 @@ pub enum ReportError {
         /// What serde_json said.
         msg: String,
     },
-    /// Reports that cannot be merged.
-    #[error("{0}")]
+    /// A report whose parts contradict each other (edited or damaged).
+    #[error("{}: inconsistent report: {msg}", path.display())]
+    #[diagnostic(code(navfn::E056))]
+    Invalid {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What contradicts what.
+        msg: String,
+    },
+    /// A report of another format version.
+    #[error("{}: report format {found}, this vouch reads format {REPORT_FORMAT} (run the campaign again)", path.display())]
     #[diagnostic(code(navfn::E041))]
-    Merge(String),
+    Version {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Its format number (0 when absent).
+        found: u32,
+    },
 }
 
 impl Report {
-    /// A report from its JSON text (`path` locates errors).
+    /// A report from its JSON text (`path` locates errors); reports of another format version
+    /// are refused before their fields are read.
     pub fn from_json(path: &Path, text: &str) -> Result<Report, ReportError> {
-        serde_json::from_str(text).map_err(|e| ReportError::Format {
+        let format_err = |e: serde_json::Error| ReportError::Format {
             path: path.to_path_buf(),
             line: e.line(),
             column: e.column(),
             msg: e.to_string(),
-        })
+        };
+        #[derive(Deserialize)]
+        struct Head {
+            #[serde(default)]
+            format: u32,
+        }
+        let head: Head = serde_json::from_str(text).map_err(format_err)?;
+        if head.format != REPORT_FORMAT {
+            return Err(ReportError::Version { path: path.to_path_buf(), found: head.format });
+        }
+        let report: Report = serde_json::from_str(text).map_err(format_err)?;
+        match report.inconsistency() {
+            Some(msg) => Err(ReportError::Invalid { path: path.to_path_buf(), msg }),
+            None => Ok(report),
+        }
+    }
+
+    /// What contradicts what in the report, if anything: shard indices not ascending, repeated
+    /// or not below the shard count, runs of shards the report does not hold, more maps than
+    /// the suite has, a case total that is not the sum of the categories', a histogram of the
+    /// wrong length, a ratio below 1, another format.
+    pub fn inconsistency(&self) -> Option<String> {
+        let sh = &self.shards;
+        let ascending = sh.indices.windows(2).all(|w| w[0] < w[1]);
+        if sh.count == 0 || sh.indices.is_empty() || !ascending {
+            return Some("shard indices must be ascending, unique and at least one".into());
+        }
+        if sh.indices.iter().any(|&i| i >= sh.count) {
+            return Some(format!("a shard index is not below the shard count {}", sh.count));
+        }
+        if self.runs.iter().any(|r| sh.indices.binary_search(&r.shard).is_err()) {
+            return Some("a run of a shard the report does not hold".into());
+        }
+        if self.suite.maps.len() as u64 > self.suite.maps_total {
+            return Some(format!("more maps read than the suite's {}", self.suite.maps_total));
+        }
+        let cases = self.categories.values().map(|c| c.cases).fold(0, u64::saturating_add);
+        if cases != self.cases {
+            return Some(format!("{} cases, but the categories add up to {cases}", self.cases));
+        }
+        let bins = RATIO_BINS.len() + 1;
+        if self.categories.values().any(|c| ![0, bins].contains(&c.optimality.ratio_hist.len())) {
+            return Some(format!("a ratio histogram without {bins} bins"));
+        }
+        let ratio_ok = self.options.ratio.is_finite() && self.options.ratio >= 1.0;
+        if !ratio_ok || self.format != REPORT_FORMAT {
+            return Some("the ratio must be at least 1, the format 2".into());
+        }
+        None
+    }
+
+    /// Whether two reports say the same about the same suite: everything but which shards
+    /// ran and how long they took.
+    pub fn same_results(&self, o: &Report) -> bool {
+        (&self.format, &self.vouch_version, &self.suite, &self.options)
+            == (&o.format, &o.vouch_version, &o.suite, &o.options)
+            && (self.cases, &self.categories, &self.findings)
+                == (o.cases, &o.categories, &o.findings)
     }
 
     /// All categories added up.
@@ -356,19 +494,15 @@ impl Report {
     /// Number of failed hard checks (search-trace properties, exact relations, oracle).
     pub fn failures(&self) -> u64 {
         let t = self.total();
-        t.hard_failures() + t.oracle.fail
+        t.hard_failures().saturating_add(t.oracle.fail)
     }
 
-    /// Keep the [`FINDINGS_PER_KIND`] highest-scoring findings of each kind, in a stable order.
+    /// Keep the [`FINDINGS_PER_KIND`] first findings of each kind in [`Finding::rank`]
+    /// order. The order is total, so trimming a union of trimmed lists keeps the same findings
+    /// as trimming the whole.
     pub fn trim_findings(&mut self) {
-        self.findings.sort_by(|a, b| {
-            a.kind
-                .cmp(&b.kind)
-                .then(b.score.total_cmp(&a.score))
-                .then(a.category.cmp(&b.category))
-                .then(a.map.cmp(&b.map))
-                .then(a.case.cmp(&b.case))
-        });
+        self.findings.sort_by(Finding::rank);
+        self.findings.dedup();
         let mut kept = Vec::new();
         let mut count: BTreeMap<FindingKind, usize> = BTreeMap::new();
         for f in self.findings.drain(..) {
@@ -380,50 +514,6 @@ impl Report {
         }
         self.findings = kept;
     }
-
-    /// `vouch navfn report merge`: join shard reports of the same suite and mode.
-    pub fn merge(reports: &[Report]) -> Result<Report, ReportError> {
-        let merge_err = |m: String| ReportError::Merge(m);
-        let first = reports.first().ok_or_else(|| merge_err("no reports to merge".into()))?;
-        let mut out = Report { suite: first.suite.clone(), mode: first.mode, ..Report::default() };
-        for r in reports {
-            if r.suite != first.suite || r.mode != first.mode {
-                return Err(merge_err(format!(
-                    "cannot merge a report of `{}` ({}) with one of `{}` ({})",
-                    r.suite,
-                    r.mode.name(),
-                    first.suite,
-                    first.mode.name()
-                )));
-            }
-            for s in &r.shards {
-                if out.shards.contains(s) {
-                    return Err(merge_err(format!("shard {}/{} appears twice", s.index, s.count)));
-                }
-            }
-            out.shards.extend(r.shards.iter().copied());
-            out.cases += r.cases;
-            out.wall_seconds.extend(r.wall_seconds.iter().copied());
-            out.threads.extend(r.threads.iter().copied());
-            for (k, v) in &r.categories {
-                let e = out.categories.entry(k.clone()).or_default();
-                // A map seen by several shards is counted once per shard; keep the largest.
-                let maps = e.maps.max(v.maps);
-                e.merge(v);
-                e.maps = maps;
-            }
-            out.findings.extend(r.findings.iter().cloned());
-        }
-        out.shards.sort_by_key(|s| (s.count, s.index));
-        out.trim_findings();
-        Ok(out)
-    }
-
-    /// Whether the shards form a complete partition (every index of one count present once).
-    pub fn complete(&self) -> bool {
-        let Some(n) = self.shards.first().map(|s| s.count) else { return false };
-        self.shards.len() == n as usize && self.shards.iter().all(|s| s.count == n)
-    }
 }
 
 #[cfg(test)]
@@ -431,38 +521,64 @@ mod tests {
     use super::*;
 
     #[test]
-    fn shard_parse_and_ownership_partition_cases() {
-        assert!(Shard::parse("3/3").is_err());
-        assert!(Shard::parse("x").is_err());
-        let shards: Vec<Shard> =
-            (0..4).map(|i| Shard::parse(&format!("{i}/4")).expect("valid")).collect();
-        for g in 0..1000u64 {
-            assert_eq!(shards.iter().filter(|s| s.owns(g)).count(), 1);
-        }
+    fn optimality_sums_are_exact_integers() {
+        let mut a = OptimalityStats::default();
+        a.record(0.1, 0.1);
+        a.record(0.2, 0.1);
+        assert_eq!((a.navfn_cost_micros, a.optimal_cost_micros), (300_000, 200_000));
+        assert!((a.excess_percent() - 50.0).abs() < 1e-12);
+        let json = serde_json::to_string(&a).expect("json");
+        let back: OptimalityStats = serde_json::from_str(&json).expect("reads back");
+        assert_eq!(back, a);
+        let big = OptimalityStats { navfn_cost_micros: u128::from(u64::MAX) * 7, ..a };
+        let back: OptimalityStats =
+            serde_json::from_str(&serde_json::to_string(&big).expect("json")).expect("u128");
+        assert_eq!(back.navfn_cost_micros, u128::from(u64::MAX) * 7);
     }
 
     #[test]
-    fn merge_adds_counts_and_rejects_duplicates() {
-        let mut a = Report {
-            suite: "s".into(),
-            mode: RunMode::Paper,
-            shards: vec![Shard { index: 0, count: 2 }],
-            cases: 3,
-            ..Report::default()
+    fn trimming_is_independent_of_order_and_grouping() {
+        let f = |kind, score: f64, case: u64, detail: &str| Finding {
+            kind,
+            category: "c".into(),
+            map: "m".into(),
+            case,
+            coords: [0; 4],
+            detail: detail.into(),
+            score,
+            picture: None,
         };
-        let mut c = CategoryStats { maps: 1, cases: 3, ..Default::default() };
-        c.check(Property::Progress, true);
-        c.optimality.record(110.0, 100.0);
-        a.categories.insert("free".into(), c);
-        let mut b = a.clone();
-        b.shards = vec![Shard { index: 1, count: 2 }];
-        let m = Report::merge(&[a.clone(), b]).expect("merges");
-        assert!(m.complete());
-        assert_eq!(m.cases, 6);
-        let f = &m.categories["free"];
-        assert_eq!(f.checks[&Property::Progress], PassFail { pass: 2, fail: 0 });
-        assert_eq!(f.optimality.compared, 2);
-        assert_eq!(f.maps, 1);
-        assert!(Report::merge(&[a.clone(), a]).is_err());
+        let mut all = Vec::new();
+        for i in 0..60u64 {
+            // equal scores and several findings per case: only the total order decides
+            all.push(f(FindingKind::Suboptimal, 1.0 + (i % 7) as f64, i % 13, "x"));
+            all.push(f(FindingKind::Suboptimal, 1.0 + (i % 7) as f64, i % 13, "y"));
+            all.push(f(FindingKind::RelationFailed, 1.0, i, "z"));
+        }
+        let trim = |v: Vec<Finding>| {
+            let mut r = Report { findings: v, ..Report::default() };
+            r.trim_findings();
+            r.findings
+        };
+        let whole = trim(all.clone());
+        let mut rev = all.clone();
+        rev.reverse();
+        assert_eq!(trim(rev), whole);
+        let (a, b) = all.split_at(77);
+        let mut parts = trim(b.to_vec());
+        parts.extend(trim(a.to_vec()));
+        assert_eq!(trim(parts), whole);
+        assert_eq!(whole.len(), 2 * FINDINGS_PER_KIND);
+    }
+
+    #[test]
+    fn other_formats_are_refused_with_their_number() {
+        let p = Path::new("r.json");
+        let e = Report::from_json(p, "{\"format\": 1}").expect_err("old");
+        assert!(matches!(e, ReportError::Version { found: 1, .. }), "{e}");
+        let e = Report::from_json(p, "{\n \"suite\": 3\n}").expect_err("no format");
+        assert!(matches!(e, ReportError::Version { found: 0, .. }), "{e}");
+        let e = Report::from_json(p, "{\"format\": 2, \"cases\": \"x\"}").expect_err("bad");
+        assert!(e.to_string().starts_with("r.json:1:"), "{e}");
     }
 }

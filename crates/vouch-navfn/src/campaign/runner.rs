@@ -1,66 +1,34 @@
-//! `vouch navfn campaign`: every case of a suite through NavFn with the search-trace property
-//! observer, the final-state checks, the optimality analysis and the metamorphic relations, in
-//! parallel (rayon), into a mergeable [`Report`]. Progress is reported through [`Progress`];
-//! the library draws nothing.
+//! `vouch navfn campaign`: every case of a suite (or of one shard of it) through NavFn with the
+//! checks of `evaluate`, in parallel (rayon), into a mergeable [`Report`].
+//!
+//! The suite is **streamed**: the tree is walked one folder at a time, the maps this shard reads
+//! are loaded a small batch at a time, their units run in waves of a few per thread, and every
+//! wave's per-case records go to the [`CaseSink`] in suite order before the next wave starts.
+//! A map is dropped as soon as its cases are done. Memory is therefore the batch and the wave
+//! (a constant) plus the report, whose only part that grows is the digest of each map read —
+//! a shard's share. Progress goes to a [`Progress`]; the library draws nothing.
 
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::collections::BTreeMap;
+use std::path::Path;
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 use crate::campaign::error::CampaignError;
-use crate::campaign::exec::{navfn_ends, plan_checks, run_case, CaseRun};
-use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
-use crate::campaign::metamorphic::{self, OriginalCtx, RunDigest};
-use crate::campaign::names::{Failed, FindingKind, Outcome, Property};
-use crate::campaign::optimal::{dijkstra, path_cost, path_shape};
-use crate::campaign::report::{CaseRecord, CategoryStats, Finding, Report, Shard};
-use crate::campaign::suite_io::{list_suite, read_test_file};
-use crate::campaign::transform::Transform;
-use crate::core::{Cell, PropagationEnd, POT_HIGH};
-use crate::suite::{CaseRunner, RunMode};
+pub use crate::campaign::evaluate::{prepare, to_pairs, CampaignOptions, PreparedMap};
+use crate::campaign::evaluate::{run_unit, UnitResult};
+use crate::campaign::identity::{read_manifest, IdentityBasis, ListingFingerprint, MapDigest};
+use crate::campaign::merge::count_maps;
+use crate::campaign::report::{
+    CaseRecord, Report, ResultOptions, RunInfo, ShardSet, REPORT_FORMAT,
+};
+use crate::campaign::shard::{Shard, ShardBy};
+use crate::campaign::suite_io::{no_test_files, read_entry_with_digest, walk_suite, SuiteEntry};
 
-/// What a campaign does.
-#[derive(Clone, Debug)]
-pub struct CampaignOptions {
-    /// The call sequence every case runs in.
-    pub mode: RunMode,
-    /// The cases this process runs.
-    pub shard: Shard,
-    /// Run the metamorphic transforms (6 extra runs per case).
-    pub metamorphic: bool,
-    /// Compute the 8-connected optimum of every found path.
-    pub optimality: bool,
-    /// A path whose campaign-model cost exceeds the optimum by this factor is a counterexample.
-    /// The default 1.10 sits above the 8.24 % any-angle/octile metric gap, so a finding is a real
-    /// detour, not a metric artefact.
-    pub suboptimal_ratio: f64,
-    /// Cases per work unit (a unit = consecutive cases of one map, sharing one NavFn and one
-    /// optimum cache).
-    pub unit_cases: usize,
-    /// Keep a [`CaseRecord`] per case in `Report::per_case`.
-    pub per_case: bool,
-}
-
-impl Default for CampaignOptions {
-    fn default() -> Self {
-        CampaignOptions {
-            mode: RunMode::Paper,
-            shard: Shard::ALL,
-            metamorphic: true,
-            optimality: true,
-            suboptimal_ratio: 1.10,
-            unit_cases: 1024,
-            per_case: false,
-        }
-    }
-}
-
-/// Receives progress from the worker threads: the number of cases to run, then the cases done.
+/// Receives progress from the worker threads.
 pub trait Progress: Sync {
-    /// The number of cases the campaign will run.
-    fn start(&self, _cases: u64) {}
+    /// `cases` more cases were found to run (maps are discovered as the suite streams by).
+    fn found(&self, _cases: u64) {}
     /// `cases` more cases are done.
     fn advance(&self, _cases: u64) {}
 }
@@ -68,431 +36,199 @@ pub trait Progress: Sync {
 /// No progress reporting.
 impl Progress for () {}
 
-/// A loaded map with what every case on it shares.
-pub struct PreparedMap {
-    /// The map and its cases.
-    pub map: SuiteMap,
-    /// Costs as NavFn's set-up leaves them (border 254).
-    pub setup_costs: Vec<u8>,
-    /// 4-connected component of every cell.
-    pub components: Vec<u32>,
-    /// Global index of its first case (file order over the sorted suite).
-    pub first_global: u64,
-    /// Transformed maps (same order as [`Transform::ALL_BASIC`]), when metamorphic testing is on.
-    pub transformed: Vec<(Transform, SuiteMap, Vec<u8>)>,
+/// Receives one record per case run, in suite order (map walk order, then case order).
+pub trait CaseSink {
+    /// One more record.
+    fn accept(&mut self, record: CaseRecord) -> Result<(), CampaignError>;
 }
 
-fn stamped(m: &SuiteMap) -> Vec<u8> {
-    let mut c = m.clone();
-    c.stamp_border();
-    c.costs
-}
-
-/// Prepares a map: set-up costs, components, and the transformed maps when asked for.
-pub fn prepare(map: SuiteMap, first_global: u64, metamorphic: bool) -> PreparedMap {
-    let setup_costs = stamped(&map);
-    let components = map.components().0;
-    let transformed = if metamorphic {
-        Transform::ALL_BASIC
-            .iter()
-            .map(|&t| {
-                let tm = t.apply(&map);
-                let tc = stamped(&tm);
-                (t, tm, tc)
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    PreparedMap { map, setup_costs, components, first_global, transformed }
-}
-
-/// Load a suite tree and prepare its maps.
-pub fn load_suite(dir: &Path, metamorphic: bool) -> Result<Vec<PreparedMap>, CampaignError> {
-    let entries = list_suite(dir)?;
-    let maps: Vec<SuiteMap> = entries
-        .par_iter()
-        .map(|e| read_test_file(&e.test_txt, &e.category, &e.name))
-        .collect::<Result<_, _>>()?;
-    let mut first = 0u64;
-    let mut out = Vec::with_capacity(maps.len());
-    for m in maps {
-        let n = m.cases.len() as u64;
-        out.push(prepare(m, first, metamorphic));
-        first += n;
-    }
-    Ok(out)
-}
-
-/// Everything one unit produces.
-#[derive(Default)]
-struct UnitResult {
-    category: String,
-    stats: CategoryStats,
-    findings: Vec<Finding>,
-    records: Vec<CaseRecord>,
-}
-
-/// Optimum distances from a NavFn goal, cached per unit (small maps) — the cost model is
-/// symmetric, so one Dijkstra from the goal serves every start.
-#[derive(Default)]
-struct OptimumCache {
-    full: HashMap<usize, Vec<f64>>,
-}
-
-const FULL_DIJKSTRA_MAX_CELLS: usize = 4096;
-
-impl OptimumCache {
-    fn optimum(&mut self, costs: &[u8], w: usize, h: usize, start: usize, goal: usize) -> f64 {
-        if w * h <= FULL_DIJKSTRA_MAX_CELLS {
-            let d = self.full.entry(goal).or_insert_with(|| dijkstra(costs, w, h, goal, None).0);
-            d[start]
-        } else {
-            dijkstra(costs, w, h, goal, Some(start)).0[start]
-        }
+/// Keeps the records in memory.
+impl CaseSink for Vec<CaseRecord> {
+    fn accept(&mut self, record: CaseRecord) -> Result<(), CampaignError> {
+        self.push(record);
+        Ok(())
     }
 }
 
-fn digest(
-    run: &CaseRun,
-    runner: &CaseRunner,
-    start: Cell,
-    costs: &[u8],
-    w: u32,
-    h: u32,
-) -> RunDigest {
-    let nav = runner.nav();
-    let path = nav.path().to_vec();
-    let oscillated = path_shape(&to_pairs(nav.path_recorded())).oscillations > 0;
-    let cost = (run.outcome.len > 0).then(|| path_cost(costs, w, h, &to_pairs(&path)));
-    RunDigest {
-        end: run.end,
-        len: run.outcome.len,
-        start_pot: nav.potential()[start.y * w as usize + start.x],
-        oscillated,
-        path,
-        cost,
-        properties_ok: run.violations.is_empty(),
-    }
+/// The version written into reports.
+pub const VOUCH_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// One map of the current batch, read.
+struct Loaded {
+    key: String,
+    digest: MapDigest,
+    /// Cases of it this shard runs.
+    owned: u64,
+    /// The prepared map, when this shard runs some of its cases.
+    map: Option<PreparedMap>,
+    /// Whether the report lists it (this shard runs some of its cases, or is its home).
+    listed: bool,
 }
 
-/// A path as coordinate pairs.
-pub fn to_pairs(p: &[[f32; 2]]) -> Vec<(f32, f32)> {
-    p.iter().map(|q| (q[0], q[1])).collect()
+fn load(entry: &SuiteEntry, home: u32, opts: &CampaignOptions) -> Result<Loaded, CampaignError> {
+    let (map, sha256) = read_entry_with_digest(entry)?;
+    let cases = map.cases.len() as u64;
+    let owned = (0..cases).filter(|&k| opts.shard.owns_case(home, k)).count() as u64;
+    let digest = MapDigest { category: map.category.clone(), cases, sha256 };
+    let prepared = (owned > 0).then(|| PreparedMap {
+        key: entry.key.clone(),
+        home,
+        ..prepare(map, opts.metamorphic)
+    });
+    let listed = owned > 0 || home == opts.shard.index;
+    Ok(Loaded { key: entry.key.clone(), digest, owned, map: prepared, listed })
 }
 
-/// The state of one case while its results are gathered.
-struct CaseCtx<'a> {
-    pm: &'a PreparedMap,
-    k: usize,
-    case: &'a Case,
-    record: Option<CaseRecord>,
-}
-
-impl CaseCtx<'_> {
-    fn finding(&self, kind: FindingKind, detail: String, score: f64) -> Finding {
-        let (m, c) = (&self.pm.map, self.case);
-        Finding {
-            kind,
-            category: m.category.clone(),
-            map: m.name.clone(),
-            case: self.k as u64,
-            coords: [c.x0, c.y0, c.x1, c.y1],
-            detail,
-            score,
-            picture: None,
-        }
-    }
-
-    fn failed(&mut self, f: Failed) {
-        if let Some(r) = self.record.as_mut() {
-            r.failed.push(f);
-        }
-    }
-}
-
-/// What a unit runs with.
-struct Unit<'a> {
+/// The report being built, and where the records go.
+struct Builder<'a, 's> {
     opts: &'a CampaignOptions,
-    runner: CaseRunner,
-    cache: OptimumCache,
-    res: UnitResult,
+    progress: &'a dyn Progress,
+    sink: Option<&'s mut dyn CaseSink>,
+    report: Report,
+    cpu: BTreeMap<String, f64>,
+    /// Units run in parallel before their records are written.
+    wave: usize,
 }
 
-impl Unit<'_> {
-    /// Runs case `k` of `pm` and adds everything it shows to the unit's result.
-    fn case(&mut self, pm: &PreparedMap, k: usize) -> Result<(), CampaignError> {
-        let m = &pm.map;
-        let (w, mode) = (m.width as usize, self.opts.mode);
-        let case = &m.cases[k];
-        let err =
-            |source| CampaignError::Case { map: format!("{}/{}", m.category, m.name), source };
-        self.res.stats.cases += 1;
-        let run = run_case(&mut self.runner, m, &pm.setup_costs, case, mode, None).map_err(err)?;
-        let (start, goal) = navfn_ends(mode, case);
-        let (si, gi) = (start.y * w + start.x, goal.y * w + goal.x);
-        let st = &mut self.res.stats;
-        st.max_buffer_occupancy = st.max_buffer_occupancy.max(run.max_occupancy as u64);
-        let goal_open = pm.setup_costs[gi] < OBSTACLE;
-        let connected = goal_open
-            .then(|| pm.components[si] != u32::MAX && pm.components[si] == pm.components[gi]);
-        let reached = self.runner.nav().potential()[si] < POT_HIGH;
-        // Outcome classes (as in golden/README.md: "truly unreachable" = not connected).
-        let outcome = if si == gi {
-            Outcome::StartIsGoal
-        } else if run.outcome.len > 0 {
-            Outcome::Found
-        } else if reached {
-            Outcome::PathFailed
-        } else if connected == Some(false) {
-            Outcome::Unreachable
-        } else {
-            Outcome::CycleLimit
-        };
-        st.outcomes.record(outcome);
-        let record = self.opts.per_case.then(|| CaseRecord {
-            global: pm.first_global + k as u64,
-            category: m.category.clone(),
-            map: m.name.clone(),
-            case: k as u64,
-            coords: [case.x0, case.y0, case.x1, case.y1],
-            outcome,
-            path_points: run.outcome.len,
-            ..CaseRecord::default()
-        });
-        let mut cx = CaseCtx { pm, k, case, record };
-        let cycle_limited = matches!(run.end, Some((PropagationEnd::CycleLimit, _)));
-        if let (false, Some(conn)) = (cycle_limited, connected) {
-            let ok = reached == conn || si == gi;
-            self.res.stats.check(Property::ReachabilityIsConnectivity, ok);
-            if !ok {
-                cx.failed(Failed::Property(Property::ReachabilityIsConnectivity));
+impl Builder<'_, '_> {
+    /// Load a batch of maps, run their units wave by wave, write the records.
+    fn batch(&mut self, entries: &[(SuiteEntry, u32)]) -> Result<(), CampaignError> {
+        let opts = self.opts;
+        let loaded: Vec<Loaded> =
+            entries.par_iter().map(|(e, home)| load(e, *home, opts)).collect::<Result<_, _>>()?;
+        for l in &loaded {
+            if l.listed {
+                self.report.categories.entry(l.digest.category.clone()).or_default();
+                self.report.suite.maps.insert(l.key.clone(), l.digest.clone());
             }
+            self.progress.found(l.owned);
         }
-        self.properties(&mut cx, &run);
-        self.optimality(&mut cx, &run, (si, gi));
-        if self.opts.metamorphic && !pm.transformed.is_empty() {
-            self.metamorphic(&mut cx, &run, start, connected)?;
+        let step = opts.unit_cases.max(1);
+        let units: Vec<(&PreparedMap, std::ops::Range<usize>)> = loaded
+            .iter()
+            .filter_map(|l| l.map.as_ref())
+            .flat_map(|pm| {
+                let n = pm.map.cases.len();
+                (0..n).step_by(step).map(move |s| (pm, s..(s + step).min(n)))
+            })
+            .collect();
+        let (per_case, progress) = (self.sink.is_some(), self.progress);
+        for wave in units.chunks(self.wave) {
+            let results: Vec<UnitResult> = wave
+                .par_iter()
+                .map(|(pm, range)| {
+                    let r = run_unit(pm, range.clone(), opts, per_case)?;
+                    progress.advance(r.stats.cases);
+                    Ok(r)
+                })
+                .collect::<Result<_, CampaignError>>()?;
+            for r in results {
+                self.add(r)?;
+            }
+            self.report.trim_findings();
         }
-        self.res.records.extend(cx.record);
         Ok(())
     }
 
-    /// Search-trace properties (observer) and final-state properties.
-    fn properties(&mut self, cx: &mut CaseCtx<'_>, run: &CaseRun) {
-        let st = &mut self.res.stats;
-        for p in Property::SEARCH_TRACE {
-            st.check(p, !run.violations.iter().any(|v| v.property == p));
-        }
-        let fin = plan_checks(self.runner.nav());
-        for p in Property::PLAN_CHECKS {
-            st.check(p, !fin.iter().any(|v| v.property == p));
-        }
-        for v in run.violations.iter().chain(fin.iter()) {
-            cx.failed(Failed::Property(v.property));
-            let detail = format!("{}: {}", v.property, v.detail);
-            self.res.findings.push(cx.finding(FindingKind::CheckFailed, detail, 1.0));
-        }
-    }
-
-    /// Optimality and path shape.
-    fn optimality(&mut self, cx: &mut CaseCtx<'_>, run: &CaseRun, (si, gi): (usize, usize)) {
-        let (pm, nav) = (cx.pm, self.runner.nav());
-        let m = &pm.map;
-        let st = &mut self.res.stats;
-        let shape_rec = path_shape(&to_pairs(nav.path_recorded()));
-        let oscillated = shape_rec.oscillations > 0;
-        if let Some(r) = cx.record.as_mut() {
-            r.oscillations = shape_rec.oscillations;
-        }
-        if oscillated {
-            st.optimality.oscillating_paths += 1;
-            let n = shape_rec.oscillations;
-            let detail = format!("{n} repeated points, path len {}", run.outcome.len);
-            self.res.findings.push(cx.finding(FindingKind::Oscillation, detail, f64::from(n)));
-        }
-        if run.outcome.len == 0 || si == gi {
-            return;
-        }
-        let path = to_pairs(nav.path());
-        let shape = path_shape(&path);
-        if let Some(r) = cx.record.as_mut() {
-            r.obtuse_turns = shape.obtuse_turns;
-            r.max_turn_deg = shape.max_turn_deg;
-        }
-        if !oscillated && shape.obtuse_turns > 0 {
-            st.optimality.obtuse_paths += 1;
-            let (n, deg) = (shape.obtuse_turns, shape.max_turn_deg);
-            let detail = format!("{n} obtuse turns, sharpest {deg:.1}°");
-            self.res.findings.push(cx.finding(FindingKind::Obtuse, detail, deg));
-        }
-        if !self.opts.optimality {
-            return;
-        }
-        let (w, h) = (m.width as usize, m.height as usize);
-        let best = self.cache.optimum(&pm.setup_costs, w, h, si, gi);
-        let cost = path_cost(&pm.setup_costs, m.width, m.height, &path);
-        if let Some(r) = cx.record.as_mut() {
-            r.navfn_cost = Some(cost);
-            r.optimal_cost = best.is_finite().then_some(best);
-            r.excess = best.is_finite().then_some(cost - best);
-        }
-        if best.is_finite() {
-            st.optimality.record(cost, best);
-            let ratio = if best > 0.0 { cost / best } else { 1.0 };
-            if ratio > self.opts.suboptimal_ratio {
-                st.optimality.suboptimal_paths += 1;
-                let detail = format!(
-                    "NavFn path cost {cost:.1}, optimum {best:.1} (+{:.1}, ×{ratio:.3})",
-                    cost - best
-                );
-                self.res.findings.push(cx.finding(FindingKind::Suboptimal, detail, ratio));
-            }
-        }
-    }
-
-    /// The metamorphic relations between this run and the runs on every transformed map.
-    fn metamorphic(
-        &mut self,
-        cx: &mut CaseCtx<'_>,
-        run: &CaseRun,
-        start: Cell,
-        connected: Option<bool>,
-    ) -> Result<(), CampaignError> {
-        let (pm, mode) = (cx.pm, self.opts.mode);
-        let m = &pm.map;
-        let o_dig = digest(run, &self.runner, start, &pm.setup_costs, m.width, m.height);
-        let o_pot = self.runner.nav().potential().to_vec();
-        let ctx = OriginalCtx { width: m.width, height: m.height, potential: &o_pot, connected };
-        for (t, tm, tcosts) in &pm.transformed {
-            let tc = tm.cases[cx.k];
-            let trun =
-                run_case(&mut self.runner, tm, tcosts, &tc, mode, None).map_err(|source| {
-                    CampaignError::Case { map: format!("{}/{}", tm.category, tm.name), source }
-                })?;
-            let (tstart, _) = navfn_ends(mode, &tc);
-            let tfin = plan_checks(self.runner.nav());
-            let mut t_dig = digest(&trun, &self.runner, tstart, tcosts, tm.width, tm.height);
-            t_dig.properties_ok &= tfin.is_empty();
-            let t_pot = self.runner.nav().potential();
-            for r in metamorphic::evaluate(*t, &ctx, &o_dig, &t_dig, t_pot) {
-                self.res.stats.relation(r.relation, r.held);
-                if r.held {
-                    continue;
-                }
-                let kind = if r.relation.exact() {
-                    cx.failed(Failed::Relation(r.relation));
-                    FindingKind::RelationFailed
-                } else {
-                    FindingKind::ApproxRelation
-                };
-                let detail = format!("{}: {}", r.relation, r.detail);
-                self.res.findings.push(cx.finding(kind, detail, 1.0));
+    fn add(&mut self, r: UnitResult) -> Result<(), CampaignError> {
+        self.report.cases += r.stats.cases;
+        self.report.categories.entry(r.category.clone()).or_default().merge(&r.stats);
+        self.report.findings.extend(r.findings);
+        *self.cpu.entry(r.category).or_default() += r.seconds;
+        if let Some(sink) = self.sink.as_deref_mut() {
+            for rec in r.records {
+                sink.accept(rec)?;
             }
         }
         Ok(())
     }
 }
 
-/// Run the cases `range` of `pm` (those owned by the shard).
-fn run_unit(
-    pm: &PreparedMap,
-    range: std::ops::Range<usize>,
-    opts: &CampaignOptions,
-    progress: &dyn Progress,
-) -> Result<UnitResult, CampaignError> {
-    let res = UnitResult { category: pm.map.category.clone(), ..Default::default() };
-    let mut unit = Unit { opts, runner: CaseRunner::new(), cache: OptimumCache::default(), res };
-    let began = Instant::now();
-    let mut done = 0u64;
-    for k in range {
-        if opts.shard.owns(pm.first_global + k as u64) {
-            unit.case(pm, k)?;
-            done += 1;
-        }
-    }
-    unit.res.stats.cpu_seconds = began.elapsed().as_secs_f64();
-    progress.advance(done);
-    Ok(unit.res)
-}
-
-/// Run the campaign over prepared maps.
-pub fn run_prepared(
-    suite_label: &str,
-    maps: &[PreparedMap],
-    opts: &CampaignOptions,
-    progress: &dyn Progress,
-) -> Result<Report, CampaignError> {
-    let began = Instant::now();
-    let owned_in = |pm: &PreparedMap| {
-        (0..pm.map.cases.len() as u64).filter(|&k| opts.shard.owns(pm.first_global + k)).count()
-            as u64
-    };
-    let owned: u64 = maps.iter().map(owned_in).sum();
-    progress.start(owned);
-    let units: Vec<(usize, std::ops::Range<usize>)> = maps
-        .iter()
-        .enumerate()
-        .flat_map(|(i, pm)| {
-            let n = pm.map.cases.len();
-            let step = opts.unit_cases.max(1);
-            (0..n).step_by(step).map(move |s| (i, s..(s + step).min(n)))
-        })
-        .collect();
-    let results: Vec<UnitResult> = units
-        .par_iter()
-        .map(|(i, r)| run_unit(&maps[*i], r.clone(), opts, progress))
-        .collect::<Result<_, _>>()?;
-    let mut report = Report {
-        suite: suite_label.to_string(),
-        mode: opts.mode,
-        shards: vec![opts.shard],
-        cases: owned,
-        wall_seconds: Vec::new(),
-        threads: vec![rayon::current_num_threads()],
-        ..Report::default()
-    };
-    for pm in maps {
-        let e = report.categories.entry(pm.map.category.clone()).or_default();
-        e.maps += u64::from(owned_in(pm) > 0);
-    }
-    for r in results {
-        report.categories.entry(r.category).or_default().merge(&r.stats);
-        report.findings.extend(r.findings);
-        report.per_case.extend(r.records);
-    }
-    report.per_case.sort_by_key(|r| r.global);
-    report.trim_findings();
-    report.wall_seconds.push(began.elapsed().as_secs_f64());
-    Ok(report)
-}
-
-/// Load and run a suite directory.
+/// Run the campaign on the suite at `dir` (a folder, or one test file); per-case records go to
+/// `sink` when one is given.
 pub fn run_campaign(
     dir: &Path,
     opts: &CampaignOptions,
     progress: &dyn Progress,
-) -> Result<(Report, Vec<PreparedMap>), CampaignError> {
+    sink: Option<&mut dyn CaseSink>,
+) -> Result<Report, CampaignError> {
     let began = Instant::now();
-    let maps = load_suite(dir, opts.metamorphic)?;
-    let mut report = run_prepared(&dir.display().to_string(), &maps, opts, progress)?;
-    // Include loading in the wall time a user sees.
-    if let Some(w) = report.wall_seconds.last_mut() {
-        *w = began.elapsed().as_secs_f64();
+    let manifest = read_manifest(dir)?;
+    let threads = rayon::current_num_threads();
+    let report = Report {
+        format: REPORT_FORMAT,
+        vouch_version: VOUCH_VERSION.to_string(),
+        options: ResultOptions {
+            mode: opts.mode,
+            metamorphic: opts.metamorphic,
+            optimality: opts.optimality,
+            ratio: opts.suboptimal_ratio,
+            oracle: None,
+        },
+        shards: ShardSet::of(opts.shard),
+        ..Report::default()
+    };
+    let mut b =
+        Builder { opts, progress, sink, report, cpu: BTreeMap::new(), wave: 4 * threads.max(1) };
+    let batch_maps = 4 * threads.max(2);
+    let mut listing = ListingFingerprint::default();
+    let mut pending = Vec::with_capacity(batch_maps);
+    for entry in walk_suite(dir)? {
+        let entry = entry?;
+        listing.add(&entry.key, entry.test_size);
+        let home = Shard::home(&entry.key, opts.shard.count);
+        if opts.shard.reads(home) {
+            pending.push((entry, home));
+        }
+        if pending.len() >= batch_maps {
+            b.batch(&pending)?;
+            pending.clear();
+        }
     }
-    Ok((report, maps))
+    // A share of a generated suite may hold no map at all (more shards than maps); it still
+    // reports, so that the merge sees every shard.
+    if listing.maps() == 0 && manifest.is_none() {
+        return Err(no_test_files(dir).into());
+    }
+    b.batch(&pending)?;
+    let mut report = b.report;
+    let suite = &mut report.suite;
+    match manifest {
+        Some((fingerprint, maps_total)) => {
+            check_share(dir, listing.maps(), maps_total, opts.shard)?;
+            (suite.basis, suite.fingerprint, suite.maps_total) =
+                (IdentityBasis::Manifest, fingerprint, maps_total);
+        }
+        None => {
+            suite.maps_total = listing.maps();
+            (suite.basis, suite.fingerprint) = (IdentityBasis::Listing, listing.finish());
+        }
+    }
+    suite.seal();
+    count_maps(&mut report.categories, &report.suite.maps);
+    report.trim_findings();
+    report.runs.push(RunInfo {
+        shard: opts.shard.index,
+        suite_path: dir.display().to_string(),
+        wall_seconds: began.elapsed().as_secs_f64(),
+        threads,
+        cpu_seconds: b.cpu,
+    });
+    Ok(report)
 }
 
-/// Find a prepared map by category and name.
-pub fn find_map<'a>(
-    maps: &'a [PreparedMap],
-    category: &str,
-    name: &str,
-) -> Option<&'a PreparedMap> {
-    maps.iter().find(|pm| pm.map.category == category && pm.map.name == name)
-}
-
-/// Where pictures go: `<dir>/<kind>_<category>_<map>_<case>.png`.
-pub fn picture_path(dir: &Path, f: &Finding) -> PathBuf {
-    dir.join(format!("{}_{}_{}_{}.png", f.kind, f.category, f.map, f.case))
+/// A folder with a manifest may hold one share of a generated suite (`suite gen --shard`):
+/// never more maps than the manifest counts, and a share is run split by map.
+fn check_share(dir: &Path, listed: u64, total: u64, shard: Shard) -> Result<(), CampaignError> {
+    let msg = if listed > total {
+        format!("holds {listed} maps, more than the {total} its suite manifest counts")
+    } else if listed < total && shard.by == ShardBy::Case {
+        format!(
+            "holds {listed} of the suite's {total} maps (a share of a generated suite): \
+             run it with --shard-by map and the share's --shard I/N"
+        )
+    } else {
+        return Ok(());
+    };
+    Err(CampaignError::Share { dir: dir.to_path_buf(), msg })
 }

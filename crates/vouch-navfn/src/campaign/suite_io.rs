@@ -8,7 +8,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use crate::campaign::grid::{Case, SuiteMap};
-use crate::maps::{find_test_files, read_suite_file, MapError, SuiteFile};
+use crate::campaign::identity::map_digest;
+use crate::maps::{parse_suite_text, read_suite_file, MapError, SuiteFile};
 
 /// A suite that cannot be read into the campaign IR or written.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
@@ -100,42 +101,121 @@ pub fn read_test_file(
 /// One map of a suite tree, not yet loaded.
 #[derive(Clone, Debug)]
 pub struct SuiteEntry {
+    /// The map's folder relative to the suite root, `/`-separated (`walls/25x25_50walls`): the
+    /// key reports, shards and merges identify the map by. When the suite is one file, the
+    /// key is `category/name`.
+    pub key: String,
     /// Category folder name.
     pub category: String,
     /// Map folder name.
     pub name: String,
     /// The test file.
     pub test_txt: PathBuf,
+    /// Size of the test file in bytes (part of the suite's listing fingerprint).
+    pub test_size: u64,
 }
 
-/// List every `test.txt` under `dir` in sorted order (deterministic: shards depend on it).
-/// The category is the grand-parent folder name, the map name the parent folder name.
-pub fn list_suite(dir: &Path) -> Result<Vec<SuiteEntry>, SuiteIoError> {
-    let files = find_test_files(dir, "test.txt")?;
-    if files.is_empty() {
-        return Err(MapError::file(dir, "no test.txt found below this folder").into());
-    }
-    let name_of = |p: Option<&Path>| {
-        p.and_then(|p| p.file_name())
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "-".into())
-    };
-    Ok(files
-        .into_iter()
-        .map(|t| {
-            let map_dir = t.parent();
-            SuiteEntry {
-                category: name_of(map_dir.and_then(Path::parent)),
-                name: name_of(map_dir),
-                test_txt: t,
+/// Every `test.txt` below a folder, depth-first with the entries of each folder sorted by name
+/// (the order of [`crate::maps::find_test_files`]), one at a time: only the folders on the
+/// current path are held in memory, never the whole tree (`walkdir`). The category is the
+/// grand-parent folder name, the map name the parent folder name.
+pub struct SuiteWalk {
+    root: PathBuf,
+    /// The suite argument is a single test file.
+    single: bool,
+    inner: walkdir::IntoIter,
+}
+
+/// Walk the suite at `path` (a folder, or one test file).
+pub fn walk_suite(path: &Path) -> Result<SuiteWalk, SuiteIoError> {
+    let meta = fs::metadata(path).map_err(|e| MapError::io(path, e))?;
+    let inner = walkdir::WalkDir::new(path).follow_links(true).sort_by_file_name().into_iter();
+    Ok(SuiteWalk { root: path.to_path_buf(), single: meta.is_file(), inner })
+}
+
+fn name_of(p: Option<&Path>) -> String {
+    p.and_then(|p| p.file_name())
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "-".into())
+}
+
+impl SuiteWalk {
+    fn entry(&self, test_txt: PathBuf) -> Result<SuiteEntry, SuiteIoError> {
+        let test_size = fs::metadata(&test_txt).map_err(|e| MapError::io(&test_txt, e))?.len();
+        let map_dir = test_txt.parent();
+        let (category, name) = (name_of(map_dir.and_then(Path::parent)), name_of(map_dir));
+        let rel = map_dir.and_then(|d| d.strip_prefix(&self.root).ok()).filter(|_| !self.single);
+        let key = match rel {
+            Some(rel) if rel.as_os_str().is_empty() => ".".to_string(),
+            Some(rel) => {
+                let parts: Vec<String> =
+                    rel.iter().map(|c| c.to_string_lossy().into_owned()).collect();
+                parts.join("/")
             }
-        })
-        .collect())
+            None => format!("{category}/{name}"),
+        };
+        Ok(SuiteEntry { key, category, name, test_txt, test_size })
+    }
+}
+
+impl Iterator for SuiteWalk {
+    type Item = Result<SuiteEntry, SuiteIoError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            match self.inner.next()? {
+                Err(e) => {
+                    let path = e.path().unwrap_or(&self.root).to_path_buf();
+                    return Some(Err(MapError::io(&path, e.into()).into()));
+                }
+                Ok(ent)
+                    if ent.file_type().is_file()
+                        && (self.single || ent.file_name() == "test.txt") =>
+                {
+                    return Some(self.entry(ent.into_path()));
+                }
+                Ok(_) => {}
+            }
+        }
+    }
+}
+
+/// Every `test.txt` under `dir` in walk order (deterministic), or an error when there is none.
+pub fn list_suite(dir: &Path) -> Result<Vec<SuiteEntry>, SuiteIoError> {
+    let entries = walk_suite(dir)?.collect::<Result<Vec<_>, _>>()?;
+    if entries.is_empty() {
+        return Err(no_test_files(dir));
+    }
+    Ok(entries)
+}
+
+/// The error of a folder without any `test.txt`.
+pub fn no_test_files(dir: &Path) -> SuiteIoError {
+    MapError::file(dir, "no test.txt found below this folder").into()
 }
 
 /// Read a whole suite tree.
 pub fn read_suite(dir: &Path) -> Result<Vec<SuiteMap>, SuiteIoError> {
     list_suite(dir)?.iter().map(|e| read_test_file(&e.test_txt, &e.category, &e.name)).collect()
+}
+
+/// Read one map of a suite with the SHA-256 digest of its bytes (see
+/// [`crate::campaign::identity::map_digest`]): the test file and the map file it names are
+/// each read once.
+pub fn read_entry_with_digest(e: &SuiteEntry) -> Result<(SuiteMap, String), SuiteIoError> {
+    let path = &e.test_txt;
+    let bytes = fs::read(path).map_err(|err| MapError::io(path, err))?;
+    let text = std::str::from_utf8(&bytes).map_err(|err| {
+        MapError::io(path, std::io::Error::new(std::io::ErrorKind::InvalidData, err))
+    })?;
+    let mut digest = None;
+    let f = parse_suite_text(path, text, |map_path| {
+        let map = fs::read(map_path).map_err(|err| MapError::io(map_path, err))?;
+        digest = Some(map_digest(&bytes, &map));
+        Ok(map)
+    })?;
+    let m = from_suite_file(&f, &e.category, &e.name)?;
+    Ok((m, digest.unwrap_or_default()))
 }
 
 /// The text of a `test.txt` for `m` (map file `map.bin`).

@@ -39,16 +39,20 @@ pub fn summary_table(r: &Report) -> String {
         r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
     rows.push(("TOTAL".into(), r.total()));
     for (name, c) in &rows {
-        let checks_fail: u64 = c.checks.values().map(|p| p.fail).sum();
-        let checks_all: u64 = c.checks.values().map(|p| p.pass + p.fail).sum();
-        let rel_fail: u64 =
-            c.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail).sum();
+        let checks_fail = c.checks.values().map(|p| p.fail).fold(0, u64::saturating_add);
+        let checks_all = c.checks.values().map(|p| p.pass.saturating_add(p.fail));
+        let checks_all = checks_all.fold(0, u64::saturating_add);
+        let rel_fail = c.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail);
+        let rel_fail = rel_fail.fold(0, u64::saturating_add);
         let o = &c.optimality;
-        let excess = if o.optimal_cost_sum > 0.0 {
-            100.0 * (o.navfn_cost_sum / o.optimal_cost_sum - 1.0)
-        } else {
-            0.0
-        };
+        let cpu: f64 = r
+            .runs
+            .iter()
+            .filter_map(|run| match name.as_str() {
+                "TOTAL" => Some(run.cpu_seconds.values().sum::<f64>()),
+                _ => run.cpu_seconds.get(name).copied(),
+            })
+            .sum();
         let _ = writeln!(
             s,
             "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7.2} {:>7.3} {:>7} {:>7} {:>8.3}",
@@ -62,11 +66,11 @@ pub fn summary_table(r: &Report) -> String {
             c.outcomes.path_failed,
             if checks_fail == 0 { format!("ok{}", if checks_all == 0 { "?" } else { "" }) } else { format!("{checks_fail}F") },
             if rel_fail == 0 { "ok".to_string() } else { format!("{rel_fail}F") },
-            excess,
+            o.excess_percent(),
             o.ratio_max,
             pct(o.obtuse_paths, c.cases),
             pct(o.oscillating_paths, c.cases),
-            c.cpu_seconds,
+            cpu,
         );
     }
     let t = r.total();
@@ -87,14 +91,28 @@ pub fn summary_table(r: &Report) -> String {
         let _ = writeln!(s, "oracle: {} equal, {} different", t.oracle.pass, t.oracle.fail);
     }
     optimality_lines(&mut s, &t);
-    let wall: f64 = r.wall_seconds.iter().copied().fold(0.0, f64::max);
+    let wall: f64 = r.runs.iter().map(|run| run.wall_seconds).fold(0.0, f64::max);
+    let threads: Vec<usize> = r.runs.iter().map(|run| run.threads).collect();
+    let sh = &r.shards;
     let _ = writeln!(
         s,
-        "cases {}, shards {}, wall {:.2} s (slowest shard), threads {:?}",
+        "cases {}, shards {} of {} (split by {}), wall {:.2} s (slowest shard), threads {:?}",
         r.cases,
-        r.shards.len(),
+        sh.indices.len(),
+        sh.count,
+        sh.by.name(),
         wall,
-        r.threads
+        threads
+    );
+    let id = &r.suite;
+    let content =
+        id.content.as_deref().map_or("not all maps present", |c| c.get(..16).unwrap_or(c));
+    let _ = writeln!(
+        s,
+        "suite: {} of {} maps, content {content}, vouch {}",
+        id.maps.len(),
+        id.maps_total,
+        r.vouch_version
     );
     s
 }

@@ -15,6 +15,17 @@ fn set_affinity(tid: libc::pid_t, cpus: impl Iterator<Item = usize>) {
     }
 }
 
+/// Lowers the calling thread's scheduling priority (nice `+n`), so that threads that route
+/// frames run first when CPUs are busy. Best effort.
+pub fn lower_current_thread_priority(n: i32) {
+    // SAFETY: gettid has no preconditions; setpriority only changes the nice value of the
+    // calling thread (PRIO_PROCESS with a thread id); errors are ignored.
+    unsafe {
+        let tid = libc::syscall(libc::SYS_gettid) as libc::id_t;
+        libc::setpriority(libc::PRIO_PROCESS, tid, n);
+    }
+}
+
 /// Pins the calling thread to one CPU.
 pub fn pin_current_thread(cpu: usize) {
     set_affinity(0, std::iter::once(cpu));

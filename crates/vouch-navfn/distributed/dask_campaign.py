@@ -1,0 +1,188 @@
+#!/usr/bin/env python3
+"""A NavFn verification campaign on a Dask distributed cluster, through the `vouch` CLI.
+
+Every shard `I/N` is one Dask task that runs `vouch navfn campaign SUITE --shard I/N --json`
+on a worker and returns the shard's JSON report; the driver gathers the reports, writes them to
+`OUT/shard-I.json` and joins them with `vouch navfn report merge` (strict: a missing, duplicated
+or inconsistent shard fails the run). With `--compare-single` it also runs the whole suite in
+one process (as one more task) and checks that the merged report says exactly what the single
+run says (every field but `shards` and `runs`, which name the shards and their timings).
+
+The workers run the `vouch` given by `--vouch` on the suite path given: on a real cluster both
+must exist at the same paths on every worker (a shared file system or the same image).
+
+    dask_campaign.py SUITE --shards 8 --local-workers 2 --out reports/ --compare-single
+    dask_campaign.py SUITE --shards 64 --scheduler tcp://head:8786 --vouch /opt/vouch/bin/vouch \\
+        -- --mode navfn --algo dijkstra
+
+Everything after `--` is passed to every `vouch navfn campaign` unchanged. Exit status: 0 when
+the merged report has no failures (and equals the single run when asked), 3 when the campaign
+found failures, 1 when the merged and single reports differ, 2 on a usage or run error.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+# What a report says about its shards and timings: the only fields a merged report and a
+# single run may differ in.
+RUN_FIELDS = ("shards", "runs")
+
+# `vouch` exit statuses that still carry a report: 0 ok, 3 findings.
+REPORT_STATUSES = (0, 3)
+
+
+def run_shard(vouch, suite, index, count, extra, threads):
+    """One Dask task: run one shard (`count` 1 = the whole suite) and return its report text."""
+    cmd = [vouch, "-q", "navfn", "campaign", suite, "--json"]
+    if count > 1:
+        cmd += ["--shard", f"{index}/{count}"]
+    env = dict(os.environ)
+    if threads:
+        env["RAYON_NUM_THREADS"] = str(threads)
+    done = subprocess.run(cmd + list(extra), capture_output=True, text=True, env=env, check=False)
+    if done.returncode not in REPORT_STATUSES:
+        raise RuntimeError(f"{' '.join(cmd)} exited {done.returncode}: {done.stderr.strip()}")
+    return done.stdout
+
+
+def results_of(report):
+    """A report without the fields that name shards and timings."""
+    return {k: v for k, v in report.items() if k not in RUN_FIELDS}
+
+
+def first_difference(a, b, path="report"):
+    """The first path at which two JSON values differ, or None."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k not in a or k not in b:
+                return f"{path}.{k}: present on one side only"
+            d = first_difference(a[k], b[k], f"{path}.{k}")
+            if d:
+                return d
+        return None
+    if isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            return f"{path}: {len(a)} vs {len(b)} elements"
+        for i, (x, y) in enumerate(zip(a, b)):
+            d = first_difference(x, y, f"{path}[{i}]")
+            if d:
+                return d
+        return None
+    return None if a == b else f"{path}: {a!r} vs {b!r}"
+
+
+def connect(args):
+    """A Dask client: to the scheduler given, or to a new local cluster of worker processes."""
+    from dask.distributed import Client, LocalCluster
+
+    if args.scheduler:
+        return Client(args.scheduler), None
+    cluster = LocalCluster(
+        n_workers=args.local_workers,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+    )
+    return Client(cluster), cluster
+
+
+def merge(vouch, files, out):
+    """`vouch navfn report merge` of the shard files into `out`; the merged report."""
+    cmd = [vouch, "-q", "navfn", "report", "merge", "--json", "-o", str(out)] + [str(f) for f in files]
+    done = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if done.returncode not in REPORT_STATUSES:
+        raise RuntimeError(f"report merge exited {done.returncode}: {done.stderr.strip()}")
+    return json.loads(done.stdout)
+
+
+def campaign(args, extra):
+    """Fan the shards out, gather, merge, and (when asked) compare with one unsharded run."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    began = time.monotonic()
+    client, cluster = connect(args)
+    try:
+        futures = [
+            client.submit(run_shard, args.vouch, args.suite, i, args.shards, extra, args.threads,
+                          key=f"navfn-shard-{i}-of-{args.shards}", pure=False, retries=args.retries)
+            for i in range(args.shards)
+        ]
+        single = None
+        if args.compare_single:
+            single = client.submit(run_shard, args.vouch, args.suite, 0, 1, extra, args.threads,
+                                   key="navfn-single", pure=False, retries=args.retries)
+        texts = client.gather(futures)
+        single_text = single.result() if single is not None else None
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    files = []
+    for i, text in enumerate(texts):
+        f = out / f"shard-{i}.json"
+        f.write_text(text)
+        files.append(f)
+    merged = merge(args.vouch, files, out / "merged.json")
+    summary = {
+        "shards": args.shards,
+        "cases": merged["cases"],
+        "maps": len(merged["suite"]["maps"]),
+        "content": merged["suite"]["content"],
+        "seconds": round(time.monotonic() - began, 2),
+    }
+    status = 3 if failures(merged) else 0
+    if single_text is not None:
+        (out / "single.json").write_text(single_text)
+        diff = first_difference(results_of(merged), results_of(json.loads(single_text)))
+        summary["equal_to_single"] = diff is None
+        if diff:
+            summary["first_difference"] = diff
+            status = 1
+    print(json.dumps(summary))
+    return status
+
+
+def failures(report):
+    """Failed checks, exact relations and oracle disagreements of a report."""
+    n = 0
+    for c in report["categories"].values():
+        n += sum(p["fail"] for p in c["checks"].values())
+        n += c["oracle"]["fail"]
+    return n
+
+
+def main(argv):
+    extra = []
+    if "--" in argv:
+        cut = argv.index("--")
+        argv, extra = argv[:cut], argv[cut + 1:]
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("suite", help="suite folder, as the workers see it")
+    p.add_argument("--shards", type=int, default=8, help="number of shards N (default 8)")
+    p.add_argument("--scheduler", help="address of a running Dask scheduler")
+    p.add_argument("--local-workers", type=int, default=2,
+                   help="without --scheduler: worker processes of a local cluster (default 2)")
+    p.add_argument("--vouch", default="vouch", help="the vouch executable on the workers")
+    p.add_argument("--out", default="navfn-campaign", help="folder for the reports")
+    p.add_argument("--threads", type=int, default=1,
+                   help="threads per shard (RAYON_NUM_THREADS; 0 = vouch's default)")
+    p.add_argument("--retries", type=int, default=1, help="Dask retries of a failed shard")
+    p.add_argument("--compare-single", action="store_true",
+                   help="also run the whole suite in one task and compare")
+    args = p.parse_args(argv)
+    if args.shards < 1:
+        p.error("--shards must be at least 1")
+    try:
+        return campaign(args, extra)
+    except (RuntimeError, OSError, json.JSONDecodeError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
