@@ -54,16 +54,21 @@ pub fn build(path: &Path, req: &Request) -> Result<Built, Diagnostics> {
     finish(path, parse_file_with(path, &req.front)?, req)
 }
 
-/// Builds many plans in parallel (rayon), in the order given. The geoid grid is read once,
-/// on its own thread, while the plans are being parsed.
+/// Builds many plans in parallel (rayon), in the order given. The geoid grid is read once; a
+/// thread decompresses it ahead while the plans are parsed.
 pub fn build_many(paths: &[PathBuf], req: &Request) -> Vec<Result<Built, Diagnostics>> {
-    let emit = req.emit.clone();
-    let preload = std::thread::spawn(move || {
-        let _ = emit.geoid();
-    });
-    let parsed: Vec<_> = paths.par_iter().map(|p| parse_file_with(p, &req.front)).collect();
-    let _ = preload.join();
-    paths.par_iter().zip(parsed).map(|(path, plan)| finish(path, plan?, req)).collect()
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            if let Ok(g) = req.emit.geoid() {
+                g.prefetch(&stop);
+            }
+        });
+        let parsed: Vec<_> = paths.par_iter().map(|p| parse_file_with(p, &req.front)).collect();
+        // From here on each plan reads only as far into the grid as its nodes need.
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        paths.par_iter().zip(parsed).map(|(path, plan)| finish(path, plan?, req)).collect()
+    })
 }
 
 /// The back end for a parsed plan.

@@ -40,12 +40,45 @@ pub enum GeoidError {
 }
 
 /// Where geoid heights come from.
-#[derive(Debug)]
 pub enum Geoid {
-    /// The official grid (raw big-endian bytes).
-    Grid { path: PathBuf, bytes: Vec<u8> },
+    /// The official grid (raw big-endian bytes), decompressed progressively: only as far as the
+    /// southernmost node asked for so far (rows run from 90°N to 90°S).
+    Grid { path: PathBuf, grid: Mutex<Progressive> },
     /// The `egm96` crate's synthesis (no Paparazzi home given).
     Model,
+}
+
+impl std::fmt::Debug for Geoid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.describe())
+    }
+}
+
+/// The grid bytes read so far and the stream they come from.
+pub struct Progressive {
+    bytes: Vec<u8>,
+    rest: Option<Box<dyn Read + Send>>,
+}
+
+impl Progressive {
+    /// Makes sure the first `n` bytes are there (false when the stream ends or fails first).
+    fn fill(&mut self, n: usize) -> bool {
+        while self.bytes.len() < n {
+            let Some(r) = self.rest.as_mut() else { return false };
+            let at = self.bytes.len();
+            let want = (n - at).max(64 * 1024).min(GRID_BYTES - at);
+            self.bytes.resize(at + want, 0);
+            match r.read(&mut self.bytes[at..]) {
+                Ok(0) | Err(_) => {
+                    self.bytes.truncate(at);
+                    self.rest = None;
+                    return false;
+                }
+                Ok(k) => self.bytes.truncate(at + k),
+            }
+        }
+        true
+    }
 }
 
 /// The geoid height at one grid node.
@@ -71,7 +104,8 @@ impl Node {
 }
 
 impl Geoid {
-    /// Reads the grid from `dir` (a Paparazzi home's `data/srtm`).
+    /// Opens the grid in `dir` (a Paparazzi home's `data/srtm`). The first and the last node
+    /// are read at once, so a short or broken file is an error here.
     pub fn from_dir(dir: &Path) -> Result<Geoid, GeoidError> {
         let path = NAMES
             .iter()
@@ -80,20 +114,50 @@ impl Geoid {
             .ok_or_else(|| GeoidError::Missing(dir.to_path_buf()))?;
         let broken = |e: String| GeoidError::Broken(path.clone(), e);
         let file = std::fs::File::open(&path).map_err(|e| broken(e.to_string()))?;
-        let mut bytes = Vec::with_capacity(GRID_BYTES);
         let name = path.to_string_lossy();
-        let read = if name.ends_with(".bz2") {
-            bzip2::read::BzDecoder::new(file).take(GRID_BYTES as u64).read_to_end(&mut bytes)
+        let (len, rest): (u64, Box<dyn Read + Send>) = if name.ends_with(".bz2") {
+            (u64::MAX, Box::new(bzip2::read::BzDecoder::new(file)))
         } else if name.ends_with(".gz") {
-            flate2::read::GzDecoder::new(file).take(GRID_BYTES as u64).read_to_end(&mut bytes)
+            (u64::MAX, Box::new(flate2::read::GzDecoder::new(file)))
         } else {
-            file.take(GRID_BYTES as u64).read_to_end(&mut bytes)
+            let len = file.metadata().map(|m| m.len()).map_err(|e| broken(e.to_string()))?;
+            (len, Box::new(std::io::BufReader::new(file)))
         };
-        read.map_err(|e| broken(e.to_string()))?;
-        if bytes.len() < GRID_BYTES {
-            return Err(broken(format!("{} bytes, {GRID_BYTES} expected", bytes.len())));
+        if len < GRID_BYTES as u64 {
+            return Err(broken(format!("{len} bytes, {GRID_BYTES} expected")));
         }
-        Ok(Geoid::Grid { path, bytes })
+        let mut grid = Progressive { bytes: Vec::with_capacity(GRID_BYTES), rest: Some(rest) };
+        if !grid.fill(2) {
+            return Err(broken("cannot be read or decompressed".into()));
+        }
+        Ok(Geoid::Grid { path, grid: Mutex::new(grid) })
+    }
+
+    /// Decompresses ahead in steps, releasing the grid between steps, until the whole grid is
+    /// there or `stop` is set (for a thread running beside the parsing of many plans).
+    pub fn prefetch(&self, stop: &std::sync::atomic::AtomicBool) {
+        let Geoid::Grid { grid, .. } = self else { return };
+        while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+            let Ok(mut g) = grid.lock() else { return };
+            let next = (g.bytes.len() + 128 * 1024).min(GRID_BYTES);
+            if g.bytes.len() >= GRID_BYTES || !g.fill(next) {
+                return;
+            }
+        }
+    }
+
+    /// Reads the whole grid now (a compressed grid that ends early is an error).
+    pub fn check_complete(&self) -> Result<(), GeoidError> {
+        if let Geoid::Grid { path, grid } = self {
+            let complete = grid.lock().map(|mut g| g.fill(GRID_BYTES)).unwrap_or(false);
+            if !complete {
+                return Err(GeoidError::Broken(
+                    path.clone(),
+                    format!("fewer than {GRID_BYTES} bytes"),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The grid of a Paparazzi home (`HOME/data/srtm`), loaded once per process and shared.
@@ -127,21 +191,27 @@ impl Geoid {
         }
     }
 
-    /// The node upstream reads for a position in radians.
-    pub fn node(&self, lat_rad: f64, lon_rad: f64) -> Node {
+    /// The node upstream reads for a position in radians (an error when a compressed grid ends
+    /// before it).
+    pub fn node(&self, lat_rad: f64, lon_rad: f64) -> Result<Node, GeoidError> {
         let lat = deg_of_rad(norm_angle(lat_rad)).trunc() as i32;
         let lon = deg_of_rad(norm_angle(lon_rad)).trunc() as i32;
         let lat = lat.clamp(-90, 90);
         let lon = lon.clamp(-180, 179);
         match self {
-            Geoid::Grid { bytes, .. } => {
+            Geoid::Grid { path, grid } => {
                 let row = ((90 - lat) * 4) as usize;
                 let col = (4 * if lon < 0 { lon + 360 } else { lon }) as usize;
                 let i = 2 * (row * COLS + col);
-                let raw = bytes.get(i..i + 2).map_or(0, |b| u16::from_be_bytes([b[0], b[1]]));
-                Node { raw }
+                let broken =
+                    || GeoidError::Broken(path.clone(), format!("ends before byte {}", i + 2));
+                let mut g = grid.lock().map_err(|_| broken())?;
+                if !g.fill(i + 2) {
+                    return Err(broken());
+                }
+                Ok(Node { raw: u16::from_be_bytes([g.bytes[i], g.bytes[i + 1]]) })
             }
-            Geoid::Model => Node { raw: model_node(lat, lon) as u16 },
+            Geoid::Model => Ok(Node { raw: model_node(lat, lon) as u16 }),
         }
     }
 }

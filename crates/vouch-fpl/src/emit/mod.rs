@@ -118,6 +118,9 @@ pub fn emit_header(
     header::top(&mut w, plan, fps, opts)?;
     auto_nav::functions(&mut w, plan, fps);
     header::bottom(&mut w);
+    if let Some(e) = w.geoid_error.take() {
+        return Err(CompileError::environment(e.to_string()));
+    }
     let corrections = w.corrections();
     Ok(Emitted { header: w.out, corrections, notices })
 }
@@ -135,6 +138,8 @@ pub(crate) struct Writer {
     geoid_fixes: Vec<(GeoidUse, f64, f64, Span)>,
     /// Waypoints given in "D M S": (name, span).
     global_fixes: Vec<(String, Span)>,
+    /// A grid that ended before a node that was needed.
+    geoid_error: Option<geoid::GeoidError>,
 }
 
 impl Writer {
@@ -148,15 +153,23 @@ impl Writer {
             compat: false,
             geoid_fixes: Vec::new(),
             global_fixes: Vec::new(),
+            geoid_error: None,
         }
     }
 
     /// The geoid height printed for `g`: upstream's reading in compatibility mode, else the
     /// true one (and the difference is remembered for [`Writer::corrections`]).
     pub fn geoid_height(&mut self, g: Geo, span: Span, used: GeoidUse) -> f64 {
-        let node = match &self.geoid {
+        let looked_up = match &self.geoid {
             Some(geoid) => geoid.node(g.lat, g.lon),
             None => Geoid::model().node(g.lat, g.lon),
+        };
+        let node = match looked_up {
+            Ok(n) => n,
+            Err(e) => {
+                self.geoid_error.get_or_insert(e);
+                geoid::Node { raw: 0 }
+            }
         };
         if self.compat {
             return node.upstream();
