@@ -17,7 +17,7 @@ use super::geo::{self, Geo, Utm};
 pub fn notices(plan: &FlightPlan) -> Result<Vec<Diagnostic>, CompileError> {
     let mut out = Vec::new();
     let low = Low::of(plan);
-    zone_border(plan, &mut out);
+    zone_border(plan, &mut out)?;
     low.check(plan.alt.value, "the plan's default altitude", plan.alt.text.span, &mut out);
     distances(plan, &mut out);
     low.check(
@@ -99,6 +99,17 @@ fn stages(list: &[Stage], low: &Low, out: &mut Vec<Diagnostic>) {
             StageKind::While(w) => stages(&w.body, low, out),
             StageKind::For(f) => stages(&f.body, low, out),
             StageKind::Go(g) => {
+                if let Some(t) = g.exceeding_time.as_ref().filter(|t| !is_simple(&t.value)) {
+                    out.push(Diagnostic::correction(
+                        format!(
+                            "exceeding_time=\"{0}\" is printed as the approach time -({0}); upstream prints -{0}",
+                            t.value
+                        ),
+                        t.span,
+                        "upstream puts a minus sign before the raw text, which negates only its first term \
+                         (also with --upstream-compat, vouch negates the whole value)",
+                    ));
+                }
                 if g.hmode.as_ref().is_some_and(|h| h.value == HMode::Route) && g.from.is_none() {
                     out.push(Diagnostic::warning_of(
                         ErrorKind::RouteWithoutFrom,
@@ -120,6 +131,11 @@ fn stages(list: &[Stage], low: &Low, out: &mut Vec<Diagnostic>) {
     }
 }
 
+/// A single number or name, where `-t` negates the whole value.
+fn is_simple(t: &str) -> bool {
+    !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.')
+}
+
 fn reference(plan: &FlightPlan) -> (Geo, Utm) {
     let g = Geo { lat: geo::rad_of_deg(plan.lat0.value), lon: geo::rad_of_deg(plan.lon0.value) };
     (g, geo::utm_of(g, None))
@@ -127,11 +143,21 @@ fn reference(plan: &FlightPlan) -> (Geo, Utm) {
 
 /// Upstream's G4: the points 2·min(1000, max_dist_from_home) m east and west of the reference
 /// fall in another UTM zone.
-fn zone_border(plan: &FlightPlan, out: &mut Vec<Diagnostic>) {
+fn zone_border(plan: &FlightPlan, out: &mut Vec<Diagnostic>) -> Result<(), CompileError> {
     let (_, utm0) = reference(plan);
     let d = 2.0 * plan.max_dist_from_home.value.min(1000.0);
     for dx in [d, -d] {
         let u = Utm { x: utm0.x + dx, ..utm0 };
+        if !(0.0..=1e7).contains(&u.x) {
+            // Upstream: Invalid_argument "Latlong.of_utm" (G4b).
+            return Err(CompileError::new(
+                format!(
+                    "max_dist_from_home {} puts the zone check outside the UTM domain",
+                    plan.max_dist_from_home.text.value
+                ),
+                plan.max_dist_from_home.text.span,
+            ));
+        }
         if geo::utm_of(geo::of_utm(u), None).zone != utm0.zone {
             out.push(Diagnostic::warning_of(
                 ErrorKind::UtmZoneBorder,
@@ -143,6 +169,7 @@ fn zone_border(plan: &FlightPlan, out: &mut Vec<Diagnostic>) {
             ));
         }
     }
+    Ok(())
 }
 
 /// Upstream's H11: every waypoint (the dummy at 0,0 included) farther than
