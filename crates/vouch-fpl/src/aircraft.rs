@@ -57,8 +57,19 @@ pub fn find(conf_xml: &Path, conf_dir: &Path, name: &str) -> Result<Aircraft, Ai
     let path = conf_xml.to_path_buf();
     let text = std::fs::read_to_string(conf_xml)
         .map_err(|e| AircraftError::Read(path.clone(), e.to_string()))?;
+    find_in(&text, conf_xml, conf_dir, name)
+}
+
+/// [`find`] on the text of a conf file (`conf_xml` names it in errors).
+pub fn find_in(
+    text: &str,
+    conf_xml: &Path,
+    conf_dir: &Path,
+    name: &str,
+) -> Result<Aircraft, AircraftError> {
+    let path = conf_xml.to_path_buf();
     let opts = roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() };
-    let doc = roxmltree::Document::parse_with_options(&text, opts)
+    let doc = roxmltree::Document::parse_with_options(text, opts)
         .map_err(|e| AircraftError::Xml(path.clone(), e.to_string()))?;
     let all: Vec<_> = doc.descendants().filter(|n| n.has_tag_name("aircraft")).collect();
     let (mut names, mut ids) = (Vec::new(), Vec::new());
