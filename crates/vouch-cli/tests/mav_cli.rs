@@ -114,7 +114,14 @@ fn protocol_errors_are_located_with_a_code() {
     assert_eq!((d["code"].as_str(), d["line"].as_u64()), (Some("mav::P003"), Some(3)));
     let ok = vouch(&["mav", "lint"]);
     assert_eq!(code(&ok), 0, "{}", stderr(&ok));
-    assert!(String::from_utf8_lossy(&ok.stdout).contains("ok: protocol mission_upload"));
+    let text = String::from_utf8_lossy(&ok.stdout);
+    assert!(text.contains("ok: protocol mission_upload"), "{text}");
+    // the policy for unverifiable answers is stated per protocol
+    assert!(
+        text.contains("datum_parachute") && text.contains("unverifiable answers: drop"),
+        "{text}"
+    );
+    assert!(text.contains("unverifiable answers: pass"), "{text}");
     let no_dialect = vouch(&["mav", "lint", "--dialect", "/nonexistent/d.xml"]);
     assert_eq!(code(&no_dialect), 2, "{}", stderr(&no_dialect));
 }
@@ -132,7 +139,7 @@ fn guard_exit_codes() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let c: serde_json::Value = serde_json::from_slice(&o.stdout).expect("counters as JSON");
     assert_eq!(c["violations"], 0);
-    assert!(stderr(&o).contains("9 protocol(s)"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("10 protocol(s)"), "{}", stderr(&o));
     assert_eq!(code(&run(&["--duration", "0.2", "--relay-only"])), 0);
     // usage errors
     for extra in [

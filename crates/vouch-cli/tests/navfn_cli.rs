@@ -232,6 +232,8 @@ fn bench_prints_vouch_figures_only() {
         "navfn",
         "bench",
         SUITE,
+        "--passes",
+        "1",
         "--repeat",
         "1",
         "--plan-map",
@@ -245,12 +247,107 @@ fn bench_prints_vouch_figures_only() {
     ]);
     assert_eq!(code(&o), 0, "{}", text(&o.stderr));
     let out = text(&o.stdout);
-    assert!(out.contains("measured in this run"), "{out}");
-    assert!(!out.contains("C++"), "no quoted figures: {out}");
-    assert_eq!(out.lines().filter(|l| l.contains("µs/path")).count(), 3, "{out}");
+    assert!(out.contains("every figure measured in this run"), "{out}");
+    assert!(!out.contains("C++") && !out.contains("oracle"), "vouch's figures only: {out}");
+    assert_eq!(out.lines().filter(|l| l.contains("µs/case")).count(), 3, "{out}");
+    assert_eq!(out.lines().filter(|l| l.contains("ms CPU")).count(), 6, "{out}");
     assert_eq!(out.lines().filter(|l| l.contains("ms/plan")).count(), 2, "{out}");
     let o = vouch(&["navfn", "bench"]);
     assert_eq!(code(&o), 2, "the suite must be given");
+}
+
+/// An oracle under the contract and its timing extension: vouch itself behind a shell script.
+fn self_oracle() -> PathBuf {
+    let script = tmp("self-oracle.sh");
+    let me = env!("CARGO_BIN_EXE_vouch");
+    let body = format!(
+        "#!/bin/sh\ncase \" $* \" in *\" --time-planning \"*) exec '{me}' -q navfn bench \"$@\";; esac\nexec '{me}' -q navfn suite run \"$@\"\n"
+    );
+    std::fs::write(&script, body).expect("script written");
+    script
+}
+
+#[test]
+fn bench_measures_an_oracle_side_by_side() {
+    let oracle = format!("sh {}", self_oracle().display());
+    let o = vouch(&[
+        "navfn",
+        "bench",
+        SUITE,
+        "--oracle",
+        &oracle,
+        "--modes",
+        "navfn-dijkstra",
+        "--passes",
+        "2",
+        "--repeat",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("identical on 3 of 3 files"), "{}", text(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    let rows = rows.as_array().expect("rows");
+    assert_eq!(rows.len(), 3, "planning, one file per process, whole folder");
+    assert_eq!(rows[0]["count"], 220);
+    for r in rows {
+        for side in ["vouch", "oracle"] {
+            let s = r[side].as_array().expect("samples");
+            assert_eq!(s.len(), 2, "one sample per pass: {r}");
+            assert!(s.iter().all(|v| v.as_f64().is_some_and(|v| v > 0.0)), "{r}");
+        }
+    }
+    assert!(rows[0]["oracle_peak_rss_kb"].as_u64().is_some_and(|k| k > 0));
+    // the table names the oracle and prints a ratio
+    let o = vouch(&[
+        "navfn",
+        "bench",
+        SUITE,
+        "--oracle",
+        &oracle,
+        "--modes",
+        "paper",
+        "--passes",
+        "1",
+        "--repeat",
+        "1",
+        "--no-process",
+    ]);
+    let out = text(&o.stdout);
+    assert!(out.contains("ratio") && out.contains("alternating"), "{out}");
+    // an oracle that fails is an I/O error
+    let o = vouch(&["navfn", "bench", SUITE, "--oracle", "false", "--passes", "1", "--no-process"]);
+    assert_eq!(code(&o), 2, "{}", text(&o.stderr));
+}
+
+#[test]
+fn bench_scale_reports_explored_cells_and_memory() {
+    let dir = tmp("scale");
+    let o = vouch(&[
+        "navfn",
+        "bench",
+        "--scale",
+        "20,40",
+        "--scale-dir",
+        dir.to_str().expect("utf-8"),
+        "--modes",
+        "navfn-astar",
+        "--passes",
+        "1",
+        "--repeat",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    let rows = rows.as_array().expect("rows");
+    let names: Vec<&str> = rows.iter().map(|r| r["workload"].as_str().expect("name")).collect();
+    assert_eq!(names[..2], ["scale navfn-astar 20x20", "scale navfn-astar 40x40"], "{names:?}");
+    assert!(names[2..].iter().all(|n| n.starts_with("scale navfn-astar 40x40 d=")), "{names:?}");
+    // corner to corner on a connected random map explores cells; a longer case explores more
+    assert!(rows.iter().all(|r| r["count"].as_u64().is_some_and(|c| c > 0)), "{rows:?}");
+    assert!(rows[0]["vouch_peak_rss_kb"].as_u64().is_some_and(|k| k > 0));
+    assert!(dir.join("size_40/map.bin").is_file());
 }
 
 #[test]

@@ -3,12 +3,15 @@
 //!
 //! A plain timing loop (harness = false) instead of criterion: the figure wanted is one mean over
 //! ~97k real messages, repeated a few times; criterion would add a large dependency build to a
-//! 2-core CI for no extra information. Prints min and median of the repetitions.
+//! 2-core CI for no extra information. Prints min and median of the repetitions, wall time and
+//! time on a CPU (see `support`).
+
+mod support;
 
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
 
+use support::{timed, Figures};
 use vouch_mav::codec::{MessageView, TlogReader};
 use vouch_mav::dialect::Dialect;
 use vouch_mav::monitor::{Monitor, Verdict};
@@ -28,46 +31,41 @@ fn main() {
     let data = std::fs::read(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     let dialect = Arc::new(Dialect::default_dialect().expect("default dialect"));
     let reps = 7;
-    let mut decode_only = Vec::new();
-    let mut full = Vec::new();
+    let (mut decode_only, mut full) = (Figures::default(), Figures::default());
     let mut frames = 0u64;
     for _ in 0..reps {
         // Decode only: tlog record → frame (CRC) → view → read one field.
-        let t = Instant::now();
         let mut n = 0u64;
         let mut acc = 0.0;
-        for rec in TlogReader::new(&data, &dialect) {
-            if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
-                acc += v.payload.first().copied().unwrap_or(0) as f64;
+        let t = timed(|| {
+            for rec in TlogReader::new(&data, &dialect) {
+                if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
+                    acc += v.payload.first().copied().unwrap_or(0) as f64;
+                }
+                n += 1;
             }
-            n += 1;
-        }
-        decode_only.push(t.elapsed().as_nanos() as f64 / n as f64);
+        });
+        decode_only.add(t, n);
         std::hint::black_box(acc);
         // Decode + monitor with the standard library.
         let mut m = Monitor::with_stdlib(dialect.clone(), &[]).expect("stdlib");
-        let t = Instant::now();
         let mut violations = 0;
-        for rec in TlogReader::new(&data, &dialect) {
-            if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
-                if let Verdict::Violation(_) =
-                    m.observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
-                {
-                    violations += 1;
+        let t = timed(|| {
+            for rec in TlogReader::new(&data, &dialect) {
+                if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
+                    if let Verdict::Violation(_) =
+                        m.observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
+                    {
+                        violations += 1;
+                    }
                 }
             }
-        }
-        full.push(t.elapsed().as_nanos() as f64 / n as f64);
+        });
+        full.add(t, n);
         frames = n;
         assert_eq!(violations, 0);
     }
-    let stats = |v: &mut Vec<f64>| {
-        v.sort_by(|a, b| a.total_cmp(b));
-        (v[0], v[v.len() / 2])
-    };
-    let (dmin, dmed) = stats(&mut decode_only);
-    let (fmin, fmed) = stats(&mut full);
     println!("{}: {frames} messages, {reps} repetitions", file.display());
-    println!("decode only (tlog + CRC + view): min {dmin:.0} ns/msg, median {dmed:.0} ns/msg");
-    println!("decode + monitor (stdlib):       min {fmin:.0} ns/msg, median {fmed:.0} ns/msg");
+    println!("decode only (tlog + CRC + view): {}", decode_only.line());
+    println!("decode + monitor (stdlib):       {}", full.line());
 }

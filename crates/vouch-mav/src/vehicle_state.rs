@@ -1,8 +1,10 @@
 //! Vehicle state tracked from traffic, for refinements that depend on it (case studies II, III).
 //!
 //! Fed by HEARTBEAT (armed flag, custom mode), GLOBAL_POSITION_INT (relative altitude, vertical
-//! speed), VFR_HUD (climb rate) and PARAM_VALUE / accepted PARAM_SET (parameter cache). Only the
-//! parameters that loaded protocols mention are cached, so the update is a few byte compares.
+//! speed), VFR_HUD (climb rate) and PARAM_VALUE (parameter cache). Only the parameters that
+//! loaded protocols mention are cached, so the update is a few byte compares. The tracker
+//! believes what it is given: the monitor feeds it only frames from the vehicle side, from a
+//! system that side has shown to be a vehicle (the trust boundary, see `monitor`).
 
 use crate::codec::view::{read_chars, read_field};
 use crate::codec::MessageView;
@@ -12,6 +14,23 @@ use crate::dialect::{Dialect, FieldDef, MsgIndex};
 const ARMED_FLAG: u64 = 128;
 /// MAV_TYPE_GCS: heartbeats of ground stations say nothing about a vehicle.
 const MAV_TYPE_GCS: u64 = 6;
+/// MAV_AUTOPILOT_GENERIC.
+const AUTOPILOT_GENERIC: u64 = 0;
+/// MAV_AUTOPILOT_INVALID: the sender is no flight controller (GCS, camera, companion, …).
+const AUTOPILOT_INVALID: u64 = 8;
+
+/// What a HEARTBEAT says its sender is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HeartbeatKind {
+    /// MAV_TYPE_GCS.
+    Gcs,
+    /// A flight controller: not a GCS, autopilot not INVALID, and component 1 or a named
+    /// autopilot (a GENERIC autopilot elsewhere than component 1 is some other device).
+    Autopilot,
+    /// Anything else (camera, gimbal, companion computer, …): it belongs to the side of its
+    /// system.
+    Other,
+}
 
 /// State of one vehicle (one system id). `None` = not seen yet.
 #[derive(Debug, Clone, Default, serde::Serialize)]
@@ -34,7 +53,6 @@ struct Fields {
     gpi: Option<(MsgIndex, FieldDef, FieldDef)>,
     vfr: Option<(MsgIndex, FieldDef)>,
     param_value: Option<(MsgIndex, FieldDef, FieldDef)>,
-    param_set: Option<(MsgIndex, FieldDef, FieldDef, FieldDef)>,
 }
 
 /// Names of the parameters protocols refer to, interned at load time.
@@ -52,8 +70,9 @@ impl ParamTable {
         self.names.len() - 1
     }
 
-    fn find(&self, id: &[u8]) -> Option<usize> {
-        self.names.iter().position(|n| n.as_bytes() == id)
+    /// The slot of a parameter id, matched without regard to ASCII case (as ArduPilot does).
+    pub fn find(&self, id: &[u8]) -> Option<usize> {
+        self.names.iter().position(|n| n.as_bytes().eq_ignore_ascii_case(id))
     }
 }
 
@@ -97,20 +116,22 @@ impl VehicleTracker {
                     field_of(dialect, "PARAM_VALUE", "param_value")?,
                 ))
             })(),
-            param_set: (|| {
-                Some((
-                    idx("PARAM_SET")?,
-                    field_of(dialect, "PARAM_SET", "param_id")?,
-                    field_of(dialect, "PARAM_SET", "param_value")?,
-                    field_of(dialect, "PARAM_SET", "target_system")?,
-                ))
-            })(),
         };
         VehicleTracker { fields, params, states: Vec::new() }
     }
 
     pub fn state(&self, sysid: u8) -> Option<&VehicleState> {
         self.states.iter().find(|(s, _)| *s == sysid).map(|(_, st)| st)
+    }
+
+    /// The state of the vehicle a message addressed to system `sysid` reaches: that vehicle,
+    /// or for a broadcast (system 0) the only vehicle known (`None` when there are several).
+    pub fn addressed(&self, sysid: u8) -> Option<&VehicleState> {
+        match (sysid, self.states.as_slice()) {
+            (0, [(_, only)]) => Some(only),
+            (0, _) => None,
+            (s, _) => self.state(s),
+        }
     }
 
     pub fn states(&self) -> impl Iterator<Item = (u8, &VehicleState)> {
@@ -127,24 +148,35 @@ impl VehicleTracker {
         &mut self.states[last].1
     }
 
-    /// Whether a heartbeat says its sender is a ground station. `None` if `msg` is no heartbeat.
-    pub fn heartbeat_is_gcs(&self, msg: &MessageView) -> Option<bool> {
-        let (idx, _, _, ty, _) = self.fields.heartbeat.as_ref()?;
-        (msg.index == *idx).then(|| read_field(msg.payload, ty, 0).as_f64() as u64 == MAV_TYPE_GCS)
+    /// What a heartbeat from component `compid` says its sender is; `None` if `msg` is no
+    /// heartbeat.
+    pub fn heartbeat_kind(&self, msg: &MessageView, compid: u8) -> Option<HeartbeatKind> {
+        let (idx, _, _, ty, autopilot) = self.fields.heartbeat.as_ref()?;
+        if msg.index != *idx {
+            return None;
+        }
+        let t = read_field(msg.payload, ty, 0).as_f64() as u64;
+        let ap = read_field(msg.payload, autopilot, 0).as_f64() as u64;
+        Some(if t == MAV_TYPE_GCS {
+            HeartbeatKind::Gcs
+        } else if ap == AUTOPILOT_INVALID || (compid != 1 && ap == AUTOPILOT_GENERIC) {
+            HeartbeatKind::Other
+        } else {
+            HeartbeatKind::Autopilot
+        })
     }
 
-    /// Updates state from a message sent by `sysid`. PARAM_SET is applied separately, once accepted.
+    /// Updates state from a message sent by `sysid/compid` (a frame the monitor trusts).
     pub fn observe(&mut self, sysid: u8, compid: u8, msg: &MessageView) {
         let f = &self.fields;
-        if let Some((idx, base_mode, custom_mode, ty, autopilot)) = &f.heartbeat {
+        if let Some((idx, base_mode, custom_mode, ty, _)) = &f.heartbeat {
             if msg.index == *idx {
-                let t = read_field(msg.payload, ty, 0).as_f64() as u64;
-                let ap = read_field(msg.payload, autopilot, 0).as_f64() as u64;
-                // Only the autopilot's own heartbeat (component 1, or any non-GCS non-INVALID
-                // autopilot) describes the vehicle; cameras, gimbals and GCSs do not.
-                if t == MAV_TYPE_GCS || ap == 8 || (compid != 1 && ap == 0) {
+                // Only the autopilot's own heartbeat describes the vehicle; cameras, gimbals and
+                // GCSs do not.
+                if self.heartbeat_kind(msg, compid) != Some(HeartbeatKind::Autopilot) {
                     return;
                 }
+                let t = read_field(msg.payload, ty, 0).as_f64() as u64;
                 let armed = read_field(msg.payload, base_mode, 0).as_f64() as u64 & ARMED_FLAG != 0;
                 let mode = read_field(msg.payload, custom_mode, 0).as_f64() as u32;
                 let st = self.state_mut(sysid);
@@ -178,21 +210,6 @@ impl VehicleTracker {
                     self.state_mut(sysid).params[slot] = Some(v);
                 }
             }
-        }
-    }
-
-    /// Applies an accepted PARAM_SET to the cache of its target vehicle.
-    pub fn apply_param_set(&mut self, msg: &MessageView) {
-        let Some((idx, id, value, target)) = &self.fields.param_set else {
-            return;
-        };
-        if msg.index != *idx || self.params.names.is_empty() {
-            return;
-        }
-        if let Some(slot) = self.params.find(read_chars(msg.payload, id)) {
-            let v = read_field(msg.payload, value, 0).as_f64();
-            let sys = read_field(msg.payload, target, 0).as_f64() as u8;
-            self.state_mut(sys).params[slot] = Some(v);
         }
     }
 }

@@ -69,8 +69,16 @@ fn case_two_param_set_violating_the_dependency_is_reported() {
     assert_eq!(value(v, "param_value"), "200");
     assert_eq!(value(v, "param.MC_PITCH_P"), "6.5");
     assert_eq!(value(v, "param.MC_PITCHRATE_FF"), "0.5");
+    // answered as the vehicle answers a write: PARAM_VALUE with the value in force (3.0, the
+    // last one the vehicle reported), and the vehicle is asked to report it again
     let reply = v.reply.as_ref().expect("reply declared");
-    assert_eq!(reply.message, "STATUSTEXT");
+    assert_eq!((reply.message.as_str(), reply.to), ("PARAM_VALUE", vouch_mav::Side::Gcs));
+    assert!(reply.fields.contains(&("param_value".into(), 3.0)), "{:?}", reply.fields);
+    assert_eq!(reply.text_fields, vec![("param_id".to_string(), "MC_PITCHRATE_MAX".to_string())]);
+    assert_eq!((reply.from_sys, reply.from_comp, reply.to_sys, reply.to_comp), (1, 1, 255, 190));
+    let ask = &v.more_replies[0];
+    assert_eq!((ask.message.as_str(), ask.to), ("PARAM_REQUEST_READ", vouch_mav::Side::Vehicle));
+    assert_eq!((ask.from_sys, ask.from_comp, ask.to_sys, ask.to_comp), (255, 190, 1, 1));
 
     // Lowering a gain below what the current maximum needs is caught too (cache was updated by
     // the PARAM_VALUE stream: MC_PITCHRATE_MAX = 3.0 needs MC_PITCH_P * 0.5 > 3.0).
@@ -96,11 +104,13 @@ fn case_two_weights_are_configurable_and_unknown_params_fail_closed() {
     assert_eq!(value(&v, "param.MC_PITCH_P"), "unknown");
 }
 
-/// Armed copter in LOITER, 50 m above home, descending at 0.5 m/s, CHUTE_ALT_MIN = 10 m.
+/// Armed copter in LOITER, 50 m above home, descending at 0.5 m/s, CHUTE_ALT_MIN = 10 m. (The
+/// parameter is reported after the vehicle's first heartbeat: before it, nothing shows that
+/// system 1 is a vehicle, and its reports are not believed.)
 fn chute_vehicle(armed: bool, mode: u32, rel_alt_m: f64, climb_ms: f64) -> Option<Craft> {
     let mut c = Craft::new()?;
-    param_value(&mut c, "CHUTE_ALT_MIN", 10.0);
     c.heartbeats(armed, mode);
+    param_value(&mut c, "CHUTE_ALT_MIN", 10.0);
     c.send(
         UAV,
         "GLOBAL_POSITION_INT",

@@ -169,6 +169,7 @@ fn upload(
             key: SigningKey::from_passphrase(s.guard_pass),
             sign_to_vehicle: false,
             link_id: 0,
+            state_file: None,
         });
         loopback_guard(vport, enforce, Some(log.clone()), signing)
     });

@@ -46,6 +46,7 @@ impl Inspector for DenyParachute {
                 reason: "parachute release refused by the test inspector".into(),
                 time_us: 0,
                 reply: Some(command_ack(Side::Gcs, 1, 1, (f.sysid(), f.compid()), 208, 2)),
+                more_replies: vec![],
                 others: vec![],
             })));
         }
@@ -157,8 +158,12 @@ fn enforce_mode_drops_and_answers_the_sender() {
 fn signing_keeps_outsiders_out() {
     let vehicle = udp();
     let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
-    cfg.signing =
-        Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: false, link_id: 0 });
+    cfg.signing = Some(SigningConfig {
+        key: SigningKey(key_0_to_31()),
+        sign_to_vehicle: false,
+        link_id: 0,
+        state_file: None,
+    });
     let g = start(cfg, Box::new(PassThrough)).expect("guard");
     let gcs = udp();
     let to = g.gcs_addr.unwrap();
@@ -179,8 +184,12 @@ fn signing_admits_fresh_rejects_replay_and_signs_toward_vehicle() {
     use vouch_mav::signing::{timestamp_now, Signer, Verifier};
     let vehicle = udp();
     let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
-    cfg.signing =
-        Some(SigningConfig { key: SigningKey(key_0_to_31()), sign_to_vehicle: true, link_id: 9 });
+    cfg.signing = Some(SigningConfig {
+        key: SigningKey(key_0_to_31()),
+        sign_to_vehicle: true,
+        link_id: 9,
+        state_file: None,
+    });
     let g = start(cfg, Box::new(PassThrough)).expect("guard");
     let gcs = udp();
     let to = g.gcs_addr.unwrap();

@@ -153,6 +153,14 @@ fn two_ground_stations_a_companion_and_two_vehicles_at_once() {
         "companion",
     );
     let mission = write_mission(&dir);
+    // MAVProxy targets the first system/component whose heartbeat it hears; a companion (1/191)
+    // that speaks before the autopilot would take the upload. Start it once vehicle 1 talks.
+    let heard = Instant::now() + Duration::from_secs(10);
+    while guard.counters().endpoint("v1").is_some_and(|e| e.frames_in == 0)
+        && Instant::now() < heard
+    {
+        std::thread::sleep(Duration::from_millis(20));
+    }
     let mp_port = guard.local_addr("mavproxy").unwrap().port();
     let mut mp = Command::new(&py);
     mp.arg(py.parent().unwrap().join("mavproxy.py"))

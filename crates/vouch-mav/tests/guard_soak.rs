@@ -1,7 +1,8 @@
 //! Soak: a hostile mix through the guard in enforce mode with signing required from the GCS —
 //! malformed frames, replayed and forged signed frames, unsigned frames, protocol violations
-//! (DATUM's early MISSION_ACK, DO_PARACHUTE while disarmed), floods — while legitimate traffic
-//! flows both ways. The receiving peers check every frame they get independently of the guard
+//! (DATUM's early MISSION_ACK, DO_PARACHUTE while disarmed), unknown message ids (alone and as a
+//! stray header claiming the frame behind it), the vehicle's identity forged from the GCS side,
+//! floods — while legitimate traffic flows both ways. The receiving peers check every frame they get independently of the guard
 //! (own checksum decode, own signature verifier, markers of the violating messages) and count
 //! non-compliant ones, which must be zero. RSS must stay flat. Loopback only, bounded.
 //!
@@ -61,7 +62,7 @@ impl Peer {
         &mut self,
         d: &Dialect,
         wait: Duration,
-        bad: &dyn Fn(u32, &[u8]) -> bool,
+        bad: &dyn Fn(u8, u32, &[u8]) -> bool,
         until: Option<u32>,
     ) -> bool {
         let end = Instant::now() + wait;
@@ -80,7 +81,7 @@ impl Peer {
                                 self.noncompliant += 1;
                             }
                         }
-                        if bad(f.msgid, f.payload) {
+                        if bad(f.sysid, f.msgid, f.payload) {
                             self.noncompliant += 1;
                         }
                         if until == Some(f.msgid) {
@@ -203,6 +204,10 @@ fn soak(target_frames: u64) {
     let dialect = Dialect::default_dialect().expect("embedded dialect");
     let mut vehicle = Peer::new(true);
     let v_addr = vehicle.sock.local_addr().unwrap();
+    let state = std::env::temp_dir()
+        .join(format!("vouch-soak-{}-{target_frames}", std::process::id()))
+        .join("signing.json");
+    let _ = std::fs::remove_file(&state);
     let cfg = GuardConfig {
         enforce: true,
         alert_gcs: true,
@@ -210,6 +215,8 @@ fn soak(target_frames: u64) {
             key: SigningKey(key_0_to_31()),
             sign_to_vehicle: false,
             link_id: 0,
+            // the replay state is kept on disk meanwhile (written every second)
+            state_file: Some(state.clone()),
         }),
         ..GuardConfig::new(
             "udpin:127.0.0.1:0".parse().unwrap(),
@@ -230,9 +237,11 @@ fn soak(target_frames: u64) {
     // the guard's vehicle-side port is learned from its first forwarded frame
     let hb = heartbeat(255, 190, 6, 0);
     gcs.send_signed(hb);
-    let is_bad_v =
-        |id: u32, p: &[u8]| id == 76 && p.len() >= 30 && u16::from_le_bytes([p[28], p[29]]) == 208;
-    let is_bad_g = |id: u32, p: &[u8]| id == 47 && p.get(2).copied().unwrap_or(0) == 0;
+    // at the vehicle: a parachute release, or anything carrying its own system id (forged)
+    let is_bad_v = |sys: u8, id: u32, p: &[u8]| {
+        sys == 1 || id == 76 && p.len() >= 30 && u16::from_le_bytes([p[28], p[29]]) == 208
+    };
+    let is_bad_g = |_: u8, id: u32, p: &[u8]| id == 47 && p.get(2).copied().unwrap_or(0) == 0;
     assert!(
         vehicle.drain(&dialect, Duration::from_millis(200), &is_bad_v, Some(0)),
         "first heartbeat"
@@ -253,6 +262,11 @@ fn soak(target_frames: u64) {
         let _ = v.sock.send_to(&f, back);
         vsent.set(vsent.get() + 1);
     };
+    // the vehicle announces itself first, as a powered-up autopilot does (before its first
+    // heartbeat nobody can tell its ids from anyone else's)
+    vseq = vseq.wrapping_add(1);
+    vsend(&vehicle, heartbeat(1, 1, 2, vseq));
+    gcs.peer.drain(&dialect, Duration::from_millis(200), &is_bad_g, Some(0));
     let started = Instant::now();
     let mut rss_after_warmup = 0;
     let mut round = 0u32;
@@ -298,7 +312,29 @@ fn soak(target_frames: u64) {
         gcs.send_raw(&junk); // garbage
         let trunc = parachute_release(gcs.next());
         gcs.send_raw(&trunc[..20]); // truncated
-                                    // 4. signed MISSION_COUNT flood from ten other ground stations (sessions must expire)
+                                    // unknown message ids: a lone frame, and a stray header claiming the validly signed
+                                    // heartbeat behind it (which must still arrive)
+        let s = gcs.next();
+        gcs.send_raw(&encode_v2(42_000, 0x5A, &[1, 2, 3], 255, 190, s));
+        let s = gcs.next();
+        let mut hb = vec![];
+        let ok = gcs.signer.sign_into(
+            &FrameRef::new(&heartbeat(255, 190, 6, s)).unwrap(),
+            timestamp_now(),
+            &mut hb,
+        );
+        assert!(ok);
+        let claim = (6 + hb.len() - 12) as u8;
+        let mut stray = vec![0xFD, claim, 0, 0, s, 255, 190, 0x10, 0xA4, 0x00];
+        stray.extend_from_slice(&[1, 2, 3, 4, 5, 6]);
+        stray.extend_from_slice(&hb);
+        gcs.send_raw(&stray);
+        // the vehicle's identity forged from the GCS side, validly signed (an insider)
+        let s = gcs.next();
+        gcs.send_signed(heartbeat(1, 1, 2, s));
+        let s = gcs.next();
+        gcs.send_signed(attitude(0, s));
+        // 4. signed MISSION_COUNT flood from ten other ground stations (sessions must expire)
         for k in 0..10u8 {
             let s = gcs.next();
             gcs.send_signed(mission_count(100 + k, 3, s));
@@ -337,18 +373,19 @@ fn soak(target_frames: u64) {
     assert!(total >= target_frames, "bounded run ended early: {total} < {target_frames}");
     assert_eq!(vehicle.noncompliant, 0, "non-compliant frames reached the vehicle");
     assert_eq!(gcs.peer.noncompliant, 0, "non-compliant frames reached the GCS");
-    // 4 signing rejections, 1 bad checksum and 2 violations are injected per round; allow 10 %
-    // of them to be lost by the kernel under the floods (UDP), not more
+    // 4 signing rejections, 3 bad checksums or unknown ids and 4 violations (an early ACK, a
+    // parachute, two forged identities) are injected per round; allow 10 % of them to be lost
+    // by the kernel under the floods (UDP), not more
     let r = u64::from(round);
     assert!(
         c.signing_rejected >= r * 4 * 9 / 10,
         "replay/forged/wrong-key/unsigned rejected: {c:?}"
     );
+    assert!(c.dropped_malformed >= r * 3 * 9 / 10, "bad checksums and unknown ids dropped: {c:?}");
     assert!(
-        c.dropped_malformed >= r * 9 / 10,
-        "validly signed frames with a bad checksum dropped: {c:?}"
+        c.dropped_violations >= r * 4 * 9 / 10,
+        "early ACKs, parachutes and forged identities dropped: {c:?}"
     );
-    assert!(c.dropped_violations >= r * 2 * 9 / 10, "early ACKs and parachutes dropped: {c:?}");
     assert!(vehicle.received > 0 && gcs.peer.received > 0);
     assert!(
         rss_end <= rss_after_warmup + 4096,

@@ -40,6 +40,7 @@ fn standard_library_checks() {
         "param_read",
         "param_list",
         "command",
+        "set_mode",
         "datum_param_dependency",
         "datum_parachute",
     ] {
@@ -183,4 +184,32 @@ fn every_class_of_mistake_has_its_own_code() {
         assert_eq!(got.as_deref(), Some(code), "{}", e.message);
         assert!(miette::Diagnostic::labels(&e).is_some_and(|mut l| l.next().is_some()));
     }
+}
+
+/// Conversions, `param[…]`, `unverifiable` policies and per-role replies: what the checker accepts
+/// and what it rejects, located.
+#[test]
+fn conversions_policies_and_replies_are_checked() {
+    if dialect().is_none() {
+        return;
+    }
+    let ok = "protocol p {\n  roles gcs, uav;\n  key command;\n  unverifiable pass;\n  strict uav -> gcs : COMMAND_ACK;\n  on violation reply gcs : COMMAND_ACK(command = command, result = MAV_RESULT_DENIED);\n  on violation by gcs reply uav : PARAM_VALUE(param_value = param[\"X\"], param_id = upper(\"x\"));\n  gcs -> uav : COMMAND_LONG when uint16(param1) == PARACHUTE_RELEASE && finite(param2) where float(param3) < int(param4) + int8(1) + uint32(2);\n}\n";
+    lint_src(ok).expect("valid");
+    let e = err(&ok.replace("uint16(param1)", "round(param1)"));
+    assert_eq!(e.kind, ErrorKind::UnknownName);
+    assert!(e.message.contains("unknown function `round`"), "{}", e.message);
+    assert_eq!((e.line, e.col), pos_of(ok, "uint16(param1)"));
+    let e = err(&ok.replace("finite(param2)", "finite(\"two\")"));
+    assert_eq!(e.kind, ErrorKind::Type);
+    let e = err(&ok.replace("upper(\"x\")", "upper(3)"));
+    assert_eq!(e.kind, ErrorKind::Type);
+    let e = err(&ok.replace("param[\"X\"]", "param[3]"));
+    assert_eq!(e.kind, ErrorKind::Type);
+    let e = err(&ok.replace("unverifiable pass", "unverifiable maybe"));
+    assert_eq!(e.kind, ErrorKind::Syntax);
+    assert!(e.message.contains("`pass` or `drop`"), "{}", e.message);
+    let e = err(&ok.replace("by gcs reply uav", "reply gcs"));
+    assert_eq!(e.kind, ErrorKind::Duplicate, "two replies to the same role: {}", e.message);
+    let e = err(&ok.replace("by gcs reply", "by pilot reply"));
+    assert_eq!(e.kind, ErrorKind::UnknownName);
 }

@@ -17,7 +17,8 @@ pub struct CheckArgs {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub monitor: MonitorOpts,
-    /// Print one JSON document (every file's counters and all its violations) instead of text
+    /// Print one JSON document (every file's counters, violations and unverifiable messages)
+    /// instead of text
     #[arg(long)]
     pub json: bool,
     /// Write the report to FILE instead of standard output
@@ -80,16 +81,37 @@ fn write_report(w: &mut String, file: &Path, r: &RecordingReport, max: usize) ->
         "  input problems: bad crc {}, bad length {}, unknown id {}, bad incompat flags {}, truncated {}, garbage bytes {}, records skipped {}",
         c.bad_crc, c.bad_length, c.unknown_id, c.bad_incompat, c.truncated, c.garbage_bytes, r.skipped_records
     )?;
+    let s = &r.summary;
     writeln!(
         w,
-        "  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11}",
-        "protocol", "started", "completed", "abandoned", "unfinished", "violations"
+        "  sides (derived from heartbeats): gcs {}, vehicle {}",
+        s.from_gcs, s.from_vehicle
     )?;
-    for p in &r.summary.protocols {
+    if let Some(side) = r.one_direction {
         writeln!(
             w,
-            "  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11}",
-            p.name, p.started, p.completed, p.abandoned, p.unfinished, p.violations
+            "  only one direction is recorded ({} side): answers to requests that are not in \
+             the recording are unverifiable, not violations",
+            side.as_str()
+        )?;
+    }
+    writeln!(
+        w,
+        "  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11} {:>13}",
+        "protocol", "started", "completed", "abandoned", "unfinished", "violations", "unverifiable"
+    )?;
+    for p in &s.protocols {
+        writeln!(
+            w,
+            "  {:<26} {:>8} {:>10} {:>10} {:>11} {:>11} {:>13}",
+            p.name, p.started, p.completed, p.abandoned, p.unfinished, p.violations, p.unverifiable
+        )?;
+    }
+    if !r.unverifiable.is_empty() {
+        writeln!(
+            w,
+            "  unverifiable: {} (their sessions' openers are not in the recording; listed with --json)",
+            r.unverifiable.len()
         )?;
     }
     writeln!(w, "  violations: {}", r.violations.len())?;

@@ -12,6 +12,7 @@ use vouch_mav::guard::{
     PassThrough, RoutingOptions, SigningConfig,
 };
 use vouch_mav::monitor::MonitorSpec;
+use vouch_mav::signing::state;
 
 use super::guard_args::GuardArgs;
 use super::guard_setup::{endpoints, log_paths, merged_monitor};
@@ -21,6 +22,7 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure, Verbosity};
 /// The inspector the options ask for, with a description and the dialect to route by.
 fn inspector(
     relay_only: bool,
+    pass_unknown_ids: bool,
     spec: &MonitorSpec,
     ctx: &Ctx,
 ) -> Result<(Box<dyn Inspector>, String, RoutingOptions), Failure> {
@@ -40,7 +42,8 @@ fn inspector(
     let names: Vec<&str> = monitor.protocols().protocols.iter().map(|p| p.name.as_str()).collect();
     let what = format!("{} protocol(s): {}", names.len(), names.join(", "));
     let routing = RoutingOptions { dialect: Some(monitor.dialect().clone()), ..Default::default() };
-    Ok((Box::new(MonitorInspector::new(monitor)), what, routing))
+    let inspector = MonitorInspector::new(monitor).pass_unknown_ids(pass_unknown_ids);
+    Ok((Box::new(inspector), what, routing))
 }
 
 pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
@@ -64,8 +67,9 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
     let eps = endpoints(&a, &file)?;
     let g = &file.guard;
     let relay_only = a.relay_only || g.relay_only.unwrap_or(false);
+    let pass_unknown_ids = a.pass_unknown_ids || g.pass_unknown_ids.unwrap_or(false);
     let (inspector, what, mut routing) =
-        inspector(relay_only, &merged_monitor(&a.monitor, g), ctx)?;
+        inspector(relay_only, pass_unknown_ids, &merged_monitor(&a.monitor, g), ctx)?;
     routing.sniffer_sysid = a.sniffer_sysid.or(file.sniffer_sysid);
     routing.dedup_period = file.dedup_period;
     let stop = guard::stop_on_signals()
@@ -78,11 +82,24 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
             "--sign-to-vehicle needs a signing key (--signing-key or SigningKey)",
         ));
     }
-    let signing = key.map(|key| SigningConfig {
-        key,
-        sign_to_vehicle,
-        link_id: a.signing_link_id.or(g.signing_link_id).unwrap_or(0),
-    });
+    let signing = match key {
+        Some(key) => {
+            // Replay protection across restarts is on whenever a key is set.
+            let state_file = match a.signing_state.clone().or(g.signing_state.clone()) {
+                Some(p) => p,
+                None => {
+                    state::default_path(&key).map_err(|e| Failure::Usage(miette::Report::new(e)))?
+                }
+            };
+            Some(SigningConfig {
+                key,
+                sign_to_vehicle,
+                link_id: a.signing_link_id.or(g.signing_link_id).unwrap_or(0),
+                state_file: Some(state_file),
+            })
+        }
+        None => None,
+    };
     // --check opens nothing: the log directory is neither created nor trimmed
     let (log_path, tlog_path) = if a.check { (None, None) } else { log_paths(&a, &file)? };
     let cfg = GuardConfig {

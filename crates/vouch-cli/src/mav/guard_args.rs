@@ -71,6 +71,10 @@ pub struct GuardArgs {
     /// Check nothing: a plain byte-exact router (the guard's own floor in benchmarks)
     #[arg(long)]
     pub relay_only: bool,
+    /// Let frames of message ids the dialect does not know pass unchecked (by default they
+    /// cannot be verified and are dropped in enforce mode; config key PassUnknownIds)
+    #[arg(long)]
+    pub pass_unknown_ids: bool,
     /// Drop violating messages and answer the sender instead of only reporting
     #[arg(long)]
     pub enforce: bool,
@@ -93,6 +97,11 @@ pub struct GuardArgs {
     /// Link id the guard signs with toward the vehicle
     #[arg(long, value_name = "ID")]
     pub signing_link_id: Option<u8>,
+    /// Replay state file of the signing key (default $STATE_DIRECTORY, else
+    /// $XDG_STATE_HOME/vouch, else ~/.local/state/vouch, file mav-signing-<key fingerprint>.json;
+    /// config key SigningState): signed frames accepted before a restart stay refused
+    #[arg(long, value_name = "FILE")]
+    pub signing_state: Option<std::path::PathBuf>,
     /// Read the configuration and the protocols, print the endpoints and exit without opening
     /// anything (exit 0 when everything is accepted)
     #[arg(long)]

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use vouch_mav::monitor::MonitorSpec;
+use vouch_mav::protocol::ir::UnverifiablePolicy;
 
 use super::load_failure;
 use crate::contract::{CmdResult, Ctx, Exit};
@@ -35,6 +36,7 @@ pub fn run(a: LintArgs, ctx: &mut Ctx) -> CmdResult {
                 "states": p.states.len(),
                 "messages": p.alphabet.len(),
                 "roles": p.roles.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+                "unverifiable": p.unverifiable,
             })
         })
         .collect();
@@ -44,9 +46,13 @@ pub fn run(a: LintArgs, ctx: &mut Ctx) -> CmdResult {
     }
     for p in &monitor.protocols().protocols {
         let roles: Vec<&str> = p.roles.iter().map(|(n, _)| n.as_str()).collect();
+        let policy = match p.unverifiable {
+            UnverifiablePolicy::Pass => "pass",
+            UnverifiablePolicy::Drop => "drop",
+        };
         writeln!(
             ctx.out,
-            "ok: protocol {} ({} states, {} messages, roles {})",
+            "ok: protocol {} ({} states, {} messages, roles {}; unverifiable answers: {policy})",
             p.name,
             p.states.len(),
             p.alphabet.len(),

@@ -18,8 +18,8 @@ use crate::contract::{CmdResult, Ctx, Failure};
 #[derive(Subcommand)]
 pub enum MavCmd {
     /// Check recordings (.tlog) against session-type protocols (the standard library unless
-    /// --protocol is given). Exit 0 clean, 1 protocol file rejected, 2 usage or I/O error,
-    /// 3 violations found
+    /// --protocol is given). Exit 0 clean (unverifiable messages alone are no violation),
+    /// 1 protocol file rejected, 2 usage or I/O error, 3 violations found
     #[command(after_help = "Example:\n  vouch mav check flight.tlog --max-reports 10")]
     Check(check::CheckArgs),
     /// Check protocol files against a dialect (the standard library if no file is given).

@@ -9,7 +9,7 @@
 
 use std::ops::Range;
 
-use super::frame::{cut, is_magic, parse_frame, CodecStats, Cut, Frame, FrameRef, Parse};
+use super::frame::{cut, parse_frame, CodecStats, Cut, Frame, FrameRef, Parse};
 use crate::dialect::Dialect;
 
 /// One piece of a scanned buffer, as absolute byte offsets `(start, end)`.
@@ -162,7 +162,8 @@ impl StreamSplitter {
 }
 
 /// Dialect-checked frame finder over a buffer (a recording, a datagram, a growing stream buffer),
-/// counting everything that is not a good frame in [`CodecStats`].
+/// counting everything that is not a good frame in [`CodecStats`]. It returns only frames whose
+/// checksum verified, so only frames of ids the dialect knows.
 ///
 /// Usage: append received bytes to a buffer, call [`FrameSplitter::next`] with a cursor until it
 /// returns `None`, forward each returned range byte for byte, then drain `buf[..cursor]`.
@@ -182,10 +183,11 @@ impl FrameSplitter {
     /// frame; advances `*pos` past it. Returns `None` when more bytes are needed (`*pos` then
     /// points at the start of the incomplete frame or at the end of the buffer).
     ///
-    /// A frame whose id the dialect does not know (its checksum cannot be checked) is believed
-    /// only when another frame start or the end of the buffer follows it: otherwise a stray magic
-    /// byte could swallow good frames. `end_of_input` marks the buffer as complete (a whole
-    /// datagram, or the end of a file).
+    /// A candidate whose id the dialect does not know cannot be verified (its checksum needs the
+    /// message's CRC_EXTRA): it is counted (`unknown_id`) and treated like a bad checksum, so the
+    /// scan resumes after its start marker and a stray header never swallows the good frames
+    /// behind it. `end_of_input` marks the buffer as complete (a whole datagram, or the end of a
+    /// file).
     pub fn next<'a>(
         &mut self,
         buf: &'a [u8],
@@ -198,10 +200,7 @@ impl FrameSplitter {
         let stats = &mut self.stats;
         loop {
             let piece = scan.next(&mut |c| {
-                match parse_frame(c.frame.bytes, dialect, true) {
-                    Parse::Frame(f) if f.msg.is_none() && !c.next.is_none_or(is_magic) => {
-                        stats.unknown_id += 1;
-                    }
+                match parse_frame(c.frame.bytes, dialect, false) {
                     Parse::Frame(f) => found = Some(f),
                     Parse::Invalid(kind) => stats.reject(kind),
                     Parse::Incomplete => {}

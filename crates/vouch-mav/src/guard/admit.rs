@@ -97,6 +97,10 @@ impl Core {
         }
         match verdict {
             Verdict::Accept | Verdict::Ignore => Admission::Forward,
+            Verdict::Unverifiable(_) => {
+                self.counters.unverifiable.fetch_add(1, Ordering::Relaxed);
+                Admission::Forward
+            }
             Verdict::Violation(v) => self.on_violation(ep, from, fr, &v),
         }
     }
@@ -148,7 +152,7 @@ impl Core {
         self.events.violation(|| GuardEvent::Violation { from: side, dropped, summary, endpoint });
         if self.enforce {
             c.dropped_violations.fetch_add(1, Ordering::Relaxed);
-            if let Some(r) = &v.reply {
+            for r in v.replies() {
                 self.send_reply(r, side, from);
             }
             Admission::Drop

@@ -160,10 +160,14 @@ impl GuardConfig {
 pub struct SigningConfig {
     /// The shared secret.
     pub key: SigningKey,
-    /// (Re)sign frames forwarded to the vehicle.
+    /// (Re)sign frames forwarded to the vehicle (the guard signs its own messages toward the
+    /// vehicle whenever a key is set).
     pub sign_to_vehicle: bool,
     /// Link id the guard signs with toward the vehicle.
     pub link_id: u8,
+    /// Where the replay state is kept across restarts (read at start, written at least every
+    /// second and at shutdown; see [`crate::signing::state`]). `None`: in memory only.
+    pub state_file: Option<PathBuf>,
 }
 
 #[cfg(test)]

@@ -28,10 +28,12 @@ pub(super) struct Counters {
     pub(super) forwarded: [AtomicU64; 2],
     pub(super) violations: AtomicU64,
     pub(super) dropped_violations: AtomicU64,
+    pub(super) unverifiable: AtomicU64,
     pub(super) malformed: AtomicU64,
     pub(super) dropped_malformed: AtomicU64,
     pub(super) junk_bytes: AtomicU64,
     pub(super) signing_rejected: AtomicU64,
+    pub(super) signing_state_failures: AtomicU64,
     pub(super) setup_signing_dropped: AtomicU64,
     pub(super) replies_sent: AtomicU64,
     pub(super) alerts_sent: AtomicU64,
@@ -83,6 +85,9 @@ pub struct CounterSnapshot {
     pub violations: u64,
     /// Violating frames dropped (enforce mode).
     pub dropped_violations: u64,
+    /// Frames the monitor could not verify (answers to requests it did not see) that the
+    /// protocol's policy lets pass.
+    pub unverifiable_forwarded: u64,
     /// Length-cut candidates that were no intact frame (a corrupt frame with start markers inside can count more than once).
     pub malformed: u64,
     /// Of those, dropped (enforce mode).
@@ -91,6 +96,8 @@ pub struct CounterSnapshot {
     pub junk_bytes: u64,
     /// Frames from ground endpoints that failed the signing check.
     pub signing_rejected: u64,
+    /// Writes of the signing state file that failed (retried every second).
+    pub signing_state_write_failures: u64,
     /// SETUP_SIGNING frames dropped (never forwarded).
     pub setup_signing_dropped: u64,
     /// Answers sent in enforce mode.
@@ -109,7 +116,7 @@ pub struct CounterSnapshot {
 
 impl CounterSnapshot {
     /// (name, value) of the router-wide counters, in the order they are printed.
-    pub fn rows(&self) -> [(&'static str, u64); 16] {
+    pub fn rows(&self) -> [(&'static str, u64); 18] {
         [
             ("frames from gcs", self.frames_from_gcs),
             ("forwarded to vehicle", self.forwarded_to_vehicle),
@@ -117,10 +124,12 @@ impl CounterSnapshot {
             ("forwarded to gcs", self.forwarded_to_gcs),
             ("violations", self.violations),
             ("dropped violations", self.dropped_violations),
+            ("unverifiable passed", self.unverifiable_forwarded),
             ("malformed frames", self.malformed),
             ("dropped malformed", self.dropped_malformed),
             ("junk bytes", self.junk_bytes),
             ("signing rejected", self.signing_rejected),
+            ("signing state failed", self.signing_state_write_failures),
             ("SETUP_SIGNING dropped", self.setup_signing_dropped),
             ("replies sent", self.replies_sent),
             ("alerts sent", self.alerts_sent),
@@ -173,10 +182,12 @@ impl Counters {
             forwarded_to_gcs: g(&c.forwarded[0]),
             violations: g(&c.violations),
             dropped_violations: g(&c.dropped_violations),
+            unverifiable_forwarded: g(&c.unverifiable),
             malformed: g(&c.malformed),
             dropped_malformed: g(&c.dropped_malformed),
             junk_bytes: g(&c.junk_bytes),
             signing_rejected: g(&c.signing_rejected),
+            signing_state_write_failures: g(&c.signing_state_failures),
             setup_signing_dropped: g(&c.setup_signing_dropped),
             replies_sent: g(&c.replies_sent),
             alerts_sent: g(&c.alerts_sent),

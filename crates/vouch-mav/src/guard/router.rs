@@ -26,6 +26,7 @@ use super::Inspector;
 use crate::codec::split::{split_datagram, split_datagram_resync, Piece};
 use crate::codec::FrameRef;
 use crate::side::Side;
+use crate::signing::state::{resume, StateSaver};
 use crate::signing::{timestamp_now, Signer, Verifier};
 
 /// Most endpoints of one router.
@@ -134,7 +135,7 @@ impl Core {
     /// from the ground are re-signed toward vehicle routes when configured. Counts frames per
     /// endpoint.
     fn forward(&self, from_side: Side, mask: RouteMask, bytes: &[u8], frames: u64) {
-        let resign = from_side == Side::Gcs && self.signer.is_some();
+        let resign = from_side == Side::Gcs && self.sign_forwarded && self.signer.is_some();
         let routes = lock(&self.routes);
         let mut vehicle_mask = 0;
         if resign {
@@ -299,6 +300,7 @@ pub struct RunningGuard {
     core: Arc<Core>,
     stop: Arc<AtomicBool>,
     threads: Vec<JoinHandle<()>>,
+    saver: Option<StateSaver>,
     /// Local address of the first ground endpoint (useful with port 0).
     pub gcs_addr: Option<SocketAddr>,
     /// Local address of the first vehicle endpoint.
@@ -324,6 +326,9 @@ impl RunningGuard {
         for t in self.threads {
             let _ = t.join();
         }
+        if self.saver.is_some_and(|s| s.finish().is_err()) {
+            self.core.counters.signing_state_failures.fetch_add(1, Ordering::Relaxed);
+        }
         for w in [&self.core.tlog, &self.core.log].into_iter().flatten() {
             let _ = lock(w).flush();
         }
@@ -343,6 +348,31 @@ fn create(p: &Option<PathBuf>) -> io::Result<Option<Mutex<BufWriter<File>>>> {
 
 fn invalid(msg: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, msg)
+}
+
+/// The signature verifier; with a state file, signed frames accepted before a restart stay
+/// refused after it.
+fn verifier(cfg: &GuardConfig) -> io::Result<Option<Arc<Mutex<Verifier>>>> {
+    let Some(s) = &cfg.signing else { return Ok(None) };
+    let v = match &s.state_file {
+        Some(p) => resume(s.key.clone(), p).map_err(|e| io::Error::other(e.to_string()))?,
+        None => Verifier::new(s.key.clone()),
+    };
+    Ok(Some(Arc::new(Mutex::new(v))))
+}
+
+/// Saves the replay state every second while it changes (and at [`RunningGuard::stop`]).
+fn state_saver(cfg: &GuardConfig, core: &Arc<Core>) -> io::Result<Option<StateSaver>> {
+    let (Some(v), Some(path)) =
+        (&core.verifier, cfg.signing.as_ref().and_then(|s| s.state_file.clone()))
+    else {
+        return Ok(None);
+    };
+    let c = core.clone();
+    let failed = move |_: &_| {
+        c.counters.signing_state_failures.fetch_add(1, Ordering::Relaxed);
+    };
+    Ok(Some(StateSaver::start(v.clone(), path, failed)?))
 }
 
 fn core(cfg: &GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Core> {
@@ -373,12 +403,9 @@ fn core(cfg: &GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Core> {
         enforce: cfg.enforce,
         alert_gcs: cfg.alert_gcs,
         inspector: Mutex::new(inspector),
-        verifier: cfg.signing.as_ref().map(|s| Mutex::new(Verifier::new(s.key.clone()))),
-        signer: cfg
-            .signing
-            .as_ref()
-            .filter(|s| s.sign_to_vehicle)
-            .map(|s| Mutex::new(Signer::new(s.key.clone(), s.link_id))),
+        verifier: verifier(cfg)?,
+        signer: cfg.signing.as_ref().map(|s| Mutex::new(Signer::new(s.key.clone(), s.link_id))),
+        sign_forwarded: cfg.signing.as_ref().is_some_and(|s| s.sign_to_vehicle),
         egress: endpoints.iter().map(|_| OnceLock::new()).collect(),
         counters: Counters::new(endpoints.len()),
         endpoints,
@@ -412,6 +439,7 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
         }
     }
     let core = Arc::new(core(&cfg, inspector)?);
+    let saver = state_saver(&cfg, &core)?;
     let stop = Arc::new(AtomicBool::new(false));
     let mut threads: Vec<JoinHandle<()>> = vec![];
     let mut addrs = vec![None; cfg.endpoints.len()];
@@ -442,6 +470,7 @@ pub fn start(cfg: GuardConfig, inspector: Box<dyn Inspector>) -> io::Result<Runn
         core,
         stop,
         threads,
+        saver,
         addrs,
     })
 }

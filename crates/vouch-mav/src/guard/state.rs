@@ -34,8 +34,11 @@ pub(super) struct Core {
     pub(super) enforce: bool,
     pub(super) alert_gcs: bool,
     pub(super) inspector: Mutex<Box<dyn Inspector>>,
-    pub(super) verifier: Option<Mutex<Verifier>>,
+    pub(super) verifier: Option<Arc<Mutex<Verifier>>>,
+    /// Signs what the guard sends toward the vehicle: its own replies whenever a key is set,
+    /// forwarded frames too with `sign_forwarded` (`--sign-to-vehicle`).
     pub(super) signer: Option<Mutex<Signer>>,
+    pub(super) sign_forwarded: bool,
     pub(super) endpoints: Vec<EndpointState>,
     pub(super) egress: Vec<OnceLock<Arc<Egress>>>,
     pub(super) routes: Mutex<Routes>,

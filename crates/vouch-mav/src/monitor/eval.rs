@@ -4,7 +4,7 @@
 
 use crate::codec::view::read_prim;
 use crate::protocol::ast::BinOp;
-use crate::protocol::ir::{Expr, FieldLoc, Pred, VehicleAttr};
+use crate::protocol::ir::{Builtin, Expr, FieldLoc, Pred, VehicleAttr};
 use crate::vehicle_state::VehicleState;
 
 /// Text values are compared on at most this many bytes (param_id has 16).
@@ -58,6 +58,8 @@ pub struct Env<'a> {
     pub consts: &'a [f64],
     pub keys: &'a [Val],
     pub vehicle: Option<&'a VehicleState>,
+    /// Names of the tracked parameters, indexed like [`VehicleState::params`].
+    pub param_names: &'a [String],
 }
 
 /// Reads a field at its precomputed location.
@@ -105,6 +107,19 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
             Some(x) => Val::Num(x),
             None => Val::Unknown,
         },
+        Expr::ParamOf(id) => match eval(id, env) {
+            Val::Text(b, n) => {
+                let id = &b[..usize::from(n)];
+                let slot =
+                    env.param_names.iter().position(|p| p.as_bytes().eq_ignore_ascii_case(id));
+                match slot.and_then(|i| env.vehicle?.params.get(i).copied().flatten()) {
+                    Some(x) => Val::Num(x),
+                    None => Val::Unknown,
+                }
+            }
+            _ => Val::Unknown,
+        },
+        Expr::Call(f, a) => call(*f, eval(a, env)),
         Expr::Not(a) => match eval(a, env) {
             Val::Bool(b) => Val::Bool(!b),
             _ => Val::Unknown,
@@ -114,6 +129,33 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
             _ => Val::Unknown,
         },
         Expr::Bin(op, a, b) => bin(*op, a, b, env),
+    }
+}
+
+/// A built-in function on a value; anything it is not defined for is unknown.
+pub fn call(f: Builtin, v: Val) -> Val {
+    match (f, v) {
+        (Builtin::Int { bits, signed }, Val::Num(x)) => {
+            let t = x.trunc();
+            let (lo, hi) = if signed {
+                (-(2f64.powi(i32::from(bits) - 1)), 2f64.powi(i32::from(bits) - 1) - 1.0)
+            } else {
+                (0.0, 2f64.powi(i32::from(bits)) - 1.0)
+            };
+            // NaN fails both comparisons: unknown, like infinities and out-of-range values.
+            if t >= lo && t <= hi {
+                Val::Num(t + 0.0) // -0.0 → 0
+            } else {
+                Val::Unknown
+            }
+        }
+        (Builtin::Float32, Val::Num(x)) => Val::Num(f64::from(x as f32)),
+        (Builtin::Finite, Val::Num(x)) => Val::Bool(x.is_finite()),
+        (Builtin::Upper, Val::Text(mut b, n)) => {
+            b[..usize::from(n)].make_ascii_uppercase();
+            Val::Text(b, n)
+        }
+        _ => Val::Unknown,
     }
 }
 

@@ -1,12 +1,13 @@
 //! Turning a failed step into a [`Violation`]: which branch, which conjunct, which values.
 
 use super::eval::{eval, read_loc, Env, Val};
+use super::identity::Forgery;
 use super::report::{Reply, Violation, ViolationKind};
 use super::session::{key_values, session_ids, vehicle_sys, Arrival, Session};
 use super::step::StepResult;
 use super::Monitor;
 use crate::codec::MessageView;
-use crate::protocol::ir::{Conjunct, FieldLoc, Protocol};
+use crate::protocol::ir::{Conjunct, FieldLoc, Protocol, ReplyIR};
 
 impl Monitor {
     pub(super) fn violation_for(
@@ -57,7 +58,8 @@ impl Monitor {
             vars: &vars,
             consts: &self.consts,
             keys: &s.keys,
-            vehicle: self.tracker.state(vehicle_sys(p, &s.ids)),
+            vehicle: self.tracker.addressed(vehicle_sys(p, &s.ids)),
+            param_names: &self.set.params.names,
         };
         let values = conj.map(|c| self.show_values(c, &env)).unwrap_or_default();
         let reason = match kind {
@@ -82,9 +84,11 @@ impl Monitor {
             values,
             reason,
             time_us,
-            reply: self.reply_for(p, s, &env),
+            reply: None,
+            more_replies: Vec::new(),
             others: Vec::new(),
         }
+        .with_replies(self.replies_for(p, s, role, &env))
     }
 
     pub(super) fn orphan_violation(&self, p: usize, strict: usize, arrival: &Arrival) -> Violation {
@@ -109,6 +113,7 @@ impl Monitor {
             consts: &self.consts,
             keys: &s.keys,
             vehicle: None,
+            param_names: &self.set.params.names,
         };
         let key_text: Vec<String> = proto
             .keys
@@ -116,8 +121,13 @@ impl Monitor {
             .zip(&s.keys)
             .map(|(k, v)| format!("{} = {}", k.name, self.render_key(k, v)))
             .collect();
+        let (kind, what) = if rule.answer {
+            (ViolationKind::Unverifiable, "answers no session seen: its opener was not observed")
+        } else {
+            (ViolationKind::NoSession, "nothing announced it")
+        };
         Violation {
-            kind: super::ViolationKind::NoSession,
+            kind,
             protocol: proto.name.clone(),
             session: "no open session".into(),
             message: describe_message(msg, (sysid, compid), &self.targets_of(msg)),
@@ -130,21 +140,58 @@ impl Monitor {
             predicate: None,
             values: Vec::new(),
             reason: if key_text.is_empty() {
-                format!(
-                    "{} outside of any {} session (nothing announced it)",
-                    msg.name(),
-                    proto.name
-                )
+                format!("{} outside of any {} session ({what})", msg.name(), proto.name)
             } else {
                 format!(
-                    "{} for {} outside of any {} session (nothing announced it)",
+                    "{} for {} outside of any {} session ({what})",
                     msg.name(),
                     key_text.join(", "),
                     proto.name
                 )
             },
             time_us,
-            reply: self.reply_for(proto, &s, &env),
+            reply: None,
+            more_replies: Vec::new(),
+            others: Vec::new(),
+        }
+        .with_replies(self.replies_for(proto, &s, rule.from, &env))
+    }
+
+    /// The report of a frame from the GCS side that claims a vehicle's identity.
+    pub(super) fn forgery(
+        &self,
+        msg: &MessageView,
+        sysid: u8,
+        compid: u8,
+        why: Forgery,
+        time_us: u64,
+    ) -> Violation {
+        let (predicate, reason) = match why {
+            Forgery::VehicleIds => (
+                "frames from the GCS side never carry a vehicle's system id",
+                format!(
+                    "system {sysid} is a vehicle (its autopilot heartbeats arrive on the vehicle \
+                     side): a frame with its ids from the GCS side is forged"
+                ),
+            ),
+            Forgery::AutopilotHeartbeat => (
+                "autopilot heartbeats come from the vehicle side",
+                "a HEARTBEAT describing an autopilot arrived from the GCS side".to_string(),
+            ),
+        };
+        Violation {
+            kind: ViolationKind::Forgery,
+            protocol: "trust_boundary".into(),
+            session: "no session".into(),
+            message: describe_message(msg, (sysid, compid), &self.targets_of(msg)),
+            step: String::new(),
+            expected: Vec::new(),
+            predicate: Some(predicate.into()),
+            values: Vec::new(),
+            reason,
+            time_us,
+            reply: None,
+            more_replies: Vec::new(),
             others: Vec::new(),
         }
     }
@@ -182,23 +229,34 @@ impl Monitor {
         format!("{what} {}{}", ids.join(" ↔ "), keys.concat())
     }
 
-    fn reply_for(&self, p: &Protocol, s: &Session, env: &Env) -> Option<Reply> {
-        let r = p.reply.as_ref()?;
-        let def = self.dialect.message(r.msg);
+    /// The protocol's violation replies for session `s` when role `violator` sent the
+    /// offending message. A reply one of whose fields has no known value (e.g. the last value
+    /// of a parameter never reported) is not sent: the guard makes no message it cannot fill
+    /// truthfully.
+    fn replies_for(&self, p: &Protocol, s: &Session, violator: usize, env: &Env) -> Vec<Reply> {
         let env = Env { vars: &s.vars, keys: &s.keys, fields: &[], ..*env };
+        p.replies
+            .iter()
+            .filter(|r| r.by.is_none_or(|b| b == violator))
+            .filter_map(|r| self.reply(p, r, s, &env))
+            .collect()
+    }
+
+    fn reply(&self, p: &Protocol, r: &ReplyIR, s: &Session, env: &Env) -> Option<Reply> {
+        let def = self.dialect.message(r.msg);
         let (to_sys, to_comp) = s.ids[r.to];
         let (from_sys, from_comp) = s.ids[1 - r.to];
         let mut fields = Vec::new();
         let mut text_fields = Vec::new();
         for (name, e) in &r.fields {
-            match eval(e, &env) {
+            match eval(e, env) {
                 Val::Num(x) => fields.push((name.clone(), x)),
                 Val::Bool(b) => fields.push((name.clone(), f64::from(u8::from(b)))),
                 Val::Text(b, n) => text_fields.push((
                     name.clone(),
                     String::from_utf8_lossy(&b[..usize::from(n)]).into_owned(),
                 )),
-                Val::Unknown => fields.push((name.clone(), 0.0)),
+                Val::Unknown => return None,
             }
         }
         for (f, v) in [("target_system", to_sys), ("target_component", to_comp)] {
@@ -214,6 +272,16 @@ impl Monitor {
             fields,
             text_fields,
         ))
+    }
+}
+
+impl Violation {
+    fn with_replies(mut self, mut replies: Vec<Reply>) -> Violation {
+        if !replies.is_empty() {
+            self.reply = Some(replies.remove(0));
+        }
+        self.more_replies = replies;
+        self
     }
 }
 

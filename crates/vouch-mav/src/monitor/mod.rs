@@ -1,5 +1,10 @@
 //! The runtime monitor: feeds on decoded messages in order, keeps concurrent sessions of every
-//! loaded protocol, and answers each message with Accept, Ignore or Violation.
+//! loaded protocol, and answers each message with Accept, Ignore, Unverifiable or Violation.
+//!
+//! Every message is first placed on a side of the link and checked against the trust boundary
+//! ([`identity`]): vehicle state is learned only from the vehicle side, from systems that side
+//! has shown to be vehicles, and a live frame from the GCS side that claims a vehicle's identity
+//! is a violation of its own.
 //!
 //! Hot path: one table lookup tells whether any protocol mentions the message; telemetry that no
 //! protocol mentions only updates the tracked vehicle state. Sessions live in a small vector and
@@ -10,6 +15,7 @@
 
 pub mod eval;
 mod explain;
+pub mod identity;
 pub mod offline;
 mod report;
 mod session;
@@ -29,6 +35,7 @@ use crate::protocol::{load_protocols, stdlib, ProtocolError};
 use crate::side::Side;
 use crate::vehicle_state::VehicleTracker;
 use eval::Val;
+use identity::Identities;
 use session::Session;
 
 /// The monitor's answer for one message.
@@ -38,12 +45,25 @@ pub enum Verdict {
     Accept,
     /// No protocol is concerned with this message.
     Ignore,
+    /// The monitor cannot tell: the message answers a session whose opener it never saw (it
+    /// started mid-exchange, or a recording holds one direction only). The protocol's policy is
+    /// `unverifiable pass`: a guard forwards it. (Under `unverifiable drop` the same finding
+    /// comes as a [`Verdict::Violation`] of kind [`ViolationKind::Unverifiable`].)
+    Unverifiable(Box<Violation>),
     Violation(Box<Violation>),
 }
 
 impl Verdict {
     pub fn is_violation(&self) -> bool {
         matches!(self, Verdict::Violation(_))
+    }
+
+    /// The finding of a violation or of an unverifiable message.
+    pub fn finding(&self) -> Option<&Violation> {
+        match self {
+            Verdict::Violation(v) | Verdict::Unverifiable(v) => Some(v),
+            _ => None,
+        }
     }
 }
 
@@ -57,11 +77,14 @@ pub struct Monitor {
     targets: Vec<Option<(FieldLoc, FieldLoc)>>,
     tracker: VehicleTracker,
     sessions: Vec<Session>,
-    roles: Vec<((u8, u8), Side)>,
+    ids: Identities,
     stats: Vec<ProtocolStats>,
     messages: u64,
     relevant: u64,
     violations: u64,
+    unverifiable: u64,
+    forgeries: u64,
+    by_side: [u64; 2],
     scratch: Vec<Val>,
     last_sweep_us: u64,
     serial: u64,
@@ -103,11 +126,14 @@ impl Monitor {
             targets,
             tracker,
             sessions: Vec::new(),
-            roles: Vec::new(),
+            ids: Identities::new(),
             stats,
             messages: 0,
             relevant: 0,
             violations: 0,
+            unverifiable: 0,
+            forgeries: 0,
+            by_side: [0; 2],
             scratch: Vec::new(),
             last_sweep_us: 0,
             serial: 0,
@@ -151,8 +177,8 @@ impl Monitor {
     }
 
     /// Checks one frame that arrived from side `from` of the link (`None` when unknown, as in
-    /// recordings: roles are then inferred from HEARTBEAT types). Frames of unknown messages are
-    /// ignored.
+    /// recordings: the side is then derived from heartbeats, see [`identity`]). Frames of
+    /// unknown messages are ignored.
     pub fn on_frame(&mut self, frame: &Frame, from: Option<Side>, time_us: u64) -> Verdict {
         let dialect = Arc::clone(&self.dialect);
         match MessageView::of_frame(frame, &dialect) {
@@ -174,9 +200,20 @@ impl Monitor {
         time_us: u64,
     ) -> Verdict {
         self.messages += 1;
-        self.tracker.observe(sysid, compid, msg);
-        if let Some(is_gcs) = self.tracker.heartbeat_is_gcs(msg) {
-            self.learn_role(sysid, compid, if is_gcs { Side::Gcs } else { Side::Vehicle });
+        let heartbeat = self.tracker.heartbeat_kind(msg, compid);
+        let side = match self.ids.place(sysid, compid, heartbeat, from) {
+            Ok(side) => side,
+            Err(why) => {
+                self.violations += 1;
+                self.forgeries += 1;
+                return Verdict::Violation(Box::new(
+                    self.forgery(msg, sysid, compid, why, time_us),
+                ));
+            }
+        };
+        self.by_side[side.index()] += 1;
+        if side == Side::Vehicle && self.ids.is_vehicle(sysid) {
+            self.tracker.observe(sysid, compid, msg);
         }
         if time_us >= self.last_sweep_us + SWEEP_US {
             self.last_sweep_us = time_us;
@@ -189,47 +226,23 @@ impl Monitor {
             return Verdict::Ignore;
         }
         self.relevant += 1;
-        let kind = self.kind_of(sysid, compid, from);
         let target = self.targets[idx].as_ref().map(|(s, c)| {
             let s = eval::read_loc(msg.payload, s);
             let c = eval::read_loc(msg.payload, c);
             let n = |v: Val| if let Val::Num(x) = v { x as u8 } else { 0 };
             (n(s), n(c))
         });
-        let verdict =
-            self.dispatch(&session::Arrival { msg, from: (sysid, compid), kind, target, time_us });
-        if !verdict.is_violation() {
-            self.tracker.apply_param_set(msg);
-        } else {
-            self.violations += 1;
+        let arrival = session::Arrival { msg, from: (sysid, compid), kind: side, target, time_us };
+        let verdict = self.dispatch(&arrival);
+        match &verdict {
+            Verdict::Violation(v) if v.kind == ViolationKind::Unverifiable => {
+                self.unverifiable += 1
+            }
+            Verdict::Violation(_) => self.violations += 1,
+            Verdict::Unverifiable(_) => self.unverifiable += 1,
+            _ => {}
         }
         verdict
-    }
-
-    fn learn_role(&mut self, sysid: u8, compid: u8, kind: Side) {
-        match self.roles.iter_mut().find(|(ids, _)| *ids == (sysid, compid)) {
-            Some(r) => r.1 = kind,
-            None => self.roles.push(((sysid, compid), kind)),
-        }
-    }
-
-    /// Role kind of a sender: the link side if known, else its heartbeat, else a convention
-    /// (ground stations use high system ids or the mission-planner component 190).
-    fn kind_of(&self, sysid: u8, compid: u8, from: Option<Side>) -> Side {
-        if let Some(side) = from {
-            return side;
-        }
-        if let Some((_, k)) = self.roles.iter().find(|(ids, _)| *ids == (sysid, compid)) {
-            return *k;
-        }
-        if let Some((_, k)) = self.roles.iter().find(|(ids, _)| ids.0 == sysid) {
-            return *k;
-        }
-        if sysid >= 200 || compid == 190 {
-            Side::Gcs
-        } else {
-            Side::Vehicle
-        }
     }
 
     /// Ends sessions idle past their protocol's timeout (completed if their state allows it).
@@ -259,6 +272,10 @@ impl Monitor {
             messages: self.messages,
             relevant: self.relevant,
             violations: self.violations,
+            unverifiable: self.unverifiable,
+            forgeries: self.forgeries,
+            from_gcs: self.by_side[Side::Gcs.index()],
+            from_vehicle: self.by_side[Side::Vehicle.index()],
             open_sessions: self.sessions.len() as u64,
             protocols: self.stats.clone(),
         }

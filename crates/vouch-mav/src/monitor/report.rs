@@ -93,8 +93,14 @@ pub enum ViolationKind {
     Refinement,
     /// A recursion invariant failed after an update.
     Invariant,
-    /// A message that requires an open session arrived without one (`strict`).
+    /// A message that requires an open session arrived without one (`strict`), from the role
+    /// that opens the protocol's sessions.
     NoSession,
+    /// An answer to a session whose opener was never seen (`strict`, from the answering role):
+    /// not known to be wrong, not known to be right.
+    Unverifiable,
+    /// A frame from the GCS side that claims a vehicle's identity (trust boundary).
+    Forgery,
 }
 
 /// A precise account of one violation.
@@ -116,12 +122,22 @@ pub struct Violation {
     pub values: Vec<(String, String)>,
     pub reason: String,
     pub time_us: u64,
+    /// The first message to send in answer (enforce mode).
     pub reply: Option<Reply>,
+    /// Further answers, to the other role (e.g. cancelling toward the vehicle too, so that
+    /// neither side waits for a message that was dropped).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub more_replies: Vec<Reply>,
     /// Further violations caused by the same message (other protocols).
     pub others: Vec<Violation>,
 }
 
 impl Violation {
+    /// Every answer to send, in order.
+    pub fn replies(&self) -> impl Iterator<Item = &Reply> {
+        self.reply.iter().chain(&self.more_replies)
+    }
+
     /// One short line, e.g. `MISSION_ACK: curr == n (curr=60, n=100)`: short enough for a
     /// STATUSTEXT's 50 bytes in the common cases (the full report is the `Display` text).
     pub fn summary(&self) -> String {
@@ -152,7 +168,7 @@ impl fmt::Display for Violation {
         if !self.expected.is_empty() {
             write!(f, "\n    expected one of: {}", self.expected.join("; "))?;
         }
-        if let Some(r) = &self.reply {
+        for r in self.replies() {
             write!(f, "\n    reply:  {} to {}/{}", r.message, r.to_sys, r.to_comp)?;
         }
         for o in &self.others {

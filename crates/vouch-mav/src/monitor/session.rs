@@ -6,7 +6,7 @@ use super::report::Violation;
 use super::step::{step, StepInput, StepResult};
 use super::{Monitor, Verdict};
 use crate::codec::MessageView;
-use crate::protocol::ir::{Protocol, StateId};
+use crate::protocol::ir::{Protocol, StateId, UnverifiablePolicy};
 use crate::side::Side;
 
 /// An open session of one protocol.
@@ -33,6 +33,8 @@ pub struct ProtocolStats {
     /// Still open at the end of the input in a state that is not complete.
     pub unfinished: u64,
     pub violations: u64,
+    /// Answers to sessions whose opener was never seen (see [`Verdict::Unverifiable`]).
+    pub unverifiable: u64,
 }
 
 impl ProtocolStats {
@@ -46,7 +48,16 @@ pub struct Summary {
     pub messages: u64,
     /// Messages that at least one protocol mentions.
     pub relevant: u64,
+    /// Violations of protocols and of the trust boundary.
     pub violations: u64,
+    /// Messages the monitor could not verify (answers to openers never seen).
+    pub unverifiable: u64,
+    /// Of the violations: frames from the GCS side that claimed a vehicle's identity.
+    pub forgeries: u64,
+    /// Messages placed on the GCS side (by the link, or derived from heartbeats offline).
+    pub from_gcs: u64,
+    /// Messages placed on the vehicle side.
+    pub from_vehicle: u64,
     pub open_sessions: u64,
     pub protocols: Vec<ProtocolStats>,
 }
@@ -54,6 +65,16 @@ pub struct Summary {
 impl Summary {
     pub fn protocol(&self, name: &str) -> Option<&ProtocolStats> {
         self.protocols.iter().find(|p| p.name == name)
+    }
+
+    /// The only side anything came from, when the traffic holds one direction only (e.g. a
+    /// recording of the vehicle's telemetry link): `None` when both sides spoke or neither.
+    pub fn one_direction(&self) -> Option<Side> {
+        match (self.from_gcs, self.from_vehicle) {
+            (0, n) if n > 0 => Some(Side::Vehicle),
+            (n, 0) if n > 0 => Some(Side::Gcs),
+            _ => None,
+        }
     }
 }
 
@@ -68,6 +89,7 @@ fn role_of_kind(p: &Protocol, k: Side) -> usize {
     }
 }
 
+/// System id of the vehicle of a session (0 = not known yet, or a broadcast).
 pub(super) fn vehicle_sys(p: &Protocol, ids: &[(u8, u8); 2]) -> u8 {
     ids[role_of_kind(p, Side::Vehicle)].0
 }
@@ -238,8 +260,17 @@ impl Monitor {
             return Verdict::Accept;
         }
         if let Some((p, si)) = orphan {
-            self.stats[p].violations += 1;
-            return Verdict::Violation(Box::new(self.orphan_violation(p, si, arrival)));
+            let proto = &self.set.protocols[p];
+            let finding = Box::new(self.orphan_violation(p, si, arrival));
+            if !proto.strict[si].answer {
+                self.stats[p].violations += 1;
+                return Verdict::Violation(finding);
+            }
+            self.stats[p].unverifiable += 1;
+            return match proto.unverifiable {
+                UnverifiablePolicy::Pass => Verdict::Unverifiable(finding),
+                UnverifiablePolicy::Drop => Verdict::Violation(finding),
+            };
         }
         Verdict::Ignore
     }
@@ -297,7 +328,8 @@ impl Monitor {
             role,
             consts,
             keys: &s.keys,
-            vehicle: tracker.state(vehicle_sys(p, &s.ids)),
+            vehicle: tracker.addressed(vehicle_sys(p, &s.ids)),
+            param_names: &set.params.names,
         };
         step(p, s.state, &input, &mut s.vars, scratch)
     }
@@ -324,7 +356,8 @@ impl Monitor {
             role,
             consts: &self.consts,
             keys: &keys,
-            vehicle: self.tracker.state(vehicle_sys(proto, &ids)),
+            vehicle: self.tracker.addressed(vehicle_sys(proto, &ids)),
+            param_names: &self.set.params.names,
         };
         let r = step(proto, 0, &input, &mut vars, &mut self.scratch);
         match r {
@@ -389,7 +422,8 @@ impl Monitor {
                     vars: &s.vars,
                     consts: &self.consts,
                     keys: &s.keys,
-                    vehicle: self.tracker.state(vehicle_sys(p, &s.ids)),
+                    vehicle: self.tracker.addressed(vehicle_sys(p, &s.ids)),
+                    param_names: &self.set.params.names,
                 };
                 holds(pred, &env)
             }

@@ -26,6 +26,8 @@ pub struct StepInput<'a> {
     pub consts: &'a [f64],
     pub keys: &'a [Val],
     pub vehicle: Option<&'a VehicleState>,
+    /// Names of the tracked parameters (for `param[…]`).
+    pub param_names: &'a [String],
 }
 
 /// Tries the transitions of `state` in order. On success `vars` holds the updated variables;
@@ -58,6 +60,7 @@ pub fn step(
             consts: input.consts,
             keys: input.keys,
             vehicle: input.vehicle,
+            param_names: input.param_names,
         };
         if let Some(w) = &t.when {
             if !holds(w, &env) {
@@ -114,6 +117,7 @@ fn env_like<'a>(input: &'a StepInput<'a>, fields: &'a [crate::protocol::ir::Fiel
         consts: input.consts,
         keys: input.keys,
         vehicle: input.vehicle,
+        param_names: input.param_names,
     }
 }
 

@@ -60,6 +60,10 @@ pub enum ExprKind {
     Vehicle(Ident),
     /// `param.NAME`: last known value of a vehicle parameter.
     Param(Ident),
+    /// `param[EXPR]`: last known value of the parameter whose id is the text EXPR.
+    ParamOf(Box<Expr>),
+    /// `FUNCTION(EXPR)`: a conversion (`int`, `uint16`, `float`, …) or test (`finite`, `upper`).
+    Call(Ident, Box<Expr>),
     Unary(UnOp, Box<Expr>),
     Binary(BinOp, Box<Expr>, Box<Expr>),
 }
@@ -138,6 +142,8 @@ pub struct ConstDecl {
 
 #[derive(Debug, Clone)]
 pub struct ReplyDecl {
+    /// `on violation by ROLE reply …`: only when ROLE sent the violating message.
+    pub by: Option<Ident>,
     pub to: Ident,
     pub message: Ident,
     pub fields: Vec<(Ident, Expr)>,
@@ -157,7 +163,10 @@ pub struct ProtocolDecl {
     pub keys: Vec<Ident>,
     pub timeout_ms: Option<(u64, Span)>,
     pub strict: Vec<StrictDecl>,
-    pub reply: Option<ReplyDecl>,
+    /// `on violation reply …` declarations, in order (one per addressed role at most).
+    pub replies: Vec<ReplyDecl>,
+    /// `unverifiable pass;` / `unverifiable drop;`.
+    pub unverifiable: Option<(Ident, Span)>,
     pub consts: Vec<ConstDecl>,
     pub body: Vec<Stmt>,
     pub span: Span,

@@ -113,7 +113,8 @@ impl<'a> Compiler<'a> {
             keys: vec![],
             timeout_us: Some(p.timeout_ms.map(|(ms, _)| ms).unwrap_or(30_000) * 1000),
             strict: vec![],
-            reply: None,
+            replies: vec![],
+            unverifiable: self.unverifiable_policy(p)?,
             states: vec![],
             recs: vec![],
             var_names: vec![],
@@ -155,7 +156,8 @@ impl<'a> Compiler<'a> {
                 s.to.name,
                 s.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ")
             );
-            self.proto_mut().strict.push(StrictIR { from, msgs, text });
+            let answer = !self.proto_mut().states[0].transitions.iter().any(|t| t.from == from);
+            self.proto_mut().strict.push(StrictIR { from, msgs, text, answer });
         }
         let mut proto = self.proto.take().expect("protocol under construction");
         let mut alphabet: Vec<MsgIndex> = proto
@@ -181,13 +183,34 @@ impl<'a> Compiler<'a> {
             proto.keys.push(KeyIR { name: k.name.clone(), locs });
         }
         proto.alphabet = alphabet;
-        if let Some(r) = &p.reply {
-            self.proto = Some(proto);
+        self.proto = Some(proto);
+        for r in &p.replies {
             let reply = self.reply(r)?;
-            proto = self.proto.take().expect("protocol under construction");
-            proto.reply = Some(reply);
+            if self.proto_mut().replies.iter().any(|q| q.to == reply.to && q.by == reply.by) {
+                return self.err(
+                    ErrorKind::Duplicate,
+                    r.to.span,
+                    format!("a second violation reply to `{}`", r.to.name),
+                );
+            }
+            self.proto_mut().replies.push(reply);
         }
-        Ok(proto)
+        Ok(self.proto.take().expect("protocol under construction"))
+    }
+
+    fn unverifiable_policy(&self, p: &ast::ProtocolDecl) -> CResult<UnverifiablePolicy> {
+        match &p.unverifiable {
+            None => Ok(UnverifiablePolicy::Drop),
+            Some((policy, _)) => match policy.name.as_str() {
+                "pass" => Ok(UnverifiablePolicy::Pass),
+                "drop" => Ok(UnverifiablePolicy::Drop),
+                other => self.err(
+                    ErrorKind::Syntax,
+                    policy.span,
+                    format!("unverifiable frames can `pass` or `drop`, not `{other}`"),
+                ),
+            },
+        }
     }
 
     pub(super) fn proto_mut(&mut self) -> &mut Protocol {
@@ -221,6 +244,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn reply(&mut self, r: &ast::ReplyDecl) -> CResult<ReplyIR> {
+        let by = r.by.as_ref().map(|b| self.role(b)).transpose()?;
         let to = self.role(&r.to)?;
         let msg = self.messages(std::slice::from_ref(&r.message))?[0];
         let def = self.dialect.message(msg);
@@ -242,6 +266,6 @@ impl<'a> Compiler<'a> {
             fields.push((f.name.clone(), x));
         }
         self.in_reply = false;
-        Ok(ReplyIR { to, msg, fields })
+        Ok(ReplyIR { by, to, msg, fields })
     }
 }

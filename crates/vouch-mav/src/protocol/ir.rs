@@ -31,6 +31,51 @@ pub enum VehicleAttr {
     Type,
 }
 
+/// Built-in functions: conversions with the semantics of C on the autopilot, and tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Builtin {
+    /// C conversion of a number to an integer type of `bits` bits (`int` = 32, signed): the
+    /// value is truncated toward zero; NaN, infinities and values the type cannot hold are
+    /// unknown (C leaves them undefined, and autopilots on different processors differ).
+    Int {
+        /// 8, 16 or 32.
+        bits: u8,
+        /// Signed (`int8`…`int32`, `int`) or unsigned (`uint8`…`uint32`).
+        signed: bool,
+    },
+    /// Rounding to the nearest IEEE-754 single (what a `float` field holds and what float
+    /// arithmetic on the autopilot computes).
+    Float32,
+    /// Whether a number is neither NaN nor infinite.
+    Finite,
+    /// Text in ASCII upper case (parameter names are matched without regard to case by
+    /// ArduPilot).
+    Upper,
+}
+
+impl Builtin {
+    /// The function of this name, if any.
+    pub fn named(name: &str) -> Option<Builtin> {
+        let int = |bits, signed| Some(Builtin::Int { bits, signed });
+        match name {
+            "int" | "int32" => int(32, true),
+            "int16" => int(16, true),
+            "int8" => int(8, true),
+            "uint32" => int(32, false),
+            "uint16" => int(16, false),
+            "uint8" => int(8, false),
+            "float" => Some(Builtin::Float32),
+            "finite" => Some(Builtin::Finite),
+            "upper" => Some(Builtin::Upper),
+            _ => None,
+        }
+    }
+
+    /// Names of all built-in functions, for error messages.
+    pub const NAMES: &'static str =
+        "int, int8, int16, int32, uint8, uint16, uint32, float, finite, upper";
+}
+
 #[derive(Debug, Clone)]
 pub enum Expr {
     Num(f64),
@@ -42,6 +87,10 @@ pub enum Expr {
     Const(usize),
     Vehicle(VehicleAttr),
     Param(usize),
+    /// Last known value of the parameter whose id the text expression gives.
+    ParamOf(Box<Expr>),
+    /// A built-in function applied to one argument.
+    Call(Builtin, Box<Expr>),
     /// Value of session key `i`.
     Key(usize),
     Not(Box<Expr>),
@@ -129,10 +178,27 @@ pub struct StrictIR {
     pub from: usize,
     pub msgs: Vec<MsgIndex>,
     pub text: String,
+    /// The rule's sender opens no session of the protocol: its messages answer an opener, and
+    /// one outside a session answers an opener that was not seen (unverifiable, not a
+    /// violation).
+    pub answer: bool,
+}
+
+/// What the guard in enforce mode does with a frame the monitor cannot verify (an answer to a
+/// session whose opener it did not see).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UnverifiablePolicy {
+    /// Forward it (and report it as unverifiable).
+    Pass,
+    /// Drop it like a violation (fail closed). The default.
+    Drop,
 }
 
 #[derive(Debug, Clone)]
 pub struct ReplyIR {
+    /// Sent only when this role sent the violating message (`on violation by ROLE reply …`).
+    pub by: Option<usize>,
     pub to: usize,
     pub msg: MsgIndex,
     pub fields: Vec<(String, Expr)>,
@@ -145,7 +211,9 @@ pub struct Protocol {
     pub keys: Vec<KeyIR>,
     pub timeout_us: Option<u64>,
     pub strict: Vec<StrictIR>,
-    pub reply: Option<ReplyIR>,
+    /// Messages sent in answer to a violation (each to its role).
+    pub replies: Vec<ReplyIR>,
+    pub unverifiable: UnverifiablePolicy,
     /// State 0 is the start state: its transitions open sessions.
     pub states: Vec<State>,
     pub recs: Vec<Rec>,

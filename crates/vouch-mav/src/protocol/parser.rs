@@ -145,7 +145,8 @@ impl<'s> Parser<'s> {
             keys: vec![],
             timeout_ms: None,
             strict: vec![],
-            reply: None,
+            replies: vec![],
+            unverifiable: None,
             consts: vec![],
             body: vec![],
             span: start,
@@ -194,6 +195,7 @@ impl<'s> Parser<'s> {
             } else if self.is_kw("on") {
                 self.bump();
                 self.expect_kw("violation")?;
+                let by = if self.eat_kw("by") { Some(self.ident("role")?) } else { None };
                 self.expect_kw("reply")?;
                 let to = self.ident("role")?;
                 self.expect_sym(":")?;
@@ -212,7 +214,12 @@ impl<'s> Parser<'s> {
                 }
                 self.expect_sym(")")?;
                 self.expect_sym(";")?;
-                d.reply = Some(ReplyDecl { to, message, fields });
+                d.replies.push(ReplyDecl { by, to, message, fields });
+            } else if self.is_kw("unverifiable") {
+                let sp = self.bump().span;
+                let policy = self.ident("`pass` or `drop`")?;
+                d.unverifiable = Some((policy, sp));
+                self.expect_sym(";")?;
             } else if self.is_kw("const") {
                 d.consts.push(self.const_decl()?);
             } else {
@@ -473,6 +480,22 @@ impl<'s> Parser<'s> {
                 match name.as_str() {
                     "true" => return Ok(Expr { kind: ExprKind::Bool(true), span: sp }),
                     "false" => return Ok(Expr { kind: ExprKind::Bool(false), span: sp }),
+                    "param" if self.is_sym("[") => {
+                        self.bump();
+                        let e = self.expr()?;
+                        let end = self.expect_sym("]")?;
+                        return Ok(Expr { kind: ExprKind::ParamOf(Box::new(e)), span: sp.to(end) });
+                    }
+                    _ if self.is_sym("(") => {
+                        self.bump();
+                        let arg = self.expr()?;
+                        let end = self.expect_sym(")")?;
+                        let f = Ident { name, span: sp };
+                        return Ok(Expr {
+                            kind: ExprKind::Call(f, Box::new(arg)),
+                            span: sp.to(end),
+                        });
+                    }
                     "vehicle" | "param" if self.is_sym(".") => {
                         self.bump();
                         let member = self.ident(if name == "vehicle" {

@@ -1,7 +1,7 @@
 //! Typing and compilation of expressions and predicates (part of the compiler, see `compile`).
 
 use super::ast::{self, BinOp, ExprKind, UnOp};
-use super::compile::{CResult, Compiler, Scope, StepCx, Ty};
+use super::compile::{ty_of_loc, CResult, Compiler, Scope, StepCx, Ty};
 use super::error::{ErrorKind, ProtocolError, Span};
 use super::ir::*;
 
@@ -86,7 +86,8 @@ impl<'a> Compiler<'a> {
                 } else if let Some(i) =
                     self.keys.iter().position(|k| k == n).filter(|_| self.in_reply)
                 {
-                    (Expr::Key(i), Ty::num())
+                    let loc = self.proto.as_ref().and_then(|p| p.keys.get(i)?.locs.first());
+                    (Expr::Key(i), loc.map_or_else(Ty::num, |(_, l)| ty_of_loc(l)))
                 } else if let Some(st) = step.as_deref_mut().filter(|st| {
                     st.msgs.iter().any(|&m| self.dialect.message(m).field(n).is_some())
                 }) {
@@ -147,6 +148,30 @@ impl<'a> Compiler<'a> {
                 let x = Expr::Param(self.set.params.intern(&m.name));
                 show(shows, &format!("param.{}", m.name), &x, &Ty::num());
                 (x, Ty::num())
+            }
+            ExprKind::ParamOf(a) => {
+                let (x, t) = self.expr(a, scope, step, shows)?;
+                self.expect_compatible(&Ty::Str, &t, a.span)?;
+                (Expr::ParamOf(Box::new(x)), Ty::num())
+            }
+            ExprKind::Call(f, a) => {
+                let Some(b) = Builtin::named(&f.name) else {
+                    return Err(ProtocolError::at(
+                        ErrorKind::UnknownName,
+                        self.src,
+                        f.span,
+                        format!("unknown function `{}`", f.name),
+                    )
+                    .with_help(format!("functions: {}", Builtin::NAMES)));
+                };
+                let (x, t) = self.expr(a, scope, step, shows)?;
+                let (arg, result) = match b {
+                    Builtin::Int { .. } | Builtin::Float32 => (Ty::num(), Ty::num()),
+                    Builtin::Finite => (Ty::num(), Ty::Bool),
+                    Builtin::Upper => (Ty::Str, Ty::Str),
+                };
+                self.expect_compatible(&arg, &t, a.span)?;
+                (Expr::Call(b, Box::new(x)), result)
             }
             ExprKind::Unary(op, a) => {
                 let (x, t) = self.expr(a, scope, step, shows)?;

@@ -7,7 +7,8 @@
 //! is rejected when its timestamp is not *newer* than the stream's last accepted one (so an exact
 //! replay is rejected), and a new stream is admitted only when its timestamp is less than one minute
 //! behind the local clock. Only frames whose signature matches update any state, so forged frames
-//! cannot poison the replay table.
+//! cannot poison the replay table. The replay table survives restarts through [`state`]: a state
+//! file written at least every second and at shutdown, read back at start.
 
 use std::collections::HashMap;
 use std::fmt;
@@ -17,6 +18,8 @@ use sha2::{Digest, Sha256};
 
 use crate::codec::crc::frame_crc;
 use crate::codec::frame::{FrameRef, INCOMPAT_SIGNED, SIGNATURE_LEN};
+
+pub mod state;
 
 /// UNIX seconds at 2015-01-01 00:00:00 UTC, the MAVLink signing epoch.
 pub const MAVLINK_EPOCH_UNIX_S: u64 = 1_420_070_400;
@@ -159,11 +162,51 @@ pub struct Verifier {
     streams: HashMap<(u8, u8, u8), u64>,
     /// Highest timestamp known locally: max(clock, every accepted timestamp), as the spec says.
     local: u64,
+    /// The replay state changed since [`Verifier::take_changes`] was last called.
+    changed: bool,
+}
+
+/// The replay state of a [`Verifier`]: what must survive a restart.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ReplayState {
+    /// Last accepted timestamp per stream (system id, component id, link id).
+    pub streams: Vec<((u8, u8, u8), u64)>,
+    /// The highest timestamp known (clock or accepted).
+    pub local: u64,
 }
 
 impl Verifier {
     pub fn new(key: SigningKey) -> Self {
-        Verifier { key, streams: HashMap::new(), local: 0 }
+        Verifier { key, streams: HashMap::new(), local: 0, changed: false }
+    }
+
+    /// The key frames are checked with.
+    pub fn key(&self) -> &SigningKey {
+        &self.key
+    }
+
+    /// The replay state now (streams sorted, for stable files).
+    pub fn replay_state(&self) -> ReplayState {
+        let mut streams: Vec<_> = self.streams.iter().map(|(k, v)| (*k, *v)).collect();
+        streams.sort_unstable();
+        ReplayState { streams, local: self.local }
+    }
+
+    /// Takes over a saved replay state: frames not newer than a saved stream's last timestamp
+    /// are refused from now on. At most [`MAX_STREAMS`] streams are kept (the newest).
+    pub fn restore(&mut self, saved: &ReplayState) {
+        let mut streams = saved.streams.clone();
+        streams.sort_unstable_by_key(|(_, ts)| std::cmp::Reverse(*ts));
+        for (k, ts) in streams.into_iter().take(MAX_STREAMS) {
+            let last = self.streams.entry(k).or_insert(ts);
+            *last = (*last).max(ts);
+        }
+        self.local = self.local.max(saved.local);
+    }
+
+    /// Whether the replay state changed since the last call (and clears the mark).
+    pub fn take_changes(&mut self) -> bool {
+        std::mem::take(&mut self.changed)
     }
 
     pub fn stream_count(&self) -> usize {
@@ -201,6 +244,7 @@ impl Verifier {
         }
         self.streams.insert(key, ts);
         self.local = self.local.max(ts);
+        self.changed = true;
         Ok(())
     }
 }

@@ -206,3 +206,70 @@ pub fn value<'a>(v: &'a Violation, name: &str) -> &'a str {
         .map(|(_, v)| v.as_str())
         .unwrap_or_else(|| panic!("no value {name} in {v}"))
 }
+
+/// A monitor fed frame by frame with the link side of each frame, as the guard feeds it.
+pub struct Live {
+    pub d: Arc<Dialect>,
+    pub m: Monitor,
+    pub t: u64,
+}
+
+impl Live {
+    /// The standard library.
+    pub fn new() -> Option<Live> {
+        let d = dialect()?;
+        let m = Monitor::with_stdlib(d.clone(), &[]).expect("stdlib loads");
+        Some(Live { d, m, t: 1_700_000_000_000_000 })
+    }
+
+    /// Only the given protocol source.
+    pub fn with_source(src: &str) -> Option<Live> {
+        let d = dialect()?;
+        let sources = [("t.vproto".to_string(), src.to_string())];
+        let m = Monitor::from_sources(d.clone(), &sources, &[]).expect("protocol loads");
+        Some(Live { d, m, t: 1_700_000_000_000_000 })
+    }
+
+    /// `from` sends `name` on link side `side`; returns the monitor's verdict.
+    pub fn send_full(
+        &mut self,
+        side: vouch_mav::Side,
+        from: (u8, u8),
+        name: &str,
+        fields: &[(&str, f64)],
+        texts: &[(&str, &str)],
+    ) -> vouch_mav::Verdict {
+        let mut b = MessageBuilder::new(&self.d, name).expect("message in dialect");
+        for (f, v) in fields {
+            b = b.set(f, *v).unwrap_or_else(|e| panic!("{name}.{f}: {e}"));
+        }
+        for (f, t) in texts {
+            b = b.set_str(f, t).expect("text field");
+        }
+        let bytes = b.frame_v2(0, from.0, from.1);
+        let mut pos = 0;
+        let (_, frame) =
+            vouch_mav::FrameSplitter::new().next(&bytes, &mut pos, &self.d, true).expect("frame");
+        self.t += 10_000;
+        self.m.on_frame(&frame, Some(side), self.t)
+    }
+
+    pub fn send(
+        &mut self,
+        side: vouch_mav::Side,
+        from: (u8, u8),
+        name: &str,
+        fields: &[(&str, f64)],
+    ) -> vouch_mav::Verdict {
+        self.send_full(side, from, name, fields, &[])
+    }
+
+    /// The vehicle 1/1 (quadrotor, ArduPilot) heartbeats on the vehicle side.
+    pub fn vehicle_heartbeat(&mut self, armed: bool, custom_mode: u32) -> vouch_mav::Verdict {
+        let base_mode = if armed { 129.0 } else { 1.0 };
+        let f = [("type", 2.0), ("autopilot", 3.0), ("base_mode", base_mode)];
+        let mut fields = f.to_vec();
+        fields.push(("custom_mode", f64::from(custom_mode)));
+        self.send(vouch_mav::Side::Vehicle, UAV, "HEARTBEAT", &fields)
+    }
+}

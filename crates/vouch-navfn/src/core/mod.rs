@@ -1,8 +1,9 @@
 //! The NavFn numeric core: potential propagation (Dijkstra with the `atStart` stop, and A*)
 //! and path extraction, bit-exact with nav2's `navfn.cpp` (see `shared/navfn/SEMANTICS.md`).
 //!
-//! Memory layout: one flat array per quantity (`cost: Vec<u8>`, `pot/gx/gy: Vec<f32>`,
-//! `pending: Vec<bool>`) and three `Vec<i32>` priority buffers of fixed capacity. Nothing is
+//! Memory layout: one flat array per quantity (`cost: Vec<u8>`, `pot: Vec<f32>`, the gradient
+//! pairs `grad: Vec<[f32; 2]>` (x and y side by side: path extraction reads them together),
+//! `pending: Vec<bool>`) and three priority buffers of fixed capacity. Nothing is
 //! allocated during a plan; a [`NavFn`] keeps its arrays between plans of the same map size.
 //!
 //! Float discipline: every operation is written in the exact order and width of
@@ -16,6 +17,8 @@ pub mod numeric;
 pub mod observer;
 mod path;
 mod propagate;
+
+use propagate::PriorityBuf;
 
 pub use costs::{
     ros_to_navfn_cost, COST_NEUTRAL, COST_OBS, COST_OBS_ROS, COST_UNKNOWN_ROS, FREE_SPACE_ROS,
@@ -107,14 +110,14 @@ pub struct NavFn {
     pub(crate) ns: usize,
     pub(crate) cost: Vec<u8>,
     pub(crate) pot: Vec<f32>,
-    pub(crate) gx: Vec<f32>,
-    pub(crate) gy: Vec<f32>,
+    /// Cached normalised gradient `(gx, gy)` of each cell (`gradx`/`grady` upstream).
+    pub(crate) grad: Vec<[f32; 2]>,
     pub(crate) pending: Vec<bool>,
     /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
     pub(crate) grad_touched: Vec<u32>,
-    pub(crate) cur: Vec<i32>,
-    pub(crate) next: Vec<i32>,
-    pub(crate) over: Vec<i32>,
+    pub(crate) cur: PriorityBuf,
+    pub(crate) next: PriorityBuf,
+    pub(crate) over: PriorityBuf,
     pub(crate) cur_t: f32,
     pub(crate) start: Cell,
     pub(crate) goal: Cell,
@@ -137,13 +140,12 @@ impl NavFn {
             ns,
             cost: vec![COST_NEUTRAL; ns],
             pot: vec![POT_HIGH; ns],
-            gx: vec![0.0; ns],
-            gy: vec![0.0; ns],
+            grad: vec![[0.0; 2]; ns],
             pending: vec![false; ns],
             grad_touched: Vec::new(),
-            cur: Vec::with_capacity(PRIORITY_BUF_SIZE),
-            next: Vec::with_capacity(PRIORITY_BUF_SIZE),
-            over: Vec::with_capacity(PRIORITY_BUF_SIZE),
+            cur: PriorityBuf::new(),
+            next: PriorityBuf::new(),
+            over: PriorityBuf::new(),
             cur_t: CUR_T_INIT,
             start: Cell::new(0, 0),
             goal: Cell::new(0, 0),
@@ -165,14 +167,12 @@ impl NavFn {
         self.nx = nx;
         self.ny = ny;
         self.ns = ns;
-        for v in [&mut self.pot, &mut self.gx, &mut self.gy] {
-            v.clear();
-            v.resize(ns, 0.0);
-        }
-        self.cost.clear();
-        self.cost.resize(ns, COST_NEUTRAL);
-        self.pending.clear();
-        self.pending.resize(ns, false);
+        // fresh zeroed allocations rather than a fill: pages of the gradient and `pending`
+        // arrays that a plan never touches then take no memory (most of them on large maps)
+        self.pot = vec![POT_HIGH; ns];
+        self.grad = vec![[0.0; 2]; ns];
+        self.cost = vec![COST_NEUTRAL; ns];
+        self.pending = vec![false; ns];
         self.grad_touched.clear();
         self.cur.clear();
         self.next.clear();

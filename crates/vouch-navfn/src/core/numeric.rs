@@ -80,12 +80,119 @@ impl Fnv1a {
 }
 
 /// `pot_fnv`: FNV-1a-64 of the potential array as little-endian float32 bytes.
+///
+/// Byte-wise FNV is a serial chain of multiplications (16 per cell). Unreached cells all hold
+/// [`POT_HIGH_BITS`], and runs of them are hashed in O(log run) steps with [`HIGH_RUN_JUMPS`]
+/// (same result as [`potential_fnv_bytewise`], tested).
 pub fn potential_fnv(pot: &[f32]) -> u64 {
+    let mut h = FNV_OFFSET;
+    let mut i = 0;
+    while i < pot.len() {
+        let bits = pot[i].to_bits();
+        if bits != POT_HIGH_BITS {
+            h = fnv_word(h, bits);
+            i += 1;
+            continue;
+        }
+        let run = pot[i..].iter().take_while(|p| p.to_bits() == POT_HIGH_BITS).count();
+        h = skip_high_run(h, run);
+        i += run;
+    }
+    h
+}
+
+/// The plain definition of `pot_fnv` (reference for [`potential_fnv`]).
+pub fn potential_fnv_bytewise(pot: &[f32]) -> u64 {
     let mut h = Fnv1a::default();
     for &p in pot {
         h.f32(p);
     }
     h.0
+}
+
+/// Bits of the unreached potential 1e10 (`0x501502f9`).
+pub const POT_HIGH_BITS: u32 = 0x5015_02f9;
+
+/// One FNV-1a step per byte of `w`, little-endian.
+#[inline(always)]
+fn fnv_word(mut h: u64, w: u32) -> u64 {
+    for b in w.to_le_bytes() {
+        h = (h ^ b as u64).wrapping_mul(FNV_PRIME);
+    }
+    h
+}
+
+/// Why runs can be skipped: `h ^ b = h + δ` with `δ = (s ^ b) − s`, `s` = the low byte of `h`,
+/// so one step is `h·P + δ·P`, and the next low byte `((s ^ b)·P) mod 256` depends on `s`
+/// alone. Hashing `n` copies of one word therefore maps `h` to `h·Pⁿ' + A(s)` (`n' = 4n`, `A`
+/// depending only on the low byte `s`). `HIGH_RUN_JUMPS[j]` holds, for runs of `2^j` unreached
+/// cells, the multiplier and the 256 addends; a run is the composition of the jumps of the set
+/// bits of its length.
+pub struct RunJump {
+    mul: u64,
+    add: [u64; 256],
+}
+
+const JUMP_LEVELS: usize = 32;
+
+/// Jumps over `2^j` unreached cells, `j < 32` (see [`RunJump`]).
+pub static HIGH_RUN_JUMPS: [RunJump; JUMP_LEVELS] = build_jumps();
+
+const fn build_jumps() -> [RunJump; JUMP_LEVELS] {
+    let mut t = [const { RunJump { mul: 0, add: [0; 256] } }; JUMP_LEVELS];
+    // level 0: one word, bytes applied to h = s (the high bits contribute h·P⁴ only)
+    let bytes = POT_HIGH_BITS.to_le_bytes();
+    let mut mul = 1u64;
+    let mut k = 0;
+    while k < 4 {
+        mul = mul.wrapping_mul(FNV_PRIME);
+        k += 1;
+    }
+    t[0].mul = mul;
+    let mut s = 0;
+    while s < 256 {
+        let mut h = s as u64;
+        let mut k = 0;
+        while k < 4 {
+            h = (h ^ bytes[k] as u64).wrapping_mul(FNV_PRIME);
+            k += 1;
+        }
+        // h = s·P⁴ + A(s)
+        t[0].add[s] = h.wrapping_sub((s as u64).wrapping_mul(mul));
+        s += 1;
+    }
+    // level j+1: two jumps of level j; the second one's low byte is that of the first result
+    let mut j = 0;
+    while j + 1 < JUMP_LEVELS {
+        let m = t[j].mul;
+        t[j + 1].mul = m.wrapping_mul(m);
+        let mut s = 0;
+        while s < 256 {
+            let a = t[j].add[s];
+            let first = (s as u64).wrapping_mul(m).wrapping_add(a);
+            let s2 = (first & 0xff) as usize;
+            t[j + 1].add[s] = a.wrapping_mul(m).wrapping_add(t[j].add[s2]);
+            s += 1;
+        }
+        j += 1;
+    }
+    t
+}
+
+/// FNV-1a state after `run` more unreached cells.
+#[inline]
+fn skip_high_run(mut h: u64, run: usize) -> u64 {
+    let mut j = 0;
+    let mut r = run;
+    while r != 0 {
+        if r & 1 == 1 {
+            let jump = &HIGH_RUN_JUMPS[j];
+            h = h.wrapping_mul(jump.mul).wrapping_add(jump.add[(h & 0xff) as usize]);
+        }
+        r >>= 1;
+        j += 1;
+    }
+    h
 }
 
 /// `path_fnv`: FNV-1a-64 of the path, x then y of each point, little-endian float32 bytes.
@@ -115,6 +222,41 @@ mod tests {
         for v in [-1.5f32, -1.0, -0.5, -0.49999997, 0.0, 0.49999997, 0.5, 1.4999999, 1.5, 2.5, -2.5]
         {
             assert_eq!(round_half_away(v), v.round() as i64, "{v}");
+        }
+    }
+
+    /// The run-skipping hash equals byte-wise FNV-1a on arrays mixing runs of every length
+    /// with other values (including 1e10's neighbours in float order).
+    #[test]
+    fn run_skipping_fnv_equals_bytewise() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let high = f32::from_bits(POT_HIGH_BITS);
+        for _ in 0..300 {
+            let mut pot = Vec::new();
+            while pot.len() < 3000 {
+                let r = next();
+                let len = (r >> 8) as usize % if r & 3 == 0 { 600 } else { 9 };
+                let v = match r & 7 {
+                    0 => f32::from_bits(POT_HIGH_BITS - 1),
+                    1 => f32::from_bits(POT_HIGH_BITS + 1),
+                    2 => 0.0,
+                    _ => (r >> 40) as f32 * 0.37,
+                };
+                pot.extend(std::iter::repeat_n(high, len));
+                pot.push(v);
+            }
+            assert_eq!(potential_fnv(&pot), potential_fnv_bytewise(&pot));
+            assert_eq!(potential_fnv(&pot[1..]), potential_fnv_bytewise(&pot[1..]));
+        }
+        for n in [0usize, 1, 2, 3, 255, 256, 257, 1 << 16, (1 << 20) + 7] {
+            let pot = vec![high; n];
+            assert_eq!(potential_fnv(&pot), potential_fnv_bytewise(&pot), "{n}");
         }
     }
 

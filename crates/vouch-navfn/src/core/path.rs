@@ -24,7 +24,8 @@ impl NavFn {
             return;
         }
         let nu = n as usize;
-        if self.gx[nu] + self.gy[nu] > 0.0 {
+        let [gx_cached, gy_cached] = self.grad[nu];
+        if gx_cached + gy_cached > 0.0 {
             return; // cached
         }
         if n < nx || n > ns - nx {
@@ -65,8 +66,7 @@ impl NavFn {
         if norm > 0.0 {
             let inv = (1.0 / norm as f64) as f32;
             self.grad_touched.push(n as u32);
-            self.gx[nu] = inv * gxv;
-            self.gy[nu] = inv * gyv;
+            self.grad[nu] = [inv * gxv, inv * gyv];
         }
     }
 
@@ -118,10 +118,13 @@ impl NavFn {
                 // common case: the 3x3 block is inside the array; read its three rows directly
                 let s0 = (south - 1) as usize;
                 let (n0, m0) = ((north - 1) as usize, (stc - 1) as usize);
-                let (rs, rm, rn) =
-                    (&self.pot[s0..s0 + 3], &self.pot[m0..m0 + 3], &self.pot[n0..n0 + 3]);
-                // same nine tests as below, any order (no side effects)
-                rs.iter().chain(rm).chain(rn).any(|&v| v >= POT_HIGH)
+                // the same nine tests as below (potentials are never NaN, so "any ≥ 1e10" is
+                // "the largest ≥ 1e10"), without a branch per cell
+                let row_max = |i: usize| {
+                    let r = &self.pot[i..i + 3];
+                    r[0].max(r[1]).max(r[2])
+                };
+                row_max(s0).max(row_max(m0)).max(row_max(n0)) >= POT_HIGH
             } else {
                 p(stc) >= POT_HIGH
                     || p(stc + 1) >= POT_HIGH
@@ -164,11 +167,15 @@ impl NavFn {
                 let dxd = dx as f64;
                 let dyd = dy as f64;
                 // first product in double, second a float product widened (as in C++)
-                let x1 = ((1.0 - dxd) * self.gx[s0] as f64 + (dx * self.gx[s1]) as f64) as f32;
-                let x2 = ((1.0 - dxd) * self.gx[n0] as f64 + (dx * self.gx[n1]) as f64) as f32;
+                let x1 =
+                    ((1.0 - dxd) * self.grad[s0][0] as f64 + (dx * self.grad[s1][0]) as f64) as f32;
+                let x2 =
+                    ((1.0 - dxd) * self.grad[n0][0] as f64 + (dx * self.grad[n1][0]) as f64) as f32;
                 let x = ((1.0 - dyd) * x1 as f64 + (dy * x2) as f64) as f32;
-                let y1 = ((1.0 - dxd) * self.gy[s0] as f64 + (dx * self.gy[s1]) as f64) as f32;
-                let y2 = ((1.0 - dxd) * self.gy[n0] as f64 + (dx * self.gy[n1]) as f64) as f32;
+                let y1 =
+                    ((1.0 - dxd) * self.grad[s0][1] as f64 + (dx * self.grad[s1][1]) as f64) as f32;
+                let y2 =
+                    ((1.0 - dxd) * self.grad[n0][1] as f64 + (dx * self.grad[n1][1]) as f64) as f32;
                 let y = ((1.0 - dyd) * y1 as f64 + (dy * y2) as f64) as f32;
                 if x == 0.0 && y == 0.0 {
                     return 0;

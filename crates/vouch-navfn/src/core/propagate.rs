@@ -21,15 +21,147 @@ static EDGE: [f32; 256] = {
     t
 };
 
-/// The push macros of navfn.cpp (`push_cur/next/over`): append iff not pending, cost < 254
-/// and the buffer has room; a push into a full buffer is silently dropped, as upstream. The
-/// caller guarantees `n` is inside the array (upstream tests `0 ≤ n < ns` here; only the
-/// goal's neighbours at set-up can fall outside, and set-up tests that itself).
+/// One of the three priority buffers: `PRIORITY_BUF_SIZE` cells plus one slot of slack, so that
+/// a push can store its cell before it is known whether the push counts (no branch per test).
+pub(crate) struct PriorityBuf {
+    cells: Box<[i32]>,
+    len: usize,
+}
+
+impl PriorityBuf {
+    pub(crate) fn new() -> Self {
+        PriorityBuf { cells: vec![0; PRIORITY_BUF_SIZE + 1].into_boxed_slice(), len: 0 }
+    }
+    /// The queued cells, in order.
+    #[inline(always)]
+    pub(crate) fn as_slice(&self) -> &[i32] {
+        &self.cells[..self.len]
+    }
+    #[inline(always)]
+    pub(crate) fn clear(&mut self) {
+        self.len = 0;
+    }
+    #[inline(always)]
+    fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The push macros of navfn.cpp (`push_cur/next/over`) guarded by the update's own test:
+    /// append iff `test`, the cell is not pending, its cost is < 254 and the buffer has room; a
+    /// push into a full buffer is silently dropped, as upstream. Computed without branches (the
+    /// tests are data-dependent and mispredict often). The caller guarantees `n` is inside the
+    /// arrays (upstream tests `0 ≤ n < ns` here; only the goal's neighbours at set-up can fall
+    /// outside, and set-up tests that itself).
+    #[inline(always)]
+    fn push_if(&mut self, test: bool, pending: &mut [bool], cost: &[u8], n: usize) {
+        let ok = test & !pending[n] & (cost[n] < COST_OBS) & (self.len < PRIORITY_BUF_SIZE);
+        self.cells[self.len] = n as i32;
+        self.len += ok as usize;
+        pending[n] |= ok;
+    }
+}
+
+/// `n / d` and `n % d` for the map width, by a multiplication (Lemire, Kaser, Kurz 2019:
+/// `M = ⌊(2^64−1)/d⌋ + 1`, quotient = high 64 bits of `M·n`, exact for every 32-bit `n` and
+/// `2 ≤ d < 2^32`); the A* update needs the cell's column and row, and a hardware division per
+/// update costs more than the rest of the index arithmetic.
+#[derive(Clone, Copy)]
+pub(crate) struct WidthDiv {
+    d: u64,
+    m: u64,
+}
+
+impl WidthDiv {
+    pub(crate) fn new(d: usize) -> Self {
+        let d = d as u64;
+        WidthDiv { d, m: if d >= 2 { u64::MAX / d + 1 } else { 0 } }
+    }
+    /// `(n % d, n / d)` for `n < 2^32`.
+    #[inline(always)]
+    pub(crate) fn col_row(self, n: usize) -> (u64, u64) {
+        let n = n as u64;
+        let q = if self.d >= 2 { ((self.m as u128 * n as u128) >> 64) as u64 } else { n };
+        (n - q * self.d, q)
+    }
+}
+
+/// The arrays one propagation cycle works on (disjoint borrows of a [`NavFn`]).
+struct Grid<'a> {
+    pot: &'a mut [f32],
+    cost: &'a [u8],
+    pending: &'a mut [bool],
+    nx: usize,
+}
+
+/// What the A* update adds (unused by Dijkstra).
+#[derive(Clone, Copy)]
+struct Heuristic {
+    width: WidthDiv,
+    start_x: i64,
+    start_y: i64,
+}
+
+/// `updateCell` (ASTAR = false) and `updateCellAstar` (ASTAR = true) for a queued cell `n`.
+/// Queued cells have cost < 254, hence are never on the border ring, so the four neighbour
+/// indices are in range.
 #[inline(always)]
-fn push_inner(buf: &mut Vec<i32>, pending: &mut [bool], cost: &[u8], n: usize) {
-    if !pending[n] && cost[n] < COST_OBS && buf.len() < PRIORITY_BUF_SIZE {
-        buf.push(n as i32);
-        pending[n] = true;
+fn update_cell<const ASTAR: bool>(
+    g: &mut Grid<'_>,
+    n: usize,
+    cur_t: f32,
+    heuristic: Heuristic,
+    next: &mut PriorityBuf,
+    over: &mut PriorityBuf,
+) {
+    let nx = g.nx;
+    let ns = g.pot.len();
+    // Never true for a queued cell; stating it lets the compiler drop the bounds checks of
+    // the neighbour reads below (a measurable share of the update).
+    if n <= nx || n + nx >= ns || g.cost.len() != ns || g.pending.len() != ns {
+        return;
+    }
+    let l = g.pot[n - 1];
+    let r = g.pot[n + 1];
+    let u = g.pot[n - nx];
+    let d = g.pot[n + nx];
+    let tc = if l < r { l } else { r };
+    let mut ta = if u < d { u } else { d };
+    let c = g.cost[n];
+    if c >= COST_OBS {
+        return;
+    }
+    let hf = c as f32;
+    let mut dc = tc - ta;
+    if dc < 0.0 {
+        dc = -dc;
+        ta = tc;
+    }
+    let mut pot = if dc >= hf {
+        ta + hf
+    } else {
+        // float division, then the quadratic in double with double literals, in the
+        // C++ evaluation order ((-a*q)*q + b*q) + c; one rounding to float at the end.
+        let q = (dc / hf) as f64;
+        let v = ((-0.2301 * q) * q + 0.5307 * q) + 0.7040;
+        ta + hf * (v as f32)
+    };
+    if pot < g.pot[n] {
+        let le = EDGE[g.cost[n - 1] as usize];
+        let re = EDGE[g.cost[n + 1] as usize];
+        let ue = EDGE[g.cost[n - nx] as usize];
+        let de = EDGE[g.cost[n + nx] as usize];
+        g.pot[n] = pot;
+        if ASTAR {
+            let (x, y) = heuristic.width.col_row(n);
+            let h = astar_heuristic(x as i64 - heuristic.start_x, y as i64 - heuristic.start_y);
+            pot = pot + h;
+        }
+        let buf = if pot < cur_t { next } else { over };
+        let (pending, cost) = (&mut *g.pending, g.cost);
+        buf.push_if(l > pot + le, pending, cost, n - 1);
+        buf.push_if(r > pot + re, pending, cost, n + 1);
+        buf.push_if(u > pot + ue, pending, cost, n - nx);
+        buf.push_if(d > pot + de, pending, cost, n + nx);
     }
 }
 
@@ -40,8 +172,7 @@ impl NavFn {
         self.pot.fill(POT_HIGH);
         // gradients: only the cells the last path extraction cached are non-zero
         for &n in &self.grad_touched {
-            self.gx[n as usize] = 0.0;
-            self.gy[n as usize] = 0.0;
+            self.grad[n as usize] = [0.0; 2];
         }
         self.grad_touched.clear();
         let (nx, ny) = (self.nx, self.ny);
@@ -55,7 +186,7 @@ impl NavFn {
         // `pending` is true exactly for the cells still in a buffer (the loop clears the
         // current buffer's flags before processing it), so clearing those suffices
         for b in [&self.cur, &self.next, &self.over] {
-            for &n in b.iter() {
+            for &n in b.as_slice() {
                 self.pending[n as usize] = false;
             }
         }
@@ -70,75 +201,7 @@ impl NavFn {
         for n in [k + 1, k - 1, k - nx, k + nx] {
             // the goal may sit on the border, so its neighbours need the range test
             if n >= 0 && (n as usize) < self.ns {
-                push_inner(&mut self.cur, &mut self.pending, &self.cost, n as usize);
-            }
-        }
-    }
-
-    /// `updateCell` (ASTAR = false) and `updateCellAstar` (ASTAR = true) for a queued cell.
-    /// Queued cells have cost < 254, hence are never on the border ring, so the four
-    /// neighbour indices are in range.
-    #[inline(always)]
-    fn update_cell<const ASTAR: bool>(&mut self, n: usize) {
-        let nx = self.nx;
-        let ns = self.pot.len();
-        // Never true for a queued cell; stating it lets the compiler drop the bounds checks
-        // of the neighbour reads below (a measurable share of the update).
-        if n <= nx || n + nx >= ns || self.cost.len() != ns || self.pending.len() != ns {
-            return;
-        }
-        let l = self.pot[n - 1];
-        let r = self.pot[n + 1];
-        let u = self.pot[n - nx];
-        let d = self.pot[n + nx];
-        let tc = if l < r { l } else { r };
-        let mut ta = if u < d { u } else { d };
-        let c = self.cost[n];
-        if c >= COST_OBS {
-            return;
-        }
-        let hf = c as f32;
-        let mut dc = tc - ta;
-        if dc < 0.0 {
-            dc = -dc;
-            ta = tc;
-        }
-        let mut pot = if dc >= hf {
-            ta + hf
-        } else {
-            // float division, then the quadratic in double with double literals, in the
-            // C++ evaluation order ((-a*q)*q + b*q) + c; one rounding to float at the end.
-            let q = (dc / hf) as f64;
-            let v = ((-0.2301 * q) * q + 0.5307 * q) + 0.7040;
-            ta + hf * (v as f32)
-        };
-        if pot < self.pot[n] {
-            let le = EDGE[self.cost[n - 1] as usize];
-            let re = EDGE[self.cost[n + 1] as usize];
-            let ue = EDGE[self.cost[n - nx] as usize];
-            let de = EDGE[self.cost[n + nx] as usize];
-            self.pot[n] = pot;
-            if ASTAR {
-                // 32-bit division like the C++ `int` arithmetic (and much cheaper than 64-bit)
-                let (n32, nx32) = (n as u32, nx as u32);
-                let x = (n32 % nx32) as i64;
-                let y = (n32 / nx32) as i64;
-                let h = astar_heuristic(x - self.start.x as i64, y - self.start.y as i64);
-                pot = pot + h;
-            }
-            let buf = if pot < self.cur_t { &mut self.next } else { &mut self.over };
-            let (pending, cost) = (&mut self.pending, &self.cost);
-            if l > pot + le {
-                push_inner(buf, pending, cost, n - 1);
-            }
-            if r > pot + re {
-                push_inner(buf, pending, cost, n + 1);
-            }
-            if u > pot + ue {
-                push_inner(buf, pending, cost, n - nx);
-            }
-            if d > pot + de {
-                push_inner(buf, pending, cost, n + nx);
+                self.cur.push_if(true, &mut self.pending, &self.cost, n as usize);
             }
         }
     }
@@ -152,41 +215,46 @@ impl NavFn {
         obs: &mut O,
     ) -> (usize, PropagationEnd) {
         let start_cell = self.start_index();
+        let heuristic = Heuristic {
+            width: WidthDiv::new(self.nx),
+            start_x: self.start.x as i64,
+            start_y: self.start.y as i64,
+        };
+        let pri_inc = self.pri_inc;
+        let mut cur_t = self.cur_t;
+        let NavFn { pot, cost, pending, cur, next, over, nx, .. } = self;
+        let mut g = Grid { pot, cost, pending, nx: *nx };
         let mut cycle = 0;
         let mut end = PropagationEnd::CycleLimit;
         while cycle < cycles {
             obs.on_cycle(&CycleView {
                 cycle,
-                threshold: self.cur_t,
-                current: &self.cur,
-                next: &self.next,
-                overflow: &self.over,
-                potential: &self.pot,
+                threshold: cur_t,
+                current: cur.as_slice(),
+                next: next.as_slice(),
+                overflow: over.as_slice(),
+                potential: g.pot,
             });
             // (the upstream cancel hook every 5,000 cycles has no numeric effect)
-            if self.cur.is_empty() && self.next.is_empty() {
+            if cur.is_empty() && next.is_empty() {
                 end = PropagationEnd::QueuesEmpty;
                 break;
             }
-            // Taking the buffer out lets the updates push into `next`/`over` while we walk
-            // it; it is a pointer move, not an allocation.
-            let cur = std::mem::take(&mut self.cur);
-            for &c in &cur {
-                self.pending[c as usize] = false;
+            for &c in cur.as_slice() {
+                g.pending[c as usize] = false;
             }
-            for &c in &cur {
-                self.update_cell::<ASTAR>(c as usize);
+            for &c in cur.as_slice() {
+                update_cell::<ASTAR>(&mut g, c as usize, cur_t, heuristic, next, over);
             }
-            self.cur = cur;
             // next becomes current; the old current storage becomes the empty next
-            std::mem::swap(&mut self.cur, &mut self.next);
-            self.next.clear();
-            if self.cur.is_empty() {
-                self.cur_t = self.cur_t + self.pri_inc;
-                std::mem::swap(&mut self.cur, &mut self.over);
-                self.over.clear();
+            std::mem::swap(cur, next);
+            next.clear();
+            if cur.is_empty() {
+                cur_t = cur_t + pri_inc;
+                std::mem::swap(cur, over);
+                over.clear();
             }
-            if stop_at_start && self.pot[start_cell] < POT_HIGH {
+            if stop_at_start && g.pot[start_cell] < POT_HIGH {
                 end = PropagationEnd::StartReached;
                 break;
             }
@@ -195,12 +263,13 @@ impl NavFn {
         obs.on_propagation_end(&PropagationEndView {
             cycles: cycle,
             end,
-            threshold: self.cur_t,
-            current: &self.cur,
-            next: &self.next,
-            overflow: &self.over,
-            potential: &self.pot,
+            threshold: cur_t,
+            current: cur.as_slice(),
+            next: next.as_slice(),
+            overflow: over.as_slice(),
+            potential: g.pot,
         });
+        self.cur_t = cur_t;
         (cycle, end)
     }
 
@@ -225,5 +294,33 @@ impl NavFn {
         self.propagate::<true, O>(cycles, true, obs);
         self.last_path_cost = self.pot[self.start_index()];
         self.last_path_cost < POT_HIGH
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::WidthDiv;
+
+    /// The multiplication gives the hardware quotient and remainder (widths and indices at the
+    /// ends of their ranges, and a sample in between).
+    #[test]
+    fn width_division_is_exact() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut widths: Vec<usize> = (1..=70).chain([4095, 4096, 4097, 46_340, 65_535]).collect();
+        widths.extend((0..200).map(|_| 1 + (rnd() % (i32::MAX as u64)) as usize));
+        for d in widths {
+            let w = WidthDiv::new(d);
+            let mut ns: Vec<usize> = (0..300).chain([i32::MAX as usize - 1, d, d - 1]).collect();
+            ns.extend((0..300).map(|_| (rnd() % (i32::MAX as u64)) as usize));
+            for n in ns {
+                assert_eq!(w.col_row(n), ((n % d) as u64, (n / d) as u64), "{n} / {d}");
+            }
+        }
     }
 }

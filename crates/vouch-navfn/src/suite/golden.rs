@@ -1,8 +1,6 @@
 //! The golden line format of `shared/navfn/golden/README.md`: `CASE` + `PATH` lines (`WORLD` in
 //! planner mode), float bit patterns, FNV-1a-64 hashes, and the runner of a whole suite file.
 
-use std::fmt::Write as _;
-
 use super::{CaseError, CaseOutcome, CaseRunner, RunMode, SuiteMode, SuiteOptions};
 use crate::core::numeric::{path_fnv, potential_fnv};
 use crate::core::{Algo, Cell, NavFn};
@@ -45,34 +43,114 @@ fn strip_zeros(s: String) -> String {
     }
 }
 
+/// Append `printf("%.17g", v)`. Integral values below 10^15 (every cell coordinate) are
+/// their decimal digits; the rest go through [`fmt_g17`].
+pub fn push_g17(out: &mut String, v: f64) {
+    if v.trunc() == v && v.abs() < 1e15 {
+        if v == 0.0 && v.is_sign_negative() {
+            out.push_str("-0");
+        } else {
+            out.push_str(itoa::Buffer::new().format(v as i64));
+        }
+    } else {
+        out.push_str(&fmt_g17(v));
+    }
+}
+
+fn push_uint(out: &mut String, v: usize) {
+    out.push_str(itoa::Buffer::new().format(v));
+}
+
+const HEX_DIGITS: &[u8; 16] = b"0123456789abcdef";
+
+/// Lower-case hex digits of the low `N/2` bytes of `v`, zero-padded to `N` digits.
+#[inline]
+fn hex<const N: usize>(v: u64) -> [u8; N] {
+    let mut buf = [0u8; N];
+    for (i, d) in buf.iter_mut().rev().enumerate() {
+        *d = HEX_DIGITS[((v >> (4 * i)) & 0xf) as usize];
+    }
+    buf
+}
+
+/// Append ASCII bytes (the hex buffers above).
+#[inline]
+fn push_ascii(out: &mut String, bytes: &[u8]) {
+    out.push_str(std::str::from_utf8(bytes).unwrap_or("?"));
+}
+
+/// Append `{:08x}` of float32 bits.
+fn push_f32_bits(out: &mut String, v: f32) {
+    push_ascii(out, &hex::<8>(v.to_bits() as u64));
+}
+
+/// Append `{:016x}`.
+fn push_hex64(out: &mut String, v: u64) {
+    push_ascii(out, &hex::<16>(v));
+}
+
 fn write_path_line(out: &mut String, tag: &str, path: &[[f32; 2]]) {
+    out.reserve(tag.len() + 18 * path.len() + 1);
     out.push_str(tag);
     for p in path {
-        let _ = write!(out, " {:08x}:{:08x}", p[0].to_bits(), p[1].to_bits());
+        let mut point = [b' '; 18];
+        point[1..9].copy_from_slice(&hex::<8>(p[0].to_bits() as u64));
+        point[9] = b':';
+        point[10..].copy_from_slice(&hex::<8>(p[1].to_bits() as u64));
+        push_ascii(out, &point);
     }
     out.push('\n');
 }
 
+/// `CASE k x0 y0 x1 y1`: the case number and the case as read.
+fn push_case_head(out: &mut String, case: &SuiteCase) {
+    out.push_str("CASE ");
+    push_uint(out, case.number);
+    for c in case.coords {
+        out.push(' ');
+        push_g17(out, c);
+    }
+}
+
+fn push_cell(out: &mut String, key: &str, c: Option<Cell>) {
+    out.push_str(key);
+    match c {
+        Some(c) => {
+            push_uint(out, c.x);
+            out.push(',');
+            push_uint(out, c.y);
+        }
+        None => out.push('-'),
+    }
+}
+
+/// ` last_path_cost=… pot_fnv=… path_fnv=…`
+fn push_costs_and_hashes(
+    out: &mut String,
+    last_path_cost: Option<f32>,
+    nav: &NavFn,
+    path: &[[f32; 2]],
+) {
+    out.push_str(" last_path_cost=");
+    match last_path_cost {
+        Some(c) => push_f32_bits(out, c),
+        None => out.push_str("na"),
+    }
+    out.push_str(" pot_fnv=");
+    push_hex64(out, potential_fnv(nav.potential()));
+    out.push_str(" path_fnv=");
+    push_hex64(out, path_fnv(path));
+}
+
 /// Append the CASE and PATH lines of one cell-level case.
 pub fn write_cell_case(out: &mut String, case: &SuiteCase, o: &CaseOutcome, nav: &NavFn) {
-    let [x0, y0, x1, y1] = case.coords.map(fmt_g17);
-    let lpc = match o.last_path_cost {
-        Some(c) => format!("{:08x}", c.to_bits()),
-        None => "na".to_string(),
-    };
-    let _ = writeln!(
-        out,
-        "CASE {} {x0} {y0} {x1} {y1} navfn_start={},{} navfn_goal={},{} prop={} len={} last_path_cost={lpc} pot_fnv={:016x} path_fnv={:016x}",
-        case.number,
-        o.navfn_start.x,
-        o.navfn_start.y,
-        o.navfn_goal.x,
-        o.navfn_goal.y,
-        o.prop as u8,
-        o.len,
-        potential_fnv(nav.potential()),
-        path_fnv(nav.path()),
-    );
+    push_case_head(out, case);
+    push_cell(out, " navfn_start=", Some(o.navfn_start));
+    push_cell(out, " navfn_goal=", Some(o.navfn_goal));
+    out.push_str(if o.prop { " prop=1 len=" } else { " prop=0 len=" });
+    push_uint(out, o.len);
+    push_costs_and_hashes(out, o.last_path_cost, nav, nav.path());
+    out.push('\n');
     write_path_line(out, "PATH", nav.path());
 }
 
@@ -126,36 +204,32 @@ pub fn run_file(
 
 /// Append the three lines of one planner-mode case. `nav` is the planner's NavFn after the plan.
 pub fn write_planner_case(out: &mut String, case: &SuiteCase, plan: &PlannerPlan, nav: &NavFn) {
-    let [x0, y0, x1, y1] = case.coords.map(fmt_g17);
-    let cell = |c: Option<Cell>| match c {
-        Some(c) => format!("{},{}", c.x, c.y),
-        None => "-".to_string(),
-    };
-    let lpc = match plan.last_path_cost {
-        Some(c) => format!("{:08x}", c.to_bits()),
-        None => "na".to_string(),
-    };
     let path = if plan.navfn_len > 0 { nav.path() } else { &[] };
-    let best = match plan.best {
-        Some(b) => format!("{:016x},{:016x}", b[0].to_bits(), b[1].to_bits()),
-        None => "-".to_string(),
-    };
-    let _ = writeln!(
-        out,
-        "CASE {} {x0} {y0} {x1} {y1} navfn_start={} navfn_goal={} prop=- len={} last_path_cost={lpc} pot_fnv={:016x} path_fnv={:016x} status={} tol_used={} best={best}",
-        case.number,
-        cell(plan.navfn_start),
-        cell(plan.navfn_goal),
-        plan.navfn_len,
-        potential_fnv(nav.potential()),
-        path_fnv(path),
-        plan.status.name(),
-        plan.tol_used as u8,
-    );
+    push_case_head(out, case);
+    push_cell(out, " navfn_start=", plan.navfn_start);
+    push_cell(out, " navfn_goal=", plan.navfn_goal);
+    out.push_str(" prop=- len=");
+    push_uint(out, plan.navfn_len);
+    push_costs_and_hashes(out, plan.last_path_cost, nav, path);
+    out.push_str(" status=");
+    out.push_str(plan.status.name());
+    out.push_str(if plan.tol_used { " tol_used=1 best=" } else { " tol_used=0 best=" });
+    match plan.best {
+        Some(b) => {
+            push_hex64(out, b[0].to_bits());
+            out.push(',');
+            push_hex64(out, b[1].to_bits());
+        }
+        None => out.push('-'),
+    }
+    out.push('\n');
     write_path_line(out, "PATH", path);
     out.push_str("WORLD");
     for p in &plan.world {
-        let _ = write!(out, " {:016x}:{:016x}", p[0].to_bits(), p[1].to_bits());
+        out.push(' ');
+        push_hex64(out, p[0].to_bits());
+        out.push(':');
+        push_hex64(out, p[1].to_bits());
     }
     out.push('\n');
 }

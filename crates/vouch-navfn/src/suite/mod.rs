@@ -3,7 +3,7 @@
 
 mod golden;
 
-pub use golden::{fmt_g17, run_file, write_cell_case, write_planner_case, RunStats};
+pub use golden::{fmt_g17, push_g17, run_file, write_cell_case, write_planner_case, RunStats};
 
 use crate::core::{Algo, Cell, CoreError, NavFn, SearchObserver};
 use crate::maps::{SuiteCase, SuiteFile, WorldParams};
@@ -290,7 +290,7 @@ impl CaseRunner {
 
 #[cfg(test)]
 mod tests {
-    use super::fmt_g17;
+    use super::{fmt_g17, push_g17};
 
     // the literals are written with all 17 digits on purpose: they are what printf prints
     #[allow(clippy::excessive_precision)]
@@ -303,5 +303,29 @@ mod tests {
         assert_eq!(fmt_g17(0.05), "0.050000000000000003");
         assert_eq!(fmt_g17(1e20), "1e+20");
         assert_eq!(fmt_g17(1.5e-7), "1.4999999999999999e-07");
+    }
+
+    /// The integer fast path prints what the general `%.17g` path prints.
+    #[allow(clippy::excessive_precision)]
+    #[test]
+    fn g17_fast_path_agrees() {
+        for v in [
+            0.0,
+            -0.0,
+            5.0,
+            -7.0,
+            188.0,
+            4095.0,
+            1e14,
+            -123456789.0,
+            999999999999999.0,
+            1e15,
+            0.5,
+            -1.2999999999999989,
+        ] {
+            let mut s = String::new();
+            push_g17(&mut s, v);
+            assert_eq!(s, fmt_g17(v), "{v}");
+        }
     }
 }

@@ -47,6 +47,10 @@ pub struct GuardKeys {
     pub sign_to_vehicle: Option<bool>,
     /// `SigningLinkId`.
     pub signing_link_id: Option<u8>,
+    /// `SigningState`: the replay state file of the signing key.
+    pub signing_state: Option<PathBuf>,
+    /// `PassUnknownIds`: let frames of ids the dialect does not know pass unchecked.
+    pub pass_unknown_ids: Option<bool>,
     /// `ViolationLog`: JSON Lines file.
     pub violation_log: Option<PathBuf>,
     /// `TLog`: recording of all traffic.
@@ -151,6 +155,8 @@ const GUARD_KEYS: &[&str] = &[
     "SigningKey",
     "SignToVehicle",
     "SigningLinkId",
+    "SigningState",
+    "PassUnknownIds",
     "ViolationLog",
     "TLog",
 ];
@@ -182,6 +188,8 @@ pub(super) fn read_guard(
             "set" => g.set = constants(v, e)?,
             "signingkey" => g.signing_key = Some(signing_key(v, e, base)?),
             "signinglinkid" => g.signing_link_id = Some(v.number(e, 255)? as u8),
+            "signingstate" => g.signing_state = Some(path(e)),
+            "passunknownids" => g.pass_unknown_ids = Some(v.boolean(e)?),
             "violationlog" => g.violation_log = Some(path(e)),
             "tlog" => g.tlog = Some(path(e)),
             _ => return Err(unknown(v, s, e, GUARD_KEYS)),
