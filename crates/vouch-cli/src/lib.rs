@@ -64,7 +64,7 @@ enum Command {
 
 /// Parses the command line, runs the command and returns its exit code.
 pub fn run() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    let cli = match Cli::try_parse_from(fpl::upstream_args(std::env::args_os())) {
         Ok(cli) => cli,
         Err(e) => {
             // clap prints help/version on stdout with exit 0; real usage errors exit 2.

@@ -13,11 +13,13 @@
 //! * [`emit`] and [`graph`], the back ends: the C header, upstream's dump, the SVG block graph;
 //! * [`evidence`] and [`model_check`]: translation validation of the C against the semantics,
 //!   the static work bound, model checking of the plan's state space;
-//! * [`pipeline`]: whole-file conveniences (parse, then compile).
+//! * [`pipeline`]: whole-file conveniences (parse, then compile; many plans in parallel);
+//! * [`aircraft`]: Paparazzi's `conf/conf.xml` and where `gen_aircraft` writes a plan's outputs.
 //!
 //! Entry points: [`front::parse_file`], [`passes::compile`], [`emit::compile_plan`],
 //! [`pipeline::compile_file`].
 
+pub mod aircraft;
 pub mod ast;
 pub mod diag;
 pub mod emit;

@@ -86,11 +86,23 @@ fn labels_restart_for_each_plan() {
 #[test]
 fn geoid_height_at_a_grid_node_matches_the_egm96_reference() {
     use vouch_fpl::emit::geo::rad_of_deg;
+    use vouch_fpl::emit::geoid::Geoid;
     // NGA EGM96 calculator at 41N 1E: 49.83 m (value quoted in Paparazzi's latlong.ml).
-    let n = vouch_fpl::emit::geoid::geoid_height(rad_of_deg(41.0), rad_of_deg(1.0));
+    let model = Geoid::model();
+    let n = model.node(rad_of_deg(41.0), rad_of_deg(1.0)).expect("node").metres();
     assert!((n - 49.83).abs() <= 0.02, "{n}");
     // Truncation toward zero: 41.9N 1.9E uses the same node.
-    assert_eq!(vouch_fpl::emit::geoid::geoid_height(rad_of_deg(41.9), rad_of_deg(1.9)), n);
+    assert_eq!(model.node(rad_of_deg(41.9), rad_of_deg(1.9)).expect("node").metres(), n);
+    // The grid Paparazzi ships (bzip2) agrees, and reads -13.97 m at 41N 111W.
+    let Some(home) = vouch_testkit::shared("fpl/paparazzi_home", "data/srtm/WW15MGH.DAC.bz2")
+    else {
+        return;
+    };
+    let grid = Geoid::of_home(&home).expect("the .bz2 grid decompresses");
+    assert_eq!(grid.node(rad_of_deg(41.0), rad_of_deg(1.0)).expect("node").metres(), 49.83);
+    let west = grid.node(rad_of_deg(41.5), rad_of_deg(-111.5)).expect("node");
+    assert_eq!((west.metres(), west.upstream()), (-13.97, 641.39));
+    grid.check_complete().expect("the whole grid decompresses");
 }
 
 #[test]

@@ -30,6 +30,7 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
             &["emit", "graph"],
             &["evidence", "model_check"],
             &["pipeline"],
+            &["aircraft"],
         ],
     ),
     (

@@ -2,6 +2,7 @@
 //! file per group of subcommands (compile: `parse`/`compile`; evidence: `validate`/`lint`/
 //! `check`/`graph`; sim; bench).
 
+mod aircraft;
 mod bench;
 mod compile;
 mod evidence;
@@ -25,12 +26,21 @@ pub enum FplCmd {
         after_help = "Example:\n  vouch fpl parse examples/fpl/demo.xml\n  vouch fpl parse --json examples/fpl/demo.xml > demo.json"
     )]
     Parse(compile::ParseArgs),
-    /// Compile a flight plan to a drop-in flight_plan.h (upstream Paparazzi generator, 2024-10).
-    /// Exit 0 on success, 1 when the plan is rejected, 2 on a read/write error.
+    /// Compile flight plans to drop-in flight_plan.h files (upstream Paparazzi generator,
+    /// 2024-10, byte for byte with --upstream-compat), with upstream's dump and settings on
+    /// request. Upstream's forms work too: `-dump`, `-settings` (to standard output).
+    /// Exit 0 on success, 1 when a plan is rejected, 2 on a read/write error.
     #[command(
-        after_help = "Example:\n  vouch fpl compile examples/fpl/demo.xml -o flight_plan.h --dump dump.xml"
+        after_help = "Examples:\n  vouch fpl compile examples/fpl/demo.xml -o flight_plan.h --dump flight_plan.xml\n  vouch fpl compile plans/*.xml --out-dir generated/"
     )]
     Compile(compile::CompileArgs),
+    /// The flight-plan part of Paparazzi's gen_aircraft: reads conf/conf.xml, finds the
+    /// aircraft's flight plan and writes flight_plan.h, flight_plan.xml (and with --settings the
+    /// settings) under var/aircrafts/AC/, only when they change. Upstream's `-name AC` works.
+    #[command(
+        after_help = "Example:\n  PAPARAZZI_HOME=~/paparazzi vouch fpl aircraft --name Microjet --target sim"
+    )]
+    Aircraft(aircraft::AircraftArgs),
     /// Run the reference interpreter: the table of calls (block, stage, code, conditions).
     /// Conditions come from --conditions (whitespace-separated integers, odd = true), or a
     /// seeded random oracle (--seed), else are all false.
@@ -66,6 +76,7 @@ pub fn run(cmd: FplCmd, ctx: &mut Ctx) -> CmdResult {
     match cmd {
         FplCmd::Parse(a) => compile::parse(a, ctx),
         FplCmd::Compile(a) => compile::compile(a, ctx),
+        FplCmd::Aircraft(a) => aircraft::aircraft(a, ctx),
         FplCmd::Sim(a) => sim::sim(a, ctx),
         FplCmd::Validate(a) => evidence::validate(a, ctx),
         FplCmd::Lint(a) => evidence::lint(a, ctx),
@@ -125,4 +136,63 @@ fn lowered(plan: &FlightPlan) -> Result<Fp, Failure> {
 /// Writes a result file.
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
     std::fs::write(path, bytes).map_err(|e| Failure::io(path, &e))
+}
+
+/// Upstream's single-dash long options (`gen_flight_plan -dump`, `gen_aircraft -name AC`) as
+/// clap's double-dash ones, for `vouch fpl compile` and `vouch fpl aircraft` only (called on the
+/// whole command line before clap parses it). `-dump` and `-settings` on `compile` send that
+/// output to standard output, as upstream's `-dump` did.
+pub fn upstream_args(
+    args: impl IntoIterator<Item = std::ffi::OsString>,
+) -> Vec<std::ffi::OsString> {
+    let mut args: Vec<std::ffi::OsString> = args.into_iter().collect();
+    let words: Vec<Option<&str>> = args.iter().map(|a| a.to_str()).collect();
+    let Some(sub) = words.iter().position(|w| *w == Some("fpl")).map(|i| i + 1) else {
+        return args;
+    };
+    let map: &[(&str, &str)] = match words.get(sub).copied().flatten() {
+        Some("compile") => &[("-dump", "--dump=-"), ("-settings", "--settings=-")],
+        Some("aircraft") => &[
+            ("-name", "--name"),
+            ("-target", "--target"),
+            ("-conf", "--conf"),
+            ("-ac_dir", "--ac-dir"),
+            ("-conf_dir", "--conf-dir"),
+            ("-flight_plan", "--flight-plan"),
+            ("-settings", "--settings"),
+            ("-all", "--all"),
+        ],
+        _ => return args,
+    };
+    for a in args.iter_mut().skip(sub + 1) {
+        if let Some((_, to)) = map.iter().find(|(from, _)| a.to_str() == Some(from)) {
+            *a = std::ffi::OsString::from(to);
+        }
+    }
+    args
+}
+
+#[cfg(test)]
+mod tests {
+    use super::upstream_args;
+
+    fn run(line: &str) -> Vec<String> {
+        let v = upstream_args(line.split(' ').map(std::ffi::OsString::from));
+        v.into_iter().map(|s| s.to_string_lossy().into_owned()).collect()
+    }
+
+    #[test]
+    fn upstream_forms_become_long_options() {
+        assert_eq!(
+            run("vouch fpl compile -dump p.xml"),
+            ["vouch", "fpl", "compile", "--dump=-", "p.xml"]
+        );
+        assert_eq!(
+            run("vouch fpl aircraft -name Microjet -target sim -all"),
+            ["vouch", "fpl", "aircraft", "--name", "Microjet", "--target", "sim", "--all"]
+        );
+        // Other commands and families are left alone.
+        assert_eq!(run("vouch fpl parse -dump"), ["vouch", "fpl", "parse", "-dump"]);
+        assert_eq!(run("vouch navfn plan -name"), ["vouch", "navfn", "plan", "-name"]);
+    }
 }

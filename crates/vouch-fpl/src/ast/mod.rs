@@ -13,6 +13,7 @@
 //!
 //! Nothing is lost: every element keeps all its attributes as written in [`Attrs`].
 
+pub mod expanded;
 pub mod outline;
 mod stage;
 
@@ -138,6 +139,9 @@ pub struct FlightPlan {
     pub forbidden_deroutes: Vec<ForbiddenDeroute>,
     /// Non-fatal findings (duplicate attributes dropped, duplicate waypoint names, ...).
     pub warnings: Vec<Diagnostic>,
+    /// The expanded `<flight_plan>` element as upstream holds it (for the dump).
+    #[serde(skip)]
+    pub expanded: Option<std::sync::Arc<expanded::Node>>,
 }
 
 impl FlightPlan {

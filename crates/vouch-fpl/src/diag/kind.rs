@@ -58,8 +58,31 @@ pub enum ErrorKind {
     Generation,
     /// More than 256 blocks, or more than 256 stages in a block (the C runtime's `uint8_t`).
     TooLarge,
+    /// The Paparazzi home lacks what the generator reads (`data/srtm/WW15MGH.DAC[.bz2]`,
+    /// `conf/abi.xml`), or it is broken.
+    Environment,
+    /// A geofence limit below the ground, security or home-mode altitude (upstream: exit 1).
+    Geofence,
+    /// A flight-plan variable that cannot become a setting (empty short name, `handler`
+    /// without or with both `module`/`header`, persistent setting of unknown type).
+    Settings,
     /// Non-fatal: something accepted the way upstream accepts it, worth knowing.
     Warning,
+    /// Non-fatal: vouch prints a different value than upstream because upstream's is wrong.
+    Correction,
+    /// Non-fatal: an attribute upstream never reads in this context (it passes unchecked).
+    Unread,
+    /// Non-fatal (upstream's NOTICE): an altitude below `ground_alt + security_height`.
+    LowAltitude,
+    /// Non-fatal (upstream's warning): a waypoint farther than `max_dist_from_home` from HOME.
+    FarFromHome,
+    /// Non-fatal (upstream's warning): the reference is close to a UTM zone border.
+    UtmZoneBorder,
+    /// Non-fatal (upstream's NOTICE): `hmode="route"` without `from` uses the last waypoint.
+    RouteWithoutFrom,
+    /// Non-fatal (upstream's warnings and NOTICEs): geofence limits set, or below the default
+    /// altitude.
+    GeofenceNotice,
 }
 
 impl ErrorKind {
@@ -90,7 +113,17 @@ impl ErrorKind {
             ErrorKind::Conflict => "fpl::E022",
             ErrorKind::Generation => "fpl::E023",
             ErrorKind::TooLarge => "fpl::E024",
+            ErrorKind::Environment => "fpl::E025",
+            ErrorKind::Geofence => "fpl::E026",
+            ErrorKind::Settings => "fpl::E027",
             ErrorKind::Warning => "fpl::W000",
+            ErrorKind::Correction => "fpl::W020",
+            ErrorKind::Unread => "fpl::W021",
+            ErrorKind::LowAltitude => "fpl::W022",
+            ErrorKind::FarFromHome => "fpl::W023",
+            ErrorKind::UtmZoneBorder => "fpl::W024",
+            ErrorKind::RouteWithoutFrom => "fpl::W025",
+            ErrorKind::GeofenceNotice => "fpl::W026",
         }
     }
 }

@@ -70,6 +70,16 @@ impl Diagnostic {
         Diagnostic { severity: Severity::Warning, ..Self::error(ErrorKind::Warning, message, span) }
     }
 
+    /// A warning of a given kind (upstream's notices, corrections, unread attributes).
+    pub fn warning_of(kind: ErrorKind, message: impl Into<String>, span: Option<Span>) -> Self {
+        Diagnostic { severity: Severity::Warning, ..Self::error(kind, message, span) }
+    }
+
+    /// A correction of upstream's output, located, with the reason.
+    pub fn correction(message: impl Into<String>, span: Span, why: impl Into<String>) -> Self {
+        Self::warning_of(ErrorKind::Correction, message, Some(span)).with_help(why)
+    }
+
     /// Adds an explanation.
     pub fn with_help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(help.into());

@@ -1,266 +1,171 @@
-//! The `--dump` file. Upstream's build writes, beside `flight_plan.h`, the *expanded* plan for
-//! the ground station (GENERATOR_FACTS.md §1): procedures included (blocks renamed `N.block`,
-//! parameters substituted), `<path>` stages expanded into `go` stages, relative waypoints
-//! created, the implicit `HOME` block appended, blocks and stages numbered with a `no`
-//! attribute, followed by a `<stages>` index (block number, block name, stage number, stage
-//! element) that the GCS uses to name the current stage.
+//! The `--dump` file: what upstream's build writes as `var/aircrafts/AC/flight_plan.xml` for
+//! the server and the ground station, byte for byte. It is the expanded plan
+//! ([`crate::ast::expanded::Node`]: procedures included, paths expanded, relative waypoints
+//! created, `HOME` appended) with
+//! * waypoints given by `lat`/`lon` localised (`x`, `y` as `%.2f` metres from the reference,
+//!   appended last, in the UTM frame only),
+//! * blocks and stages numbered with a `no` attribute appended last (upstream's `index_blocks`:
+//!   a `for` takes its test stage's number, a `while` its test, a two-step stage its second),
+//! * followed by a `<stages>` index: one `<stage block= block_name= stage=>` element per
+//!   numbered stage, holding the stage element, in reverse order of a pre-order walk.
 //!
-//! vouch writes the same content from the resolved AST: every element with its attributes as
-//! the front end kept them (after include/path rewriting), block references printed by their
-//! resolved block name. Stage numbers follow upstream's dump pre-pass: a loop is numbered at its
-//! test stage, a two-step stage at its main stage.
-//!
-//! Attribute values are written the way upstream's XML reader reads them back (values are not
-//! entity-decoded there, so they are copied raw; only `\` and `"` are backslash-escaped), so
-//! the `<flight_plan>` element of a dump, without its `HOME` block, parses again with vouch's
-//! front end (tested). Header text and the index are ordinary XML text (entities escaped).
+//! Printing follows upstream's `ExtXml.to_string_fmt`: tags and attribute names lower-cased,
+//! two spaces of indentation per level, an element without children as `<tag …/>`, text
+//! printed raw, in attribute values only `\` and `"` escaped with a backslash.
 
-use crate::ast::{Attrs, Block, Exception, FlightPlan, Stage, StageKind};
+use crate::ast::expanded::Node;
+use crate::ast::{FlightPlan, WpFrame};
+use crate::front::values::degrees;
+use crate::passes::CompileError;
 
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
-}
+use super::geo::{self, Geo};
 
-/// An attribute value as upstream's reader reads it (see the module comment).
-fn raw_value(s: &str) -> String {
-    s.replace('\\', "\\\\").replace('"', "\\\"")
-}
-
-/// ` name="value"` for every attribute, with `overrides` replacing (or adding) some of them.
-fn attrs_text(attrs: &Attrs, overrides: &[(&str, String)]) -> String {
-    let mut out = String::new();
-    for a in &attrs.0 {
-        if overrides.iter().any(|(n, _)| a.name.eq_ignore_ascii_case(n)) {
-            continue;
-        }
-        out.push_str(&format!(" {}=\"{}\"", a.name, raw_value(&a.value)));
-    }
-    for (n, v) in overrides {
-        out.push_str(&format!(" {n}=\"{}\"", raw_value(v)));
-    }
-    out
-}
-
-struct Out {
-    text: String,
-    indent: usize,
-}
-
-impl Out {
-    fn line(&mut self, s: &str) {
-        self.text.push_str(&"  ".repeat(self.indent));
-        self.text.push_str(s);
-        self.text.push('\n');
-    }
-    /// `<tag attrs>` … `</tag>` around `body`, or `<tag attrs/>` when `body` writes nothing.
-    fn element(&mut self, tag: &str, attrs: &str, body: impl FnOnce(&mut Out)) {
-        let mark = self.text.len();
-        self.indent += 1;
-        body(self);
-        self.indent -= 1;
-        let inner = self.text.split_off(mark);
-        if inner.is_empty() {
-            self.line(&format!("<{tag}{attrs}/>"));
-        } else {
-            self.line(&format!("<{tag}{attrs}>"));
-            self.text.push_str(&inner);
-            self.line(&format!("</{tag}>"));
-        }
-    }
-}
-
-fn exception(out: &mut Out, plan: &FlightPlan, e: &Exception) {
-    let target = plan.block(e.deroute.id).name.value.clone();
-    out.line(&format!("<exception{}/>", attrs_text(&e.attrs, &[("deroute", target)])));
-}
-
-/// Writes `stages` with their numbers; `next` is the last number used in the block.
-fn stages(out: &mut Out, plan: &FlightPlan, list: &[Stage], next: &mut i64) {
-    for s in list {
-        let tag = s.kind.tag();
-        match &s.kind {
-            StageKind::For(f) => {
-                *next += 2;
-                let attrs = attrs_text(&s.attrs, &[("no", next.to_string())]);
-                out.element(tag, &attrs, |o| stages(o, plan, &f.body, next));
-                *next += 1;
-            }
-            StageKind::While(w) => {
-                *next += 1;
-                let attrs = attrs_text(&s.attrs, &[("no", next.to_string())]);
-                out.element(tag, &attrs, |o| stages(o, plan, &w.body, next));
-                *next += 1;
-            }
-            kind => {
-                *next += match kind {
-                    StageKind::Eight(_) | StageKind::Oval(_) | StageKind::SurveyRectangle(_) => 2,
-                    _ => 1,
-                };
-                let mut overrides = Vec::new();
-                if let StageKind::Deroute(d) = kind {
-                    overrides.push(("block", plan.block(d.block.id).name.value.clone()));
-                }
-                overrides.push(("no", next.to_string()));
-                out.line(&format!("<{tag}{}/>", attrs_text(&s.attrs, &overrides)));
-            }
-        }
-    }
-}
-
-fn block(out: &mut Out, plan: &FlightPlan, i: usize, b: &Block) {
-    // The appended HOME block has no source element, hence no attributes of its own.
-    let attrs = if b.implicit {
-        attrs_text(&b.attrs, &[("name", b.name.value.clone()), ("no", i.to_string())])
-    } else {
-        attrs_text(&b.attrs, &[("no", i.to_string())])
+/// The dump of a parsed plan (its expanded tree is kept by the front end).
+pub fn dump(plan: &FlightPlan) -> Result<String, CompileError> {
+    let Some(expanded) = plan.expanded.as_deref() else {
+        return Err(CompileError::new("the plan keeps no expanded tree to dump", plan.span));
     };
-    out.element("block", &attrs, |o| {
-        for e in &b.exceptions {
-            exception(o, plan, e);
-        }
-        let mut next = -1;
-        stages(o, plan, &b.stages, &mut next);
-    });
+    let mut fp = expanded.clone();
+    if !matches!(plan.wp_frame.as_ref().map(|f| f.value), Some(WpFrame::Ltp)) {
+        localize(&mut fp, plan);
+    }
+    let stages = number(&mut fp);
+    let root = Node::new("dump", Vec::new(), vec![fp, Node::new("stages", Vec::new(), stages)]);
+    let mut out = String::with_capacity(64 * 1024);
+    print_node(&mut out, &root);
+    Ok(out)
 }
 
-fn plan_element(out: &mut Out, plan: &FlightPlan) {
-    out.element("flight_plan", &attrs_text(&plan.attrs, &[]), |o| {
-        if let Some(h) = &plan.header {
-            o.line(&format!("<header>{}</header>", xml_escape(&h.text)));
-        }
-        o.element("waypoints", &attrs_text(&plan.waypoints_attrs, &[]), |o| {
-            for w in &plan.waypoints {
-                o.line(&format!("<waypoint{}/>", attrs_text(&w.attrs, &[])));
-            }
-        });
-        if !plan.sectors.is_empty() || !plan.kml.is_empty() {
-            o.element("sectors", "", |o| {
-                for s in &plan.sectors {
-                    o.element("sector", &attrs_text(&s.attrs, &[]), |o| {
-                        for c in &s.corners {
-                            o.line(&format!(
-                                "<corner name=\"{}\"/>",
-                                raw_value(&plan.waypoint(c.id).name.value)
-                            ));
-                        }
-                    });
-                }
-                for k in &plan.kml {
-                    o.line(&format!("<kml file=\"{}\"/>", raw_value(&k.value)));
-                }
-            });
-        }
-        if !plan.variables.is_empty() {
-            o.element("variables", "", |o| {
-                for v in &plan.variables {
-                    match v {
-                        crate::ast::VariableDecl::Var(v) => {
-                            o.line(&format!("<variable{}/>", attrs_text(&v.attrs, &[])))
-                        }
-                        crate::ast::VariableDecl::Abi(a) => {
-                            o.line(&format!("<abi_binding{}/>", attrs_text(&a.attrs, &[])))
-                        }
-                    }
-                }
-            });
-        }
-        if !plan.modules.is_empty() {
-            o.element("modules", "", |o| {
-                for m in &plan.modules {
-                    o.element("module", &attrs_text(&m.attrs, &[]), |o| {
-                        for (tag, list) in [("configure", &m.configures), ("define", &m.defines)] {
-                            for nv in list.iter() {
-                                let value = nv
-                                    .value
-                                    .as_ref()
-                                    .map(|v| format!(" value=\"{}\"", raw_value(&v.value)));
-                                o.line(&format!(
-                                    "<{tag} name=\"{}\"{}/>",
-                                    raw_value(&nv.name.value),
-                                    value.unwrap_or_default()
-                                ));
-                            }
-                        }
-                    });
-                }
-            });
-        }
-        if !plan.exceptions.is_empty() {
-            o.element("exceptions", "", |o| {
-                for e in &plan.exceptions {
-                    exception(o, plan, e);
-                }
-            });
-        }
-        if !plan.forbidden_deroutes.is_empty() {
-            o.element("forbidden_deroutes", "", |o| {
-                for f in &plan.forbidden_deroutes {
-                    let from = plan.block(f.from.id).name.value.clone();
-                    let to = plan.block(f.to.id).name.value.clone();
-                    o.line(&format!(
-                        "<forbidden_deroute{}/>",
-                        attrs_text(&f.attrs, &[("from", from), ("to", to)])
-                    ));
-                }
-            });
-        }
-        o.element("blocks", "", |o| {
-            for (i, b) in plan.blocks.iter().enumerate() {
-                block(o, plan, i, b);
-            }
-        });
-    });
+/// A whole document the way upstream writes it (`ExtXml.to_string_fmt`, then a newline).
+pub(crate) fn print_node(out: &mut String, root: &Node) {
+    print(out, root, "", false);
+    out.push('\n');
 }
 
-/// The `<stages>` index: one entry per numbered stage (loops at their test stage).
-fn index(stages: &[Stage], next: &mut i64, out: &mut Vec<(i64, &'static str)>) {
-    for s in stages {
-        match &s.kind {
-            StageKind::For(f) => {
-                *next += 2;
-                out.push((*next, "for"));
-                index(&f.body, next, out);
-                *next += 1;
+/// `x`/`y` of waypoints given by latitude and longitude, relative to the reference UTM
+/// position, projected in the reference zone (upstream's `localize_waypoint`).
+fn localize(fp: &mut Node, plan: &FlightPlan) {
+    let reference =
+        Geo { lat: geo::rad_of_deg(plan.lat0.value), lon: geo::rad_of_deg(plan.lon0.value) };
+    let utm0 = geo::utm_of(reference, None);
+    let Some(wps) = fp.children.iter_mut().find(|c| c.tag.eq_ignore_ascii_case("waypoints")) else {
+        return;
+    };
+    for w in wps.children.iter_mut() {
+        let (Some(lat), Some(lon)) =
+            (w.attr("lat").and_then(degrees), w.attr("lon").and_then(degrees))
+        else {
+            continue;
+        };
+        let u = geo::utm_of(geo::geo_of_deg(lat, lon), Some(utm0.zone));
+        w.subst_attr("x", format!("{:.2}", u.x - utm0.x));
+        w.subst_attr("y", format!("{:.2}", u.y - utm0.y));
+    }
+}
+
+/// Appends `no` to blocks and stages and returns the `<stages>` index.
+fn number(fp: &mut Node) -> Vec<Node> {
+    let mut index = Vec::new();
+    let Some(blocks) = fp.children.iter_mut().find(|c| c.tag.eq_ignore_ascii_case("blocks")) else {
+        return index;
+    };
+    for (i, b) in blocks.children.iter_mut().enumerate() {
+        b.attrs.push(("no".into(), i.to_string()));
+        let mut counter: i64 = -1;
+        for s in b.children.iter_mut() {
+            number_stage(s, &mut counter);
+        }
+        let name = b.attr("name").unwrap_or_default().to_string();
+        for s in &b.children {
+            collect(s, i, &name, &mut index);
+        }
+    }
+    index.reverse();
+    index
+}
+
+fn number_stage(s: &mut Node, counter: &mut i64) {
+    let tag = s.tag.to_ascii_lowercase();
+    let no = match tag.as_str() {
+        "exception" => return,
+        "for" | "while" => {
+            *counter += if tag == "for" { 2 } else { 1 };
+            let n = *counter;
+            for c in s.children.iter_mut() {
+                number_stage(c, counter);
             }
-            StageKind::While(w) => {
-                *next += 1;
-                out.push((*next, "while"));
-                index(&w.body, next, out);
-                *next += 1;
-            }
-            StageKind::Eight(_) | StageKind::Oval(_) | StageKind::SurveyRectangle(_) => {
-                *next += 2;
-                out.push((*next, s.kind.tag()));
-            }
-            k => {
-                *next += 1;
-                out.push((*next, k.tag()));
-            }
+            *counter += 1;
+            n
+        }
+        "survey_rectangle" | "eight" | "oval" => {
+            *counter += 2;
+            *counter
+        }
+        _ => {
+            *counter += 1;
+            *counter
+        }
+    };
+    s.attrs.push(("no".into(), no.to_string()));
+}
+
+/// Pre-order walk of the numbered stages (exceptions have no number).
+fn collect(s: &Node, block: usize, name: &str, index: &mut Vec<Node>) {
+    let Some(no) = s.attrs.iter().rev().find(|(n, _)| n == "no").map(|(_, v)| v.clone()) else {
+        return;
+    };
+    let attrs = vec![
+        ("block".to_string(), block.to_string()),
+        ("block_name".to_string(), name.to_string()),
+        ("stage".to_string(), no),
+    ];
+    index.push(Node::new("stage", attrs, vec![s.clone()]));
+    if s.tag.eq_ignore_ascii_case("for") || s.tag.eq_ignore_ascii_case("while") {
+        for c in &s.children {
+            collect(c, block, name, index);
         }
     }
 }
 
-/// The whole dump: `<dump>` holding the expanded, numbered `<flight_plan>` and the `<stages>`
-/// index.
-pub fn dump(plan: &FlightPlan) -> String {
-    let mut out = Out { text: String::new(), indent: 0 };
-    out.line("<dump>");
-    out.indent += 1;
-    plan_element(&mut out, plan);
-    out.line("<stages>");
-    for (i, b) in plan.blocks.iter().enumerate() {
-        let mut next = -1;
-        let mut list = Vec::new();
-        index(&b.stages, &mut next, &mut list);
-        for (no, tag) in list {
-            out.line(&format!(
-                "  <stage block=\"{i}\" block_name=\"{}\" stage=\"{no}\"><{tag}/></stage>",
-                xml_escape(&b.name.value)
-            ));
+fn print(out: &mut String, n: &Node, tab: &str, newline: bool) {
+    out.push_str(tab);
+    out.push('<');
+    out.push_str(&n.tag.to_ascii_lowercase());
+    for (name, value) in &n.attrs {
+        out.push(' ');
+        out.push_str(&name.to_ascii_lowercase());
+        out.push_str("=\"");
+        for c in value.chars() {
+            match c {
+                '\\' => out.push_str("\\\\"),
+                '"' => out.push_str("\\\""),
+                c => out.push(c),
+            }
+        }
+        out.push('"');
+    }
+    match (&n.text, n.children.is_empty()) {
+        (Some(text), true) => {
+            out.push('>');
+            out.push_str(text);
+            out.push_str("</");
+            out.push_str(&n.tag.to_ascii_lowercase());
+            out.push('>');
+        }
+        (None, true) => out.push_str("/>"),
+        (_, false) => {
+            out.push_str(">\n");
+            let inner = format!("{tab}  ");
+            for c in &n.children {
+                print(out, c, &inner, true);
+            }
+            out.push_str(tab);
+            out.push_str("</");
+            out.push_str(&n.tag.to_ascii_lowercase());
+            out.push('>');
         }
     }
-    out.line("</stages>");
-    out.indent -= 1;
-    out.line("</dump>");
-    out.text
+    if newline {
+        out.push('\n');
+    }
 }

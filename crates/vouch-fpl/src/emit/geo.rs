@@ -187,10 +187,11 @@ pub fn ecef_of_geo(g: Geo, h: f64) -> [f64; 3] {
     let e2 = 2.0 * WGS84_DF - WGS84_DF * WGS84_DF;
     let (sin_lat, cos_lat, cos_lon) = (g.lat.sin(), g.lat.cos(), g.lon.cos());
     let chi = (1.0 - e2 * sin_lat * sin_lat).sqrt();
+    let a_chi = WGS84_A / chi;
     [
-        (WGS84_A / chi + h) * cos_lat * cos_lon,
-        (WGS84_A / chi + h) * cos_lat * g.lon.sin(),
-        (WGS84_A * (1.0 - e2) / chi + h) * sin_lat,
+        (a_chi + h) * cos_lat * cos_lon,
+        (a_chi + h) * cos_lat * g.lon.sin(),
+        (a_chi * (1.0 - e2) + h) * sin_lat,
     ]
 }
 

@@ -8,8 +8,8 @@ use crate::passes::size::Fps;
 use crate::passes::{lower, CompileError};
 
 use super::geo::{self, Geo, Utm};
-use super::geoid::geoid_height;
-use super::{EmitOptions, Flavor, Writer, HEADER_MARKER};
+use super::{EmitOptions, Flavor, GeoidUse, Writer, HEADER_MARKER};
+use crate::front::values::ocaml_float;
 
 /// One row of the waypoint tables (the implicit `dummy` waypoint is row 0).
 struct WpRow {
@@ -20,17 +20,21 @@ struct WpRow {
     /// The ALT column of `WAYPOINTS_UTM`, a text.
     alt_text: String,
     alt: f64,
+    /// `WAYPOINTS_GLOBAL`: the waypoint is given by latitude and longitude.
     global: bool,
+    /// What upstream prints there: TRUE only when both texts are OCaml float literals.
+    global_upstream: bool,
     /// Geodetic position when already known (LTP frame).
     geo: Option<Geo>,
     /// LTP frame: the ENU row is simply (x, y, ALT - ground_alt) of the written coordinates.
     ltp_enu: Option<[f64; 3]>,
+    span: crate::span::Span,
 }
 
 fn parse_alt(text: &str, what: &str, span: crate::span::Span) -> Result<f64, CompileError> {
-    text.trim()
-        .parse::<f64>()
-        .map_err(|_| CompileError::new(format!("{what}: altitude '{text}' is not a number"), span))
+    ocaml_float(text).ok_or_else(|| {
+        CompileError::new(format!("{what}: altitude '{text}' is not a number"), span)
+    })
 }
 
 fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, CompileError> {
@@ -44,75 +48,102 @@ fn rows(plan: &FlightPlan, ref_geo: Geo, utm0: Utm) -> Result<Vec<WpRow>, Compil
         alt: parse_alt(&plan_alt, "flight plan", plan.span)?,
         alt_text: plan_alt.clone(),
         global: false,
+        global_upstream: false,
         geo: None,
         ltp_enu: None,
+        span: plan.lat0.text.span,
     }];
-    if ltp {
-        out[0].ltp_enu = Some([0.0, 0.0, out[0].alt - ground]);
-    }
     let ecef0 = geo::ecef_of_geo(ref_geo, ground);
+    if ltp {
+        // The dummy waypoint (0, 0) goes through the tangent plane like every LTP waypoint.
+        let (x, y, g) = ltp_position(0.0, 0.0, out[0].alt - ground, ecef0, utm0);
+        let dummy = &mut out[0];
+        (dummy.x, dummy.y, dummy.geo) = (x, y, Some(g));
+        dummy.ltp_enu = Some([0.0, 0.0, dummy.alt - ground]);
+    }
     for w in &plan.waypoints {
-        let alt_text = match (&w.alt, &w.height) {
-            (Some(a), _) => a.text.value.clone(),
-            (None, Some(h)) => ocaml_float_text(h.value + ground),
-            (None, None) => plan_alt.clone(),
-        };
-        let alt = parse_alt(&alt_text, &format!("waypoint '{}'", w.name.value), w.span)?;
-        let latlon = match (&w.lat, &w.lon) {
-            (Some(la), Some(lo)) => Some((la.value, lo.value)),
-            _ => None,
-        };
-        let (x, y, g) = match (latlon, ltp) {
-            (Some(_), true) => {
-                return Err(CompileError::new(
-                    format!(
-                        "waypoint '{}': lat/lon waypoints are not supported with wp_frame=\"ltp\" \
-                         (upstream crashes here, quirk 10)",
-                        w.name.value
-                    ),
-                    w.span,
-                ))
-            }
-            (Some((la, lo)), false) => {
-                // Projected in the reference zone, then printed "%.2f" and parsed back.
-                let u = geo::utm_of(geo::geo_of_deg(la, lo), Some(utm0.zone));
-                let x: f64 = format!("{:.2}", u.x - utm0.x).parse().unwrap_or(0.0);
-                let y: f64 = format!("{:.2}", u.y - utm0.y).parse().unwrap_or(0.0);
-                (x, y, None)
-            }
-            (None, _) => {
-                let (Some(x), Some(y)) = (&w.x, &w.y) else {
-                    return Err(CompileError::new(
-                        format!("waypoint '{}' needs x/y or lat/lon", w.name.value),
-                        w.span,
-                    ));
-                };
-                if ltp {
-                    let ecef = geo::ecef_of_ned(ecef0, [y.value, x.value, -(alt - ground)]);
-                    let (g, _) = geo::geo_of_ecef(ecef);
-                    let u = geo::utm_of(g, Some(utm0.zone));
-                    (u.x - utm0.x, u.y - utm0.y, Some(g))
-                } else {
-                    (x.value, y.value, None)
-                }
-            }
-        };
-        let ltp_enu = match (&w.x, &w.y) {
-            (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
-            _ => None,
-        };
-        out.push(WpRow {
-            name: w.name.value.clone(),
-            x,
-            y,
-            alt_text,
-            alt,
-            global: latlon.is_some(),
-            geo: g,
-            ltp_enu,
-        });
+        out.push(row(w, &plan_alt, ground, ltp, ecef0, utm0)?);
     }
     Ok(out)
+}
+
+/// A tangent-plane waypoint: its UTM offset in the reference zone and its geodetic position.
+fn ltp_position(x: f64, y: f64, height: f64, ecef0: [f64; 3], utm0: Utm) -> (f64, f64, Geo) {
+    let (g, _) = geo::geo_of_ecef(geo::ecef_of_ned(ecef0, [y, x, -height]));
+    let u = geo::utm_of(g, Some(utm0.zone));
+    (u.x - utm0.x, u.y - utm0.y, g)
+}
+
+fn row(
+    w: &crate::ast::Waypoint,
+    plan_alt: &str,
+    ground: f64,
+    ltp: bool,
+    ecef0: [f64; 3],
+    utm0: Utm,
+) -> Result<WpRow, CompileError> {
+    let alt_text = match (&w.alt, &w.height) {
+        (Some(a), _) => a.text.value.clone(),
+        (None, Some(h)) => ocaml_float_text(h.value + ground),
+        (None, None) => plan_alt.to_string(),
+    };
+    let alt = parse_alt(&alt_text, &format!("waypoint '{}'", w.name.value), w.span)?;
+    let latlon = match (&w.lat, &w.lon) {
+        (Some(la), Some(lo)) => Some((la, lo)),
+        _ => None,
+    };
+    let (x, y, g) = match (latlon, ltp) {
+        (Some(_), true) => {
+            return Err(CompileError::new(
+                format!(
+                    "waypoint '{}': lat/lon waypoints are not supported with wp_frame=\"ltp\" \
+                     (upstream crashes here, quirk 10)",
+                    w.name.value
+                ),
+                w.span,
+            ))
+        }
+        (Some((la, lo)), false) => {
+            // Projected in the reference zone, then printed "%.2f" and parsed back.
+            let u = geo::utm_of(geo::geo_of_deg(la.value, lo.value), Some(utm0.zone));
+            let x: f64 = format!("{:.2}", u.x - utm0.x).parse().unwrap_or(0.0);
+            let y: f64 = format!("{:.2}", u.y - utm0.y).parse().unwrap_or(0.0);
+            (x, y, None)
+        }
+        (None, _) => {
+            let (Some(x), Some(y)) = (&w.x, &w.y) else {
+                return Err(CompileError::new(
+                    format!("waypoint '{}' needs x/y or lat/lon", w.name.value),
+                    w.span,
+                ));
+            };
+            if ltp {
+                let (x, y, g) = ltp_position(x.value, y.value, alt - ground, ecef0, utm0);
+                (x, y, Some(g))
+            } else {
+                (x.value, y.value, None)
+            }
+        }
+    };
+    let ltp_enu = match (&w.x, &w.y) {
+        (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
+        _ => None,
+    };
+    let global_upstream = latlon.is_some_and(|(la, lo)| {
+        ocaml_float(&la.text.value).is_some() && ocaml_float(&lo.text.value).is_some()
+    });
+    Ok(WpRow {
+        name: w.name.value.clone(),
+        x,
+        y,
+        alt_text,
+        alt,
+        global: latlon.is_some(),
+        global_upstream,
+        geo: g,
+        ltp_enu,
+        span: latlon.map_or(w.span, |(la, _)| la.text.span),
+    })
 }
 
 fn is_c_suffix(name: &str) -> bool {
@@ -125,49 +156,6 @@ fn capitalize(s: &str) -> String {
         Some(f) => f.to_ascii_uppercase().to_string() + c.as_str(),
         None => String::new(),
     }
-}
-
-/// C field types of an ABI message, from `$PAPARAZZI_HOME/conf/abi.xml` (class `airborne`)
-/// as upstream reads them, else from a built-in table of the messages bound with `vars` in the
-/// corpus.
-fn abi_field_types(msg: &str) -> Option<Vec<String>> {
-    if let Some(t) = abi_xml().get(msg) {
-        return Some(t.clone());
-    }
-    match msg {
-        "RANGE_FORCEFIELD" => Some(vec!["float".into(), "float".into(), "float".into()]),
-        _ => None,
-    }
-}
-
-fn abi_xml() -> &'static std::collections::HashMap<String, Vec<String>> {
-    use std::sync::OnceLock;
-    static TABLE: OnceLock<std::collections::HashMap<String, Vec<String>>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        let mut map = std::collections::HashMap::new();
-        let Ok(home) = std::env::var("PAPARAZZI_HOME") else { return map };
-        let Ok(text) = std::fs::read_to_string(std::path::Path::new(&home).join("conf/abi.xml"))
-        else {
-            return map;
-        };
-        let opts = roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() };
-        let Ok(doc) = roxmltree::Document::parse_with_options(&text, opts) else { return map };
-        for class in doc
-            .descendants()
-            .filter(|n| n.has_tag_name("msg_class") && n.attribute("name") == Some("airborne"))
-        {
-            for m in class.children().filter(|n| n.has_tag_name("message")) {
-                let Some(name) = m.attribute("name") else { continue };
-                let types = m
-                    .children()
-                    .filter(|f| f.has_tag_name("field"))
-                    .map(|f| f.attribute("type").unwrap_or("").to_string())
-                    .collect();
-                map.insert(name.to_string(), types);
-            }
-        }
-        map
-    })
 }
 
 pub(super) fn top(
@@ -194,9 +182,10 @@ pub(super) fn top(
     w.raw(&format!("#define NAV_LAT0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lat)));
     w.raw(&format!("#define NAV_LON0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lon)));
     w.raw(&format!("#define NAV_ALT0 {:.0} /* mm above msl */", 1000.0 * ground));
+    let msl0 = w.geoid_height(ref_geo, plan.lat0.text.span, GeoidUse::Reference);
     w.raw(&format!(
         "#define NAV_MSL0 {:.0} /* mm, EGM96 geoid-height (msl) over ellipsoid */",
-        1000.0 * geoid_height(ref_geo.lat, ref_geo.lon)
+        1000.0 * msl0
     ));
     w.raw(&format!("#define QFU {:.1}", plan.qfu.as_ref().map(|q| q.value).unwrap_or(0.0)));
     for (i, r) in wps.iter().enumerate() {
@@ -204,13 +193,13 @@ pub(super) fn top(
             w.raw(&format!("#define WP_{} {i}", r.name));
         }
     }
-    waypoint_tables(w, &wps, ref_geo, utm0, ground);
+    waypoint_tables(w, &wps, utm0, geo::ecef_of_geo(ref_geo, ground));
     w.raw(&format!("#define NB_WAYPOINT {}", wps.len()));
     w.raw("#define FP_BLOCKS { \\");
     for b in &fps.plan().blocks {
         w.raw(&format!(" \"{}\" , \\", b.name));
     }
-    w.raw("} ");
+    w.raw("}");
     w.raw(&format!("#define NB_BLOCK {}", fps.nb_block()));
     altitudes(w, plan);
     w.raw("");
@@ -285,15 +274,12 @@ fn altitudes(w: &mut Writer, plan: &FlightPlan) {
     }
 }
 
-fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, ground: f64) {
-    let _ = ref_geo;
+fn waypoint_tables(w: &mut Writer, wps: &[WpRow], utm0: Utm, ecef0: [f64; 3]) {
     w.raw("#define WAYPOINTS_UTM { \\");
     for r in wps {
         w.raw(&format!(" {{{:.1}, {:.1}, {}}},\\", r.x, r.y, r.alt_text));
     }
     w.raw("};");
-    // Upstream takes the ENU origin from the reference UTM converted back to geodetic.
-    let ecef0 = geo::ecef_of_geo(geo::of_utm(utm0), ground);
     let geo_of = |r: &WpRow| {
         r.geo.unwrap_or_else(|| {
             geo::of_utm(Utm { x: utm0.x + r.x, y: utm0.y + r.y, zone: utm0.zone })
@@ -319,7 +305,7 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, groun
         w.raw(&format!("#define {name} {{ \\"));
         for r in wps {
             let g = geo_of(r);
-            let geoid = geoid_height(g.lat, g.lon);
+            let geoid = w.geoid_height(g, r.span, GeoidUse::Row(above_ellipsoid));
             let (alt, datum) = if above_ellipsoid {
                 (r.alt + geoid, "above WGS84 ref ellipsoid".to_string())
             } else {
@@ -336,7 +322,8 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], ref_geo: Geo, utm0: Utm, groun
     }
     w.raw("#define WAYPOINTS_GLOBAL { \\");
     for r in wps {
-        w.raw(if r.global { " TRUE, \\" } else { " FALSE, \\" });
+        let global = w.global_flag(r.global, r.global_upstream, &r.name, r.span);
+        w.raw(if global { " TRUE, \\" } else { " FALSE, \\" });
     }
     w.raw("};");
 }
@@ -382,13 +369,13 @@ fn sectors(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
     Ok(())
 }
 
-fn abi_vars(a: &AbiBinding) -> Result<Option<Vec<(String, String)>>, CompileError> {
+fn abi_vars(w: &Writer, a: &AbiBinding) -> Result<Option<Vec<(String, String)>>, CompileError> {
     let Some(vars) = &a.vars else { return Ok(None) };
-    let types = abi_field_types(&a.name.value).ok_or_else(|| {
+    let types = w.abi.fields(&a.name.value).ok_or_else(|| {
         CompileError::new(
             format!(
-                "ABI message '{}': its field types are unknown (set PAPARAZZI_HOME so conf/abi.xml is read, \
-                 or bind it with handler=...)",
+                "ABI message '{}' is not in conf/abi.xml (class airborne): its field types are unknown \
+                 (set PAPARAZZI_HOME, or bind it with handler=...)",
                 a.name.value
             ),
             a.span,
@@ -405,7 +392,7 @@ fn abi_vars(a: &AbiBinding) -> Result<Option<Vec<(String, String)>>, CompileErro
             a.span,
         ));
     }
-    Ok(Some(vars.iter().cloned().zip(types).collect()))
+    Ok(Some(vars.iter().cloned().zip(types.iter().cloned()).collect()))
 }
 
 fn variables_and_abi(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
@@ -420,7 +407,7 @@ fn variables_and_abi(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileErr
             }
             VariableDecl::Abi(a) => {
                 w.raw(&format!("static abi_event FP_{}_ev;", a.name.value));
-                if let Some(fields) = abi_vars(a)? {
+                if let Some(fields) = abi_vars(w, a)? {
                     for (var, ty) in &fields {
                         if var != "_" {
                             w.raw(&format!("static {ty} {var};"));

@@ -9,15 +9,26 @@
 //!   without the airframe's modules and record the trace. [`unwrap_instrumented`] maps it back
 //!   to the drop-in text (tested for every corpus plan).
 
+pub mod abi;
 mod auto_nav;
 pub mod dump;
 pub mod geo;
 pub mod geoid;
 mod header;
+pub mod notices;
+pub mod settings;
+
+use std::path::PathBuf;
+use std::sync::Arc;
 
 use crate::ast::FlightPlan;
+use crate::diag::Diagnostic;
 use crate::passes::size::Fps;
 use crate::passes::CompileError;
+use crate::span::Span;
+
+use geo::Geo;
+use geoid::Geoid;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Flavor {
@@ -32,6 +43,13 @@ pub struct EmitOptions {
     /// Printed on line 2; upstream prints `v7.0_unstable` outside a git checkout.
     pub version: String,
     pub flavor: Flavor,
+    /// Print what upstream prints, its two known mistakes included (the EGM96 sign on 64-bit
+    /// OCaml, `FALSE` in `WAYPOINTS_GLOBAL` for "D M S" coordinates). Without it the right
+    /// values are printed and each correction is announced as a warning.
+    pub upstream_compat: bool,
+    /// The Paparazzi home whose `data/srtm/WW15MGH.DAC[.bz2]` and `conf/abi.xml` are read
+    /// (default: `$PAPARAZZI_HOME`). Without one, the `egm96` crate stands in for the grid.
+    pub paparazzi_home: Option<PathBuf>,
 }
 
 impl Default for EmitOptions {
@@ -40,8 +58,42 @@ impl Default for EmitOptions {
             source_path: String::new(),
             version: "v7.0_unstable".to_string(),
             flavor: Flavor::DropIn,
+            upstream_compat: false,
+            paparazzi_home: std::env::var_os("PAPARAZZI_HOME").map(PathBuf::from),
         }
     }
+}
+
+impl EmitOptions {
+    /// The geoid grid of the Paparazzi home (read once per process), or the model without one.
+    pub fn geoid(&self) -> Result<Arc<Geoid>, CompileError> {
+        match &self.paparazzi_home {
+            Some(home) => {
+                Geoid::of_home(home).map_err(|e| CompileError::environment(e.to_string()))
+            }
+            None => Ok(Geoid::model()),
+        }
+    }
+}
+
+/// A generated header and the corrections of upstream's output it announces.
+#[derive(Debug, Clone)]
+pub struct Emitted {
+    /// The `flight_plan.h` text.
+    pub header: String,
+    /// One warning per correction (empty with [`EmitOptions::upstream_compat`]).
+    pub corrections: Vec<Diagnostic>,
+    /// Upstream's warnings and NOTICEs for this plan ([`notices::notices`]).
+    pub notices: Vec<Diagnostic>,
+}
+
+/// Which printed value a geoid height goes into (for the correction messages).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum GeoidUse {
+    /// `NAV_MSL0`.
+    Reference,
+    /// A `WAYPOINTS_LLA` row (`false`) or a `WAYPOINTS_LLA_WGS84` row (`true`).
+    Row(bool),
 }
 
 /// The marker that replaces the `<header>` text in the instrumented flavour.
@@ -52,12 +104,25 @@ pub fn emit_header(
     plan: &FlightPlan,
     fps: &Fps,
     opts: &EmitOptions,
-) -> Result<String, CompileError> {
+) -> Result<Emitted, CompileError> {
+    if opts.flavor == Flavor::DropIn {
+        crate::passes::for_bounds(&plan.blocks)?;
+    }
+    let notices = notices::notices(plan)?;
     let mut w = Writer::new(opts.flavor);
+    w.geoid = Some(opts.geoid()?);
+    if let Some(home) = &opts.paparazzi_home {
+        w.abi = abi::AbiTable::of_home(home)?;
+    }
+    w.compat = opts.upstream_compat;
     header::top(&mut w, plan, fps, opts)?;
     auto_nav::functions(&mut w, plan, fps);
     header::bottom(&mut w);
-    Ok(w.out)
+    if let Some(e) = w.geoid_error.take() {
+        return Err(CompileError::environment(e.to_string()));
+    }
+    let corrections = w.corrections();
+    Ok(Emitted { header: w.out, corrections, notices })
 }
 
 /// Text output with upstream's margin (steps of 2 spaces) and the flavour's wrapping.
@@ -65,11 +130,108 @@ pub(crate) struct Writer {
     pub out: String,
     pub margin: usize,
     pub flavor: Flavor,
+    geoid: Option<Arc<Geoid>>,
+    /// ABI message field types (`conf/abi.xml`).
+    pub abi: Arc<abi::AbiTable>,
+    compat: bool,
+    /// Geoid nodes where upstream prints a wrong height: (use, true metres, span) in order.
+    geoid_fixes: Vec<(GeoidUse, f64, f64, Span)>,
+    /// Waypoints given in "D M S": (name, span).
+    global_fixes: Vec<(String, Span)>,
+    /// A grid that ended before a node that was needed.
+    geoid_error: Option<geoid::GeoidError>,
 }
 
 impl Writer {
     fn new(flavor: Flavor) -> Self {
-        Writer { out: String::with_capacity(64 * 1024), margin: 0, flavor }
+        Writer {
+            out: String::with_capacity(64 * 1024),
+            margin: 0,
+            flavor,
+            geoid: None,
+            abi: abi::AbiTable::builtin(),
+            compat: false,
+            geoid_fixes: Vec::new(),
+            global_fixes: Vec::new(),
+            geoid_error: None,
+        }
+    }
+
+    /// The geoid height printed for `g`: upstream's reading in compatibility mode, else the
+    /// true one (and the difference is remembered for [`Writer::corrections`]).
+    pub fn geoid_height(&mut self, g: Geo, span: Span, used: GeoidUse) -> f64 {
+        let looked_up = match &self.geoid {
+            Some(geoid) => geoid.node(g.lat, g.lon),
+            None => Geoid::model().node(g.lat, g.lon),
+        };
+        let node = match looked_up {
+            Ok(n) => n,
+            Err(e) => {
+                self.geoid_error.get_or_insert(e);
+                geoid::Node { raw: 0 }
+            }
+        };
+        if self.compat {
+            return node.upstream();
+        }
+        if node.upstream_is_wrong() {
+            self.geoid_fixes.push((used, node.metres(), node.upstream(), span));
+        }
+        node.metres()
+    }
+
+    /// The `WAYPOINTS_GLOBAL` flag printed: upstream's in compatibility mode, else the true one.
+    pub fn global_flag(&mut self, global: bool, upstream: bool, name: &str, span: Span) -> bool {
+        if self.compat {
+            return upstream;
+        }
+        if global != upstream {
+            self.global_fixes.push((name.to_string(), span));
+        }
+        global
+    }
+
+    /// The announced corrections, as located warnings.
+    fn corrections(&self) -> Vec<Diagnostic> {
+        let mut out = Vec::new();
+        for (used, true_m, up_m, span) in &self.geoid_fixes {
+            if *used == GeoidUse::Reference {
+                out.push(Diagnostic::correction(
+                    format!(
+                        "NAV_MSL0 is {:.0} mm: the EGM96 geoid height at the reference is {true_m:.2} m; \
+                         upstream prints {:.0} ({up_m:.2} m, 655.36 m too high)",
+                        1000.0 * true_m,
+                        1000.0 * up_m
+                    ),
+                    *span,
+                    GEOID_WHY,
+                ));
+            }
+        }
+        let rows: Vec<_> = self.geoid_fixes.iter().filter(|f| f.0 != GeoidUse::Reference).collect();
+        if let Some((_, true_m, up_m, span)) = rows.first() {
+            out.push(Diagnostic::correction(
+                format!(
+                    "{} rows of WAYPOINTS_LLA (local msl) and WAYPOINTS_LLA_WGS84 (.alt) lie where the EGM96 \
+                     geoid height is negative (here {true_m:.2} m); upstream prints {up_m:.2} m there",
+                    rows.len() / 2
+                ),
+                *span,
+                GEOID_WHY,
+            ));
+        }
+        for (name, span) in &self.global_fixes {
+            out.push(Diagnostic::correction(
+                format!(
+                    "waypoint '{name}' is given by latitude and longitude: WAYPOINTS_GLOBAL is TRUE; \
+                     upstream prints FALSE because it re-reads \"D M S\" coordinates as plain floats"
+                ),
+                *span,
+                "a FALSE flag makes the waypoint local: it moves with the local origin instead of \
+                 staying fixed on the ground; --upstream-compat prints FALSE as upstream does",
+            ));
+        }
+        out
     }
     /// One line at the current margin.
     pub fn line(&mut self, text: &str) {
@@ -189,8 +351,25 @@ pub fn unwrap_instrumented(text: &str, header_text: Option<&str>) -> String {
     }
 }
 
-/// Passes + emission for an already parsed plan.
+/// Why upstream's geoid heights are wrong where the geoid is negative.
+const GEOID_WHY: &str =
+    "upstream assembles the 16-bit grid value and sign-extends it with a shift pair \
+    that does nothing on 64-bit OCaml, so negative heights come out 655.36 m too high; \
+    --upstream-compat prints upstream's value";
+
+/// Passes + emission for an already parsed plan (the corrections are dropped; see
+/// [`compile_plan_full`]).
 pub fn compile_plan(plan: &FlightPlan, opts: &EmitOptions) -> Result<String, CompileError> {
+    compile_plan_full(plan, opts).map(|e| e.header)
+}
+
+/// Passes + emission for an already parsed plan, with the announced corrections located in
+/// the plan's sources.
+pub fn compile_plan_full(plan: &FlightPlan, opts: &EmitOptions) -> Result<Emitted, CompileError> {
     let fps = crate::passes::compile(plan)?;
-    emit_header(plan, &fps, opts)
+    let mut e = emit_header(plan, &fps, opts)?;
+    for d in e.corrections.iter_mut().chain(e.notices.iter_mut()) {
+        d.locate(&plan.sources);
+    }
+    Ok(e)
 }

@@ -31,8 +31,25 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
         }
     };
     ctx.warnings.extend(doc.warnings);
-    let root = doc.root;
-    if !root.tag_is("flight_plan") {
+    let validated = doc.doctype.is_some();
+    let mut root = doc.root;
+    if validated {
+        super::expanded::sort_validated(&mut root);
+    }
+    if let Some((file, span)) = &doc.dtd_file {
+        let dir = ctx.main_path.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+        // Only for plans read from a file (a text parsed on its own has no directory).
+        if ctx.main_path.is_file() && !dir.join(file).is_file() {
+            ctx.error_help(
+                ErrorKind::Xml,
+                format!("the DTD '{file}' named by the DOCTYPE does not exist"),
+                *span,
+                "upstream validates every plan that declares a DOCTYPE and stops when its DTD is missing",
+            );
+            return None;
+        }
+    }
+    if root.tag != "flight_plan" {
         ctx.error_help(
             ErrorKind::WrongRoot,
             format!("the root element is <{}>, expected <flight_plan>", root.tag),
@@ -41,17 +58,20 @@ pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {
         );
         return None;
     }
-    let validated = doc.doctype.is_some();
     check_schema(ctx, &root, validated, "flight_plan");
     check_plan_children(ctx, &root, validated);
 
-    let mut m = expand(ctx, &root);
+    let mut m = expand(ctx, &root, validated);
     for b in m.blocks.iter_mut() {
         let stages = std::mem::take(&mut b.children);
         b.children = expand_paths(ctx, stages);
     }
     relative_waypoints(&mut m.blocks, &mut m.waypoints);
-    super::plan::build_plan(ctx, &root, m)
+    let had_includes = root.child("includes").is_some_and(|i| !i.children.is_empty());
+    let expanded = super::expanded::build(&root, &m, had_includes);
+    let mut plan = super::plan::build_plan(ctx, &root, m)?;
+    plan.expanded = Some(std::sync::Arc::new(expanded));
+    Some(plan)
 }
 
 /// Checks attributes against the DTD lists, recursively. Only files that declare a DOCTYPE are

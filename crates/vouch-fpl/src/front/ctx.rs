@@ -128,6 +128,15 @@ impl Ctx {
     fn number(&mut self, e: &Elem, name: &str, read: fn(&str) -> Option<f64>) -> Option<Num> {
         let t = self.text(e, name)?;
         match read(&t.value) {
+            Some(v) if !v.is_finite() => {
+                self.error_help(
+                    ErrorKind::BadNumber,
+                    format!("'{name}' of <{}> is '{}', not a finite number", e.tag, t.value),
+                    t.span,
+                    "upstream reads nan and inf as numbers and prints them into the C header",
+                );
+                None
+            }
             Some(v) => Some(Num { text: t, value: v }),
             None => {
                 self.error(
@@ -175,6 +184,28 @@ impl Ctx {
             return None;
         }
         self.expr_attr(e, name)
+    }
+
+    /// An expression attribute upstream reads only in some contexts: parsed when `read`,
+    /// else left out; an unread value that would not parse is a warning (upstream never looks
+    /// at it), not an error.
+    pub fn lazy_expr(&mut self, e: &Elem, name: &str, read: bool, why: &str) -> Option<ExprAttr> {
+        if read {
+            return self.expr_attr(e, name);
+        }
+        let t = self.text(e, name)?;
+        if let Err(err) = parse(&t.value) {
+            self.push(Diagnostic::warning_of(
+                ErrorKind::Unread,
+                format!(
+                    "attribute '{name}' of <{}> is not read ({why}); upstream ignores it, so its value '{}' \
+                     is not checked ({err})",
+                    e.tag, t.value
+                ),
+                Some(t.span),
+            ));
+        }
+        None
     }
 
     pub fn expr_text(&mut self, t: Text, what: &str) -> Option<ExprAttr> {

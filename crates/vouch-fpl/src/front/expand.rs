@@ -45,12 +45,10 @@ fn path_to_gos(ctx: &mut Ctx, path: &Elem) -> Vec<Elem> {
         value_span: wpts.value_span,
     };
     let make = |generated: Vec<RawAttr>| {
+        // Upstream appends every attribute of the path (`wpts` too) after the generated ones;
+        // lookups find the first of a name, so the generated ones win.
         let mut attrs = generated;
-        for a in &path.attrs.0 {
-            if a.name != "wpts" && !attrs.iter().any(|g| g.name == a.name) {
-                attrs.push(a.clone());
-            }
-        }
+        attrs.extend(path.attrs.0.iter().cloned());
         Elem {
             tag: "go".to_string(),
             attrs: Attrs(attrs),

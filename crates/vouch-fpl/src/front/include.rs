@@ -41,10 +41,18 @@ fn children_of(root: &Elem, tag: &str) -> Vec<Elem> {
         .collect()
 }
 
+/// The text of a `<header>` as upstream's reader leaves it: `None` when the element holds no
+/// text at all (xml-light drops whitespace-only text; a DTD-validated `#PCDATA` element gets an
+/// empty text instead).
+fn header_text(h: &Elem, validated: bool) -> Option<String> {
+    (!h.text.is_empty() || validated).then(|| h.text.clone())
+}
+
 /// Collects the main plan's lists and appends every included procedure.
-pub fn expand(ctx: &mut Ctx, root: &Elem) -> Merged {
+pub fn expand(ctx: &mut Ctx, root: &Elem, validated: bool) -> Merged {
+    let main_header = root.child("header");
     let mut m = Merged {
-        header: root.child("header").map(|h| (h.text.clone(), h.span)),
+        header: main_header.and_then(|h| header_text(h, validated).map(|t| (t, h.span))),
         waypoints: children_of(root, "waypoints"),
         sectors: children_of(root, "sectors"),
         variables: children_of(root, "variables"),
@@ -54,13 +62,28 @@ pub fn expand(ctx: &mut Ctx, root: &Elem) -> Merged {
         forbidden: children_of(root, "forbidden_deroutes"),
         includes: Vec::new(),
     };
-    for inc in children_of(root, "includes") {
+    let includes = children_of(root, "includes");
+    if let (Some(h), None, false) = (main_header, &m.header, includes.is_empty()) {
+        empty_header(ctx, h.span, "the plan");
+    }
+    for inc in includes {
         if !inc.tag_is("include") {
             continue; // reported by the schema check
         }
         include_one(ctx, &inc, &mut m);
     }
     m
+}
+
+/// Upstream concatenates the plan's and the procedures' header texts and crashes
+/// (`Invalid_argument "index out of bounds"`) on a `<header>` without any text.
+fn empty_header(ctx: &mut Ctx, span: Span, whose: &str) {
+    ctx.error_help(
+        ErrorKind::MissingElement,
+        format!("empty <header> in {whose}: upstream cannot merge it with an included procedure's"),
+        span,
+        "upstream's generator fails here with Invalid_argument(\"index out of bounds\"); remove the element or give it a text",
+    );
 }
 
 fn text_of(a: &RawAttr) -> Text {
@@ -113,7 +136,15 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
         .collect();
     let tr = Transformer { name: &name, params: &params, reroutes: &reroutes };
 
-    let header_text = proc.child("header").map(|h| h.text.clone()).unwrap_or_default();
+    let proc_header = proc.child("header");
+    let header_text = match proc_header.map(|h| header_text(h, false)) {
+        Some(Some(t)) => t,
+        Some(None) => {
+            empty_header(ctx, proc_header.map_or(inc.span, |h| h.span), "a procedure");
+            String::new()
+        }
+        None => String::new(),
+    };
     let (main_h, h_span) = m.header.take().unwrap_or((String::new(), inc.span));
     m.header = Some((format!("{main_h}\n{header_text}"), h_span));
 
@@ -305,7 +336,8 @@ impl Transformer<'_> {
     fn block(&self, ctx: &mut Ctx, mut b: Elem) -> Option<Elem> {
         let name = b.attr_value("name").map(str::to_string);
         match name {
-            Some(n) => b.set_attr("name", format!("{}.{n}", self.name)),
+            // Upstream's `subst_attrib`: the renamed attribute moves to the end.
+            Some(n) => b.subst_attr("name", format!("{}.{n}", self.name)),
             None => {
                 ctx.error(ErrorKind::MissingAttribute, "<block> without 'name'", b.span);
                 return None;
@@ -318,6 +350,16 @@ impl Transformer<'_> {
 
     fn stage(&self, ctx: &mut Ctx, mut s: Elem) -> Option<Elem> {
         let tag = s.tag.to_ascii_lowercase();
+        let leaf = ["exception", "heading", "go", "xyz", "circle", "deroute", "stay"];
+        if leaf.contains(&tag.as_str()) && !s.children.is_empty() {
+            ctx.error_help(
+                ErrorKind::ProcedureStage,
+                format!("<{}> in procedure '{}' has child elements", s.tag, self.name),
+                s.span,
+                "upstream's procedure expansion asserts that this stage is empty (Assertion failed)",
+            );
+            return None;
+        }
         let keep: &[&str] = match tag.as_str() {
             "exception" => return self.exception(ctx, s),
             "while" | "for" => {

@@ -15,13 +15,14 @@
 mod build;
 mod ctx;
 mod expand;
+mod expanded;
 mod include;
 mod plan;
 mod schema;
 mod stages;
 pub mod tolerant;
 mod tree;
-mod values;
+pub(crate) mod values;
 
 use std::path::{Path, PathBuf};
 

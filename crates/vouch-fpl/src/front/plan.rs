@@ -20,6 +20,14 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     let name = ctx.req_text(root, "name");
     let lat0 = req_deg(ctx, root, "lat0", 90.0);
     let lon0 = req_deg(ctx, root, "lon0", 180.0);
+    if let Some(l) = lon0.as_ref().filter(|l| l.value >= 180.0) {
+        ctx.error_help(
+            ErrorKind::NumberOutOfRange,
+            format!("lon0 = {} is outside [-180, 180) degrees", l.text.value),
+            l.text.span,
+            "upstream's UTM projection refuses it (Invalid_argument \"Latlong.utm_of\")",
+        );
+    }
     let max_dist_from_home = ctx.req_num(root, "max_dist_from_home");
     let ground_alt = ctx.req_num(root, "ground_alt");
     let security_height = ctx.req_num(root, "security_height");
@@ -42,6 +50,20 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
 
     let waypoints: Vec<Waypoint> = m.waypoints.iter().filter_map(|w| waypoint(ctx, w)).collect();
     let (sectors, kml) = sectors(ctx, &m.sectors);
+    if let Some(g) = &geofence_sector {
+        let function = |n: &str| capitalized(n) == capitalized(&g.value);
+        if !sectors.iter().any(|s: &Sector| function(&s.name.value)) {
+            ctx.error_help(
+                ErrorKind::BadValue,
+                format!("geofence_sector '{}' names no sector", g.value),
+                g.span,
+                format!(
+                    "upstream prints InGeofenceSector as Inside{}(), a function no sector defines",
+                    capitalized(&g.value)
+                ),
+            );
+        }
+    }
     let variables = m.variables.iter().filter_map(|v| variable(ctx, v)).collect();
     let modules = m.modules.iter().filter_map(|x| module(ctx, x)).collect();
     let exceptions = global_exceptions(ctx, &m.exceptions);
@@ -78,6 +100,7 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
         blocks,
         forbidden_deroutes,
         warnings: Vec::new(),
+        expanded: None,
     })
 }
 
@@ -90,6 +113,12 @@ fn check_waypoint_list(ctx: &mut Ctx, root: &Elem, m: &Merged) {
     if m.waypoints.is_empty() && root.child("waypoints").is_some() {
         ctx.error(ErrorKind::EmptyPlan, "the plan has no waypoint", at);
     }
+}
+
+/// The name upstream gives a sector's function (`Inside<Name>`): first letter upper-cased.
+fn capitalized(s: &str) -> String {
+    let mut c = s.chars();
+    c.next().map(|f| f.to_ascii_uppercase().to_string() + c.as_str()).unwrap_or_default()
 }
 
 fn wp_frame(ctx: &mut Ctx, root: &Elem) -> Option<Spanned<WpFrame>> {
@@ -167,7 +196,8 @@ fn waypoint(ctx: &mut Ctx, w: &Elem) -> Option<Waypoint> {
     let x = ctx.opt_num(w, "x");
     let y = ctx.opt_num(w, "y");
     let lat = ctx.opt_deg(w, "lat", 90.0);
-    let lon = ctx.opt_deg(w, "lon", 180.0);
+    // Upstream normalises waypoint longitudes: any finite value is accepted.
+    let lon = ctx.opt_deg(w, "lon", f64::INFINITY);
     let alt = ctx.opt_num(w, "alt");
     let height = ctx.opt_num(w, "height");
     let has_xy = w.attr("x").is_some() && w.attr("y").is_some();

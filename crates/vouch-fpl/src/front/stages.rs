@@ -110,6 +110,14 @@ fn navigation(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
         "stay" => {
             let wp = ctx.req_wp(e, "wp");
             let hmode = hmode(ctx, e);
+            if let Some(h) = hmode.as_ref().filter(|h| h.value == HMode::Route) {
+                ctx.error_help(
+                    ErrorKind::Conflict,
+                    "hmode=\"route\" on <stay>: a stay has no 'from' waypoint",
+                    h.span,
+                    "upstream prints NavSegment(, wp) here, which is not valid C",
+                );
+            }
             let vertical = vertical(ctx, e, hmode.as_ref());
             let common = common(ctx, e);
             StageKind::Stay(Stay { wp: wp?, hmode, vertical, common })
@@ -238,8 +246,9 @@ fn unknown_stage(ctx: &mut Ctx, e: &Elem, tag: &str) -> Option<StageKind> {
 
 fn go(ctx: &mut Ctx, e: &Elem) -> Option<StageKind> {
     let wp = ctx.wp_ref(e, "wp");
-    let x = ctx.expr_attr(e, "x");
-    let y = ctx.expr_attr(e, "y");
+    let xy_read = e.attr("wp").is_none();
+    let x = ctx.lazy_expr(e, "x", xy_read, "the stage has a 'wp'");
+    let y = ctx.lazy_expr(e, "y", xy_read, "the stage has a 'wp'");
     if e.attr("wp").is_none() && (e.attr("x").is_none() || e.attr("y").is_none()) {
         ctx.missing(e, "wp");
     }
@@ -340,20 +349,34 @@ fn vertical(ctx: &mut Ctx, e: &Elem, hmode: Option<&Spanned<HMode>>) -> Vertical
             );
         }
     }
-    if let Some(v) = &vmode {
-        if v.value == VMode::Glide && e.tag == "go" && hmode.is_none_or(|h| h.value != HMode::Route)
-        {
+    if let Some(v) = vmode.as_ref().filter(|v| v.value == VMode::Glide) {
+        if e.tag != "go" {
+            ctx.error_help(
+                ErrorKind::Conflict,
+                format!("vmode=\"glide\" only works on <go> (here <{}>)", e.tag),
+                v.span,
+                "upstream prints NavGlide(, wp) here, which is not valid C",
+            );
+        } else if hmode.is_none_or(|h| h.value != HMode::Route) {
             ctx.error(ErrorKind::Conflict, "vmode=\"glide\" needs hmode=\"route\"", v.span);
         }
     }
-    Vertical {
-        vmode,
-        alt: ctx.expr_attr(e, "alt"),
-        height: ctx.expr_attr(e, "height"),
-        climb: ctx.expr_attr(e, "climb"),
-        throttle: ctx.expr_attr(e, "throttle"),
-        pitch,
-    }
+    // `xyz` stages force the vertical mode; everything but the pitch line is left out.
+    let mode =
+        if e.tag == "xyz" { VMode::Xyz } else { vmode.as_ref().map_or(VMode::Alt, |v| v.value) };
+    let auto = matches!(pitch, Some(Pitch::Auto(_)));
+    let alt = ctx.lazy_expr(e, "alt", mode == VMode::Alt, "the vertical mode is not alt");
+    let height_read = mode == VMode::Alt && e.attr("alt").is_none();
+    let height =
+        ctx.lazy_expr(e, "height", height_read, "alt is given, or the vertical mode is not alt");
+    let climb = ctx.lazy_expr(e, "climb", mode == VMode::Climb, "the vertical mode is not climb");
+    let throttle = ctx.lazy_expr(
+        e,
+        "throttle",
+        auto || mode == VMode::Throttle,
+        "the vertical mode is not throttle and pitch is not auto",
+    );
+    Vertical { vmode, alt, height, climb, throttle, pitch }
 }
 
 fn common(ctx: &mut Ctx, e: &Elem) -> NavCommon {

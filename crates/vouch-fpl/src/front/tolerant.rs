@@ -41,6 +41,8 @@ pub struct Sanitized {
     pub fixes: Vec<Fix>,
     /// Root name declared by a real (not commented-out) `<!DOCTYPE name ...>`.
     pub doctype: Option<String>,
+    /// The DTD file a `SYSTEM` (or `PUBLIC`) DOCTYPE names, and the DOCTYPE's byte offset.
+    pub dtd_file: Option<(String, usize)>,
     /// Offset of the first start tag nested deeper than [`MAX_DEPTH`], if any. roxmltree
     /// recurses per nesting level, so such inputs are refused before it runs.
     pub too_deep_at: Option<usize>,
@@ -52,11 +54,23 @@ pub struct Sanitized {
 /// Nesting depth accepted (real plans nest fewer than 10 levels).
 pub const MAX_DEPTH: usize = 200;
 
+/// The last quoted text of a DOCTYPE declaration before any internal subset (the system
+/// identifier of `SYSTEM "f"` and of `PUBLIC "id" "f"`).
+fn system_file(decl: &str) -> Option<String> {
+    let head = decl.split('[').next().unwrap_or(decl);
+    if !(head.contains("SYSTEM") || head.contains("PUBLIC")) {
+        return None;
+    }
+    let quoted: Vec<&str> = head.split(['"', '\'']).collect();
+    (quoted.len() >= 3).then(|| quoted[quoted.len() - 2].to_string())
+}
+
 /// Runs the pre-pass over `src`.
 pub fn sanitize(src: &str) -> Sanitized {
     let mut out: Vec<u8> = src.as_bytes().to_vec();
     let mut fixes = Vec::new();
     let mut doctype = None;
+    let mut dtd_file = None;
     let mut depth = 0usize;
     let mut too_deep_at = None;
     let mut entity_at = None;
@@ -80,6 +94,9 @@ pub fn sanitize(src: &str) -> Sanitized {
                     doctype = Some(name);
                 }
                 let end = declaration(b, i);
+                if dtd_file.is_none() && b[i..].starts_with(b"<!DOCTYPE") {
+                    dtd_file = system_file(&src[i..end]).map(|f| (f, i));
+                }
                 if entity_at.is_none() {
                     entity_at = find(&b[..end], i, b"<!ENTITY");
                 }
@@ -108,7 +125,7 @@ pub fn sanitize(src: &str) -> Sanitized {
     }
     // Only ASCII bytes were replaced by ASCII bytes, so UTF-8 validity is preserved.
     let text = String::from_utf8(out).unwrap_or_else(|_| src.to_string());
-    Sanitized { text, fixes, doctype, too_deep_at, entity_at }
+    Sanitized { text, fixes, doctype, dtd_file, too_deep_at, entity_at }
 }
 
 fn find(b: &[u8], from: usize, pat: &[u8]) -> Option<usize> {

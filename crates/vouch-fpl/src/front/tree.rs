@@ -66,10 +66,14 @@ impl Elem {
     pub fn child(&self, t: &str) -> Option<&Elem> {
         self.children.iter().find(|c| c.tag_is(t))
     }
-    pub fn set_attr(&mut self, name: &str, value: String) {
-        if let Some(a) = self.attrs.0.iter_mut().find(|a| a.name == name) {
-            a.value = value;
-        }
+    /// Upstream's `subst_attrib`: every `name` attribute removed, the new value appended last
+    /// (keeping the first one's spans).
+    pub fn subst_attr(&mut self, name: &str, value: String) {
+        let Some(pos) = self.attrs.0.iter().position(|a| a.name == name) else { return };
+        let mut a = self.attrs.0.remove(pos);
+        self.attrs.0.retain(|x| x.name != name);
+        a.value = value;
+        self.attrs.0.push(a);
     }
 }
 
@@ -77,6 +81,8 @@ impl Elem {
 pub struct Document {
     pub root: Elem,
     pub doctype: Option<String>,
+    /// The DTD file the DOCTYPE names (relative to the file) and the span of the DOCTYPE.
+    pub dtd_file: Option<(String, Span)>,
     /// Non-fatal notes (duplicate attributes dropped, raw characters accepted).
     pub warnings: Vec<Diagnostic>,
 }
@@ -129,7 +135,8 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Box<Diagnosti
         ))
     })?;
     let root = convert(doc.root_element(), text, file, &lines, &mut warnings, 0)?;
-    Ok(Document { root, doctype: san.doctype, warnings })
+    let dtd_file = san.dtd_file.map(|(f, at)| (f, lines.span(text, file, at, at + 9)));
+    Ok(Document { root, doctype: san.doctype, dtd_file, warnings })
 }
 
 /// Element nesting limit: real plans nest a handful of levels; the limit keeps hostile inputs
