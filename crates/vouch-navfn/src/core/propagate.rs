@@ -53,11 +53,11 @@ impl PriorityBuf {
     /// arrays (upstream tests `0 ≤ n < ns` here; only the goal's neighbours at set-up can fall
     /// outside, and set-up tests that itself).
     #[inline(always)]
-    fn push_if(&mut self, test: bool, pending: &mut [bool], cost: &[u8], n: usize) {
-        let ok = test & !pending[n] & (cost[n] < COST_OBS) & (self.len < PRIORITY_BUF_SIZE);
+    fn push_if(&mut self, test: bool, pending: &mut [u8], cost: &[u8], n: usize) {
+        let ok = test & (pending[n] == 0) & (cost[n] < COST_OBS) & (self.len < PRIORITY_BUF_SIZE);
         self.cells[self.len] = n as i32;
         self.len += ok as usize;
-        pending[n] |= ok;
+        pending[n] |= ok as u8;
     }
 }
 
@@ -89,7 +89,7 @@ impl WidthDiv {
 struct Grid<'a> {
     pot: &'a mut [f32],
     cost: &'a [u8],
-    pending: &'a mut [bool],
+    pending: &'a mut [u8],
     nx: usize,
 }
 
@@ -189,10 +189,10 @@ impl NavFn {
         // current buffer's flags before processing it), so clearing those suffices
         for b in [&self.cur, &self.next, &self.over] {
             for &n in b.as_slice() {
-                self.pending[n as usize] = false;
+                self.pending[n as usize] = 0;
             }
         }
-        debug_assert!(self.pending.iter().all(|&p| !p));
+        debug_assert!(self.pending.iter().all(|&p| p == 0));
         self.cur.clear();
         self.next.clear();
         self.over.clear();
@@ -225,7 +225,7 @@ impl NavFn {
         let pri_inc = self.pri_inc;
         let mut cur_t = self.cur_t;
         let NavFn { pot, cost, pending, cur, next, over, nx, .. } = self;
-        let mut g = Grid { pot, cost, pending, nx: *nx };
+        let mut g = Grid { pot: &mut pot[..], cost: &cost[..], pending: &mut pending[..], nx: *nx };
         let mut cycle = 0;
         let mut end = PropagationEnd::CycleLimit;
         while cycle < cycles {
@@ -243,7 +243,7 @@ impl NavFn {
                 break;
             }
             for &c in cur.as_slice() {
-                g.pending[c as usize] = false;
+                g.pending[c as usize] = 0;
             }
             for &c in cur.as_slice() {
                 update_cell::<ASTAR>(&mut g, c as usize, cur_t, heuristic, next, over);
