@@ -2,8 +2,7 @@
 //!
 //! Corner to corner on a large map the propagation front crosses every row, and each update
 //! reads three rows of three arrays: with 4 KiB pages the front's working set is thousands
-//! of pages, far more than the TLB holds, and every update pays page walks (a 4000² map took
-//! about a fifth longer than the same plan with 2 MiB pages). Arrays of at least
+//! of pages, far more than the TLB holds, and every update pays page walks. Arrays of at least
 //! [`HUGE_PAGE`] bytes are therefore anonymous mappings advised as transparent huge pages
 //! (`memmap2`, no `unsafe` here); smaller ones stay plain vectors. The mapping is exactly as
 //! long as the array, so a huge page never extends past it: only the 2 MiB-aligned ranges
