@@ -4,6 +4,17 @@
 
 #![cfg_attr(target_os = "linux", allow(dead_code))]
 
+/// Stream writes that never wait: none here, every piece goes through the writer thread.
+pub mod stream {
+    use std::io;
+    use std::net::TcpStream;
+
+    /// Always `WouldBlock`: the caller queues the bytes for the writer thread.
+    pub fn send_now(_s: &TcpStream, _bytes: &[u8]) -> io::Result<usize> {
+        Err(io::ErrorKind::WouldBlock.into())
+    }
+}
+
 /// UDP I/O one datagram at a time.
 pub mod udp_batch {
     use std::io;

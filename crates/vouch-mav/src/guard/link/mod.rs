@@ -125,8 +125,8 @@ const FIXED_STREAM: u64 = u64::MAX;
 
 impl Egress {
     /// Sends `bytes` to connection `peer`. A UDP send joins the calling thread's `sendmmsg`
-    /// batch when one is open ([`udp_batch::begin`]); a stream send is queued for the stream's
-    /// writer thread (`false` when its queue is full).
+    /// batch when one is open ([`udp_batch::begin`]); a stream send is written at once when the
+    /// stream is idle, else queued for its writer thread (`false` when its queue is full).
     pub fn send(&self, peer: Peer, bytes: &[u8]) -> bool {
         match (&self.kind, peer) {
             (EgressKind::UdpServer { sock }, Peer::Udp(a)) => udp_batch::send_to(sock, bytes, &a),
@@ -152,12 +152,13 @@ impl Egress {
         matches!(self.kind, EgressKind::UdpServer { .. } | EgressKind::UdpClient { .. })
     }
 
-    /// Registers a TCP connection with a writer thread; a failed write shuts the connection
-    /// down, so that its reader ends and closes it.
+    /// Registers a TCP connection with a writer thread (and direct writes while nothing is
+    /// queued); a failed write shuts the connection down, so that its reader ends and closes it.
     fn add_stream(&self, id: u64, s: TcpStream, name: &str) -> io::Result<()> {
         let EgressKind::Streams { conns } = &self.kind else { return Ok(()) };
         let closer = s.try_clone()?;
-        let w = Writer::spawn(format!("{name}-write"), s, move || {
+        let direct = Some(s.try_clone()?);
+        let w = Writer::spawn(format!("{name}-write"), s, direct, move || {
             let _ = closer.shutdown(std::net::Shutdown::Both);
         })?;
         lock(conns).push((id, w));

@@ -132,7 +132,7 @@ pub(super) fn open_serial(
 ) -> io::Result<OpenedLink> {
     let port = serial::open_raw(device, baud, flow_control)?;
     let reader = port.try_clone()?;
-    let out = Writer::spawn(format!("{}-write", rc.name), port, || {})?;
+    let out = Writer::spawn(format!("{}-write", rc.name), port, None, || {})?;
     let egress = Arc::new(Egress { kind: EgressKind::Serial { out } });
     let t = thread::Builder::new().name(format!("{}-serial", rc.name)).spawn(move || {
         read_stream(&rc, reader, Peer::Fixed, false);
