@@ -73,6 +73,32 @@ fn exceeding_time_is_negated_as_a_whole() {
 }
 
 #[test]
+fn exceeding_time_under_upstream_compat_is_upstreams_text_with_a_warning() {
+    use vouch_fpl::diag::ErrorKind;
+    use vouch_fpl::emit::compile_plan_full;
+    let xml = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/><waypoint name="A" x="10" y="0"/></waypoints>
+<blocks><block name="b"><go wp="A" exceeding_time="a+b"/><go wp="A" from="HOME" exceeding_time="3"/></block></blocks></flight_plan>"#;
+    let p = vouch_fpl::front::parse_str("t.xml", xml).expect("parses");
+    let compat = EmitOptions { upstream_compat: true, ..EmitOptions::default() };
+    let e = compile_plan_full(&p, &compat).expect("compiles");
+    // Upstream's bytes (quirk 7): the minus sign before the raw text.
+    assert!(e.header.contains("if (NavApproaching(2,-a+b)) {"), "{}", e.header);
+    assert!(e.header.contains("if (NavApproachingFrom(2,1,-3)) {"));
+    let w: Vec<_> = e.notices.iter().filter(|d| d.kind == ErrorKind::UpstreamMistake).collect();
+    assert_eq!(w.len(), 1);
+    assert!(w[0].message.contains("first term") && w[0].message.contains("upstream"));
+    assert_eq!(w[0].line, Some(3), "located at the attribute");
+    assert!(e.corrections.is_empty() && !e.notices.iter().any(|d| d.kind == ErrorKind::Correction));
+    // By default the correction and its announcement.
+    let e = compile_plan_full(&p, &EmitOptions::default()).expect("compiles");
+    assert!(e.header.contains("if (NavApproaching(2,-(a+b))) {"));
+    let c: Vec<_> = e.notices.iter().filter(|d| d.kind == ErrorKind::Correction).collect();
+    assert_eq!(c.len(), 1);
+    assert!(c[0].message.contains("upstream prints -a+b"), "{}", c[0].message);
+}
+
+#[test]
 fn labels_restart_for_each_plan() {
     // Quirk 14: upstream numbers labels across plans generated in one process; vouch does not.
     let Some(a) = header("basic.xml") else { return };
