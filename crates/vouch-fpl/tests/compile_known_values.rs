@@ -99,6 +99,32 @@ fn exceeding_time_under_upstream_compat_is_upstreams_text_with_a_warning() {
 }
 
 #[test]
+fn waypoints_outside_the_inverse_utm_domain_are_located_errors() {
+    // UPSTREAM_CHECKS.md H12d: upstream stops with Invalid_argument "Latlong.of_utm" when the
+    // reference's UTM position plus the waypoint's offset leaves x in [0, 1e7] or y in
+    // [-1e7, 1e7]. At 43.46N 1.27E (zone 31, centre 3E) the reference lies near UTM x 360 km.
+    let plan = |x: &str, y: &str| {
+        format!(
+            r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/>
+<waypoint name="FAR" x="{x}" y="{y}"/></waypoints>
+<blocks><block name="b"><go wp="FAR"/></block></blocks></flight_plan>"#
+        )
+    };
+    for (x, y) in [("-400000", "0"), ("9700000", "0"), ("0", "-15000000"), ("0", "6000000")] {
+        let p = vouch_fpl::front::parse_str("t.xml", &plan(x, y)).expect("parses");
+        let e = compile_plan(&p, &EmitOptions::default()).expect_err(&format!("x={x} y={y}"));
+        assert!(e.message.contains("FAR") && e.message.contains("Latlong.of_utm"), "{}", e.message);
+        assert_eq!(e.span.map(|s| s.line), Some(3), "located at the waypoint");
+    }
+    // Inside the domain (far from HOME: only the distance warning) it compiles.
+    for (x, y) in [("-300000", "0"), ("0", "5000000")] {
+        let p = vouch_fpl::front::parse_str("t.xml", &plan(x, y)).expect("parses");
+        compile_plan(&p, &EmitOptions::default()).expect("inside the UTM domain");
+    }
+}
+
+#[test]
 fn labels_restart_for_each_plan() {
     // Quirk 14: upstream numbers labels across plans generated in one process; vouch does not.
     let Some(a) = header("basic.xml") else { return };

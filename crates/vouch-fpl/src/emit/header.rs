@@ -125,6 +125,9 @@ fn row(
             }
         }
     };
+    if g.is_none() {
+        utm_domain(&w.name.value, x, y, utm0, w.span)?;
+    }
     let ltp_enu = match (&w.x, &w.y) {
         (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
         _ => None,
@@ -144,6 +147,34 @@ fn row(
         ltp_enu,
         span: latlon.map_or(w.span, |(la, _)| la.text.span),
     })
+}
+
+/// Upstream's H12d: a waypoint whose UTM position (reference + local offset) lies outside the
+/// domain of the inverse projection, x in 0..=1e7 and y in -1e7..=1e7 (more than about 170 to
+/// 830 km west of the reference, depending on where it is in its zone): upstream's generator
+/// stops there with `Invalid_argument("Latlong.of_utm")`; vouch's own inverse would print a
+/// position, but not the one the plan means.
+fn utm_domain(
+    name: &str,
+    x: f64,
+    y: f64,
+    utm0: Utm,
+    span: crate::span::Span,
+) -> Result<(), CompileError> {
+    let (ux, uy) = (utm0.x + x, utm0.y + y);
+    if (0.0..=1e7).contains(&ux) && (-1e7..=1e7).contains(&uy) {
+        return Ok(());
+    }
+    Err(CompileError::new(
+        format!(
+            "waypoint '{name}' at x={x}, y={y} lies outside the UTM domain of the reference's \
+             zone {} (UTM x {ux:.0} must be in 0..10000000, y {uy:.0} in -10000000..10000000): \
+             it has no latitude/longitude (upstream stops with Invalid_argument \
+             \"Latlong.of_utm\")",
+            utm0.zone
+        ),
+        span,
+    ))
 }
 
 fn is_c_suffix(name: &str) -> bool {
