@@ -47,6 +47,9 @@ pub struct Built {
     pub settings: Option<Settings>,
     /// The front end's warnings, upstream's notices, then the announced corrections, located.
     pub warnings: Vec<Diagnostic>,
+    /// Whether an SRTM tile covered the reference (upstream prints `No SRTM data found to
+    /// check altitude.` when none did).
+    pub terrain: crate::emit::terrain::Coverage,
 }
 
 /// Builds the requested outputs of one plan.
@@ -88,5 +91,5 @@ fn finish(path: &Path, plan: crate::ast::FlightPlan, req: &Request) -> Result<Bu
     let mut warnings = plan.warnings.clone();
     warnings.extend(emitted.notices);
     warnings.extend(emitted.corrections);
-    Ok(Built { header: emitted.header, dump, settings, warnings })
+    Ok(Built { header: emitted.header, dump, settings, warnings, terrain: emitted.terrain })
 }

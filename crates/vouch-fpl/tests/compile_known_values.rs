@@ -73,6 +73,58 @@ fn exceeding_time_is_negated_as_a_whole() {
 }
 
 #[test]
+fn exceeding_time_under_upstream_compat_is_upstreams_text_with_a_warning() {
+    use vouch_fpl::diag::ErrorKind;
+    use vouch_fpl::emit::compile_plan_full;
+    let xml = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/><waypoint name="A" x="10" y="0"/></waypoints>
+<blocks><block name="b"><go wp="A" exceeding_time="a+b"/><go wp="A" from="HOME" exceeding_time="3"/></block></blocks></flight_plan>"#;
+    let p = vouch_fpl::front::parse_str("t.xml", xml).expect("parses");
+    let compat = EmitOptions { upstream_compat: true, ..EmitOptions::default() };
+    let e = compile_plan_full(&p, &compat).expect("compiles");
+    // Upstream's bytes (quirk 7): the minus sign before the raw text.
+    assert!(e.header.contains("if (NavApproaching(2,-a+b)) {"), "{}", e.header);
+    assert!(e.header.contains("if (NavApproachingFrom(2,1,-3)) {"));
+    let w: Vec<_> = e.notices.iter().filter(|d| d.kind == ErrorKind::UpstreamMistake).collect();
+    assert_eq!(w.len(), 1);
+    assert!(w[0].message.contains("first term") && w[0].message.contains("upstream"));
+    assert_eq!(w[0].line, Some(3), "located at the attribute");
+    assert!(e.corrections.is_empty() && !e.notices.iter().any(|d| d.kind == ErrorKind::Correction));
+    // By default the correction and its announcement.
+    let e = compile_plan_full(&p, &EmitOptions::default()).expect("compiles");
+    assert!(e.header.contains("if (NavApproaching(2,-(a+b))) {"));
+    let c: Vec<_> = e.notices.iter().filter(|d| d.kind == ErrorKind::Correction).collect();
+    assert_eq!(c.len(), 1);
+    assert!(c[0].message.contains("upstream prints -a+b"), "{}", c[0].message);
+}
+
+#[test]
+fn waypoints_outside_the_inverse_utm_domain_are_located_errors() {
+    // UPSTREAM_CHECKS.md H12d: upstream stops with Invalid_argument "Latlong.of_utm" when the
+    // reference's UTM position plus the waypoint's offset leaves x in [0, 1e7] or y in
+    // [-1e7, 1e7]. At 43.46N 1.27E (zone 31, centre 3E) the reference lies near UTM x 360 km.
+    let plan = |x: &str, y: &str| {
+        format!(
+            r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/>
+<waypoint name="FAR" x="{x}" y="{y}"/></waypoints>
+<blocks><block name="b"><go wp="FAR"/></block></blocks></flight_plan>"#
+        )
+    };
+    for (x, y) in [("-400000", "0"), ("9700000", "0"), ("0", "-15000000"), ("0", "6000000")] {
+        let p = vouch_fpl::front::parse_str("t.xml", &plan(x, y)).expect("parses");
+        let e = compile_plan(&p, &EmitOptions::default()).expect_err(&format!("x={x} y={y}"));
+        assert!(e.message.contains("FAR") && e.message.contains("Latlong.of_utm"), "{}", e.message);
+        assert_eq!(e.span.map(|s| s.line), Some(3), "located at the waypoint");
+    }
+    // Inside the domain (far from HOME: only the distance warning) it compiles.
+    for (x, y) in [("-300000", "0"), ("0", "5000000")] {
+        let p = vouch_fpl::front::parse_str("t.xml", &plan(x, y)).expect("parses");
+        compile_plan(&p, &EmitOptions::default()).expect("inside the UTM domain");
+    }
+}
+
+#[test]
 fn labels_restart_for_each_plan() {
     // Quirk 14: upstream numbers labels across plans generated in one process; vouch does not.
     let Some(a) = header("basic.xml") else { return };

@@ -35,6 +35,7 @@ fn stage(n_blocks: usize) -> impl Strategy<Value = FpStage> {
                 pre_call: None,
                 before: vec![],
                 approach: appr.then(|| ("near()".to_string(), 1)),
+                approach_upstream: None,
                 lines: vec![Code::stmt("go()")],
                 until: until.then(|| "done()".to_string()),
                 post_call: None,

@@ -42,3 +42,28 @@ fn hand_computed_bound() {
     // or, starting at set: set (1), loop-back, test (1), default = 4 items, 3 events
     assert_eq!((lp.stages, lp.events), (4, 3));
 }
+
+#[test]
+fn upstreams_exceeding_time_text_is_a_disagreement_with_the_semantics() {
+    use vouch_fpl::emit::{compile_plan, EmitOptions, Flavor};
+    use vouch_fpl::evidence::validate::validate_header;
+    let Some(_cc) = vouch_testkit::c_compiler() else { return };
+    let xml = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/><waypoint name="A" x="10" y="0"/></waypoints>
+<blocks><block name="b"><go wp="A" exceeding_time="a+b"/></block></blocks></flight_plan>"#;
+    let p = vouch_fpl::front::parse_str("t.xml", xml).expect("parses");
+    let fp = vouch_fpl::passes::lower::lower(&p).expect("lowers");
+    let opts = Options { random_runs: 1, random_steps: 50, ..Options::default() };
+    let header = |upstream_compat| {
+        let eo =
+            EmitOptions { flavor: Flavor::Instrumented, upstream_compat, ..EmitOptions::default() };
+        compile_plan(&p, &eo).expect("compiles")
+    };
+    // The default output is what the semantics means.
+    assert!(validate_header(&fp, &header(false), &opts).expect("runs").passed());
+    // Upstream's -a+b is not -(a+b): the validation reports it instead of passing.
+    let r = validate_header(&fp, &header(true), &opts).expect("runs");
+    assert!(!r.passed(), "the compat header's approach test differs from the semantics");
+    let cx = format!("{:?}", r.counterexample.expect("a counterexample"));
+    assert!(cx.contains("-a+b"), "{cx}");
+}

@@ -81,9 +81,7 @@ pub fn aircraft(a: AircraftArgs, ctx: &mut Ctx) -> CmdResult {
         ..Request::default()
     };
     let built = build(&ac.flight_plan, &req).map_err(rejected)?;
-    for w in &built.warnings {
-        ctx.warn(w);
-    }
+    super::report_built(ctx, &built, a.upstream_compat);
     let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     if fp {
         files.push((places.flight_plan_h, built.header.into_bytes()));

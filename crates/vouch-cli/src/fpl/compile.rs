@@ -131,9 +131,7 @@ fn single(a: &CompileArgs, plan: &Path, req: &Request, ctx: &mut Ctx) -> CmdResu
         }
     }
     let built = vouch_fpl::pipeline::build(plan, req).map_err(rejected)?;
-    for w in &built.warnings {
-        ctx.warn(w);
-    }
+    super::report_built(ctx, &built, a.upstream_compat);
     let to_stdout = |p: &Option<PathBuf>| p.as_deref() == Some(Path::new("-"));
     match &a.output {
         Some(path) => write_file(path, built.header.as_bytes())?,
@@ -180,9 +178,7 @@ fn batch(a: &CompileArgs, dir: &Path, req: &Request, ctx: &mut Ctx) -> CmdResult
     for (out, result) in outs.iter().zip(results) {
         match result {
             Ok(built) => {
-                for w in &built.warnings {
-                    ctx.warn(w);
-                }
+                super::report_built(ctx, &built, a.upstream_compat);
                 if let Some(parent) = out.parent() {
                     std::fs::create_dir_all(parent).map_err(|e| Failure::io(parent, &e))?;
                 }

@@ -15,7 +15,7 @@ use vouch_fpl::ast::FlightPlan;
 use vouch_fpl::diag::Diagnostics;
 use vouch_fpl::passes::fp::Fp;
 
-use crate::contract::{CmdResult, Ctx, Failure};
+use crate::contract::{CmdResult, Ctx, Failure, Verbosity};
 
 /// The `vouch fpl` subcommands.
 #[derive(Subcommand)]
@@ -131,6 +131,36 @@ fn lowered(plan: &FlightPlan) -> Result<Fp, Failure> {
     let reject = |e: vouch_fpl::passes::CompileError| rejected(e.to_diagnostics(&plan.sources));
     vouch_fpl::passes::compile(plan).map_err(reject)?;
     vouch_fpl::passes::lower::lower(plan).map_err(reject)
+}
+
+/// A built plan's stderr: whether the terrain was checked, then its warnings. Without an SRTM
+/// tile at the reference, `--upstream-compat` prints upstream's own line (as every upstream run
+/// without tiles does); otherwise it is a note shown with `-v`.
+fn report_built(ctx: &Ctx, built: &vouch_fpl::pipeline::Built, upstream_compat: bool) {
+    use vouch_fpl::emit::terrain::Coverage;
+    match &built.terrain {
+        Coverage::NoTile { .. } if upstream_compat => {
+            ctx.note("No SRTM data found to check altitude.");
+        }
+        Coverage::NoTile { name, searched } if ctx.verbosity == Verbosity::Verbose => {
+            let dirs: Vec<String> = searched.iter().map(|d| d.display().to_string()).collect();
+            ctx.note(format_args!(
+                "note: no SRTM tile {name} (searched {}): the terrain is not checked",
+                dirs.join(", ")
+            ));
+        }
+        Coverage::OffTile(path) if ctx.verbosity == Verbosity::Verbose => {
+            ctx.note(format_args!(
+                "note: the reference lies in the southernmost half row of {}, where upstream reads \
+                 past the tile: the terrain is not checked there",
+                path.display()
+            ));
+        }
+        _ => {}
+    }
+    for w in &built.warnings {
+        ctx.warn(w);
+    }
 }
 
 /// Writes a result file.

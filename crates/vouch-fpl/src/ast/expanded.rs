@@ -1,10 +1,12 @@
 //! The plan as upstream's generator holds it once everything is expanded, before numbering: a
 //! plain tree of elements (tag, attributes in upstream's order, children, optional text). The
-//! dump (`--dump`, Paparazzi's `flight_plan.xml`) is printed from it; nothing else reads it.
+//! dump (`--dump`, Paparazzi's `flight_plan.xml`) and the elements quoted in upstream's SRTM
+//! NOTICE are printed from it.
 //!
-//! Attribute order follows upstream's reader: in a file validated against its DTD the
-//! attributes are sorted by upper-cased name, last first; elsewhere they stay as written;
-//! rewritten elements put their new attributes where upstream does.
+//! Attribute order and spelling follow upstream's reader: in a file validated against its DTD
+//! the attributes are sorted by upper-cased name, last first, and their names upper-cased;
+//! elsewhere they stay as written (lower-cased); rewritten elements put their new attributes,
+//! lower-case, where upstream does.
 
 use serde::Serialize;
 
@@ -13,7 +15,7 @@ use serde::Serialize;
 pub struct Node {
     /// Tag as written (the dump lower-cases it).
     pub tag: String,
-    /// (name, value) pairs, values raw.
+    /// (name, value) pairs, names spelt as upstream's tree holds them, values raw.
     pub attrs: Vec<(String, String)>,
     /// Child elements.
     pub children: Vec<Node>,

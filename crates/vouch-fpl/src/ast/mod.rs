@@ -60,6 +60,11 @@ pub struct RawAttr {
     pub span: Span,
     /// Span of the value only (inside the quotes).
     pub value_span: Span,
+    /// Upstream's tree spells the name in upper case: every attribute of a file validated
+    /// against its DTD (xml-light's validation upper-cases them); attributes written without
+    /// validation or made by upstream's rewrites keep lower case. Only printed texts see it.
+    #[serde(skip)]
+    pub upper: bool,
 }
 
 /// All attributes of an element in source order (after include/path rewriting).

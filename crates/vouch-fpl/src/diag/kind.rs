@@ -83,6 +83,13 @@ pub enum ErrorKind {
     /// Non-fatal (upstream's warnings and NOTICEs): geofence limits set, or below the default
     /// altitude.
     GeofenceNotice,
+    /// Non-fatal (upstream's MAJOR NOTICE): an altitude below the SRTM terrain height.
+    BelowTerrain,
+    /// Non-fatal: an SRTM tile where a waypoint lies cannot be read, so its terrain is not
+    /// checked (upstream skips it silently).
+    TerrainUnchecked,
+    /// Non-fatal: `--upstream-compat` printed upstream's output where it is known to be wrong.
+    UpstreamMistake,
 }
 
 impl ErrorKind {
@@ -124,6 +131,9 @@ impl ErrorKind {
             ErrorKind::UtmZoneBorder => "fpl::W024",
             ErrorKind::RouteWithoutFrom => "fpl::W025",
             ErrorKind::GeofenceNotice => "fpl::W026",
+            ErrorKind::BelowTerrain => "fpl::W027",
+            ErrorKind::TerrainUnchecked => "fpl::W028",
+            ErrorKind::UpstreamMistake => "fpl::W029",
         }
     }
 }

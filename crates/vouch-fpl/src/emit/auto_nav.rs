@@ -251,7 +251,11 @@ fn nav(w: &mut Writer, n: &NavStage) {
     body(w, &n.before);
     match &n.approach {
         Some((cond, wp)) => {
-            let c = w.cond(cond);
+            let printed = match &n.approach_upstream {
+                Some(upstream) if w.compat => upstream,
+                _ => cond,
+            };
+            let c = w.cond(printed);
             w.line(&format!("if ({c}) {{"));
             w.right();
             if let Some(p) = &n.post_call {

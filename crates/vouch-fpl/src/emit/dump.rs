@@ -22,6 +22,17 @@ use super::geo::{self, Geo};
 
 /// The dump of a parsed plan (its expanded tree is kept by the front end).
 pub fn dump(plan: &FlightPlan) -> Result<String, CompileError> {
+    let (fp, stages) = processed(plan)?;
+    let root = Node::new("dump", Vec::new(), vec![fp, Node::new("stages", Vec::new(), stages)]);
+    let mut out = String::with_capacity(64 * 1024);
+    print_node(&mut out, &root);
+    Ok(out)
+}
+
+/// The plan as upstream's generator holds it while it writes the header or the dump: the
+/// expanded tree with waypoints localised and blocks and stages numbered; and the `<stages>`
+/// index of the dump.
+pub(crate) fn processed(plan: &FlightPlan) -> Result<(Node, Vec<Node>), CompileError> {
     let Some(expanded) = plan.expanded.as_deref() else {
         return Err(CompileError::new("the plan keeps no expanded tree to dump", plan.span));
     };
@@ -30,10 +41,7 @@ pub fn dump(plan: &FlightPlan) -> Result<String, CompileError> {
         localize(&mut fp, plan);
     }
     let stages = number(&mut fp);
-    let root = Node::new("dump", Vec::new(), vec![fp, Node::new("stages", Vec::new(), stages)]);
-    let mut out = String::with_capacity(64 * 1024);
-    print_node(&mut out, &root);
-    Ok(out)
+    Ok((fp, stages))
 }
 
 /// A whole document the way upstream writes it (`ExtXml.to_string_fmt`, then a newline).
@@ -132,17 +140,7 @@ fn print(out: &mut String, n: &Node, tab: &str, newline: bool) {
     out.push('<');
     out.push_str(&n.tag.to_ascii_lowercase());
     for (name, value) in &n.attrs {
-        out.push(' ');
-        out.push_str(&name.to_ascii_lowercase());
-        out.push_str("=\"");
-        for c in value.chars() {
-            match c {
-                '\\' => out.push_str("\\\\"),
-                '"' => out.push_str("\\\""),
-                c => out.push(c),
-            }
-        }
-        out.push('"');
+        super::xml_light::attribute(out, &name.to_ascii_lowercase(), value);
     }
     match (&n.text, n.children.is_empty()) {
         (Some(text), true) => {

@@ -125,6 +125,9 @@ fn row(
             }
         }
     };
+    if g.is_none() {
+        utm_domain(&w.name.value, x, y, utm0, w.span)?;
+    }
     let ltp_enu = match (&w.x, &w.y) {
         (Some(lx), Some(ly)) if ltp => Some([lx.value, ly.value, alt - ground]),
         _ => None,
@@ -146,6 +149,34 @@ fn row(
     })
 }
 
+/// Upstream's H12d: a waypoint whose UTM position (reference + local offset) lies outside the
+/// domain of the inverse projection, x in 0..=1e7 and y in -1e7..=1e7 (more than about 170 to
+/// 830 km west of the reference, depending on where it is in its zone): upstream's generator
+/// stops there with `Invalid_argument("Latlong.of_utm")`; vouch's own inverse would print a
+/// position, but not the one the plan means.
+fn utm_domain(
+    name: &str,
+    x: f64,
+    y: f64,
+    utm0: Utm,
+    span: crate::span::Span,
+) -> Result<(), CompileError> {
+    let (ux, uy) = (utm0.x + x, utm0.y + y);
+    if (0.0..=1e7).contains(&ux) && (-1e7..=1e7).contains(&uy) {
+        return Ok(());
+    }
+    Err(CompileError::new(
+        format!(
+            "waypoint '{name}' at x={x}, y={y} lies outside the UTM domain of the reference's \
+             zone {} (UTM x {ux:.0} must be in 0..10000000, y {uy:.0} in -10000000..10000000): \
+             it has no latitude/longitude (upstream stops with Invalid_argument \
+             \"Latlong.of_utm\")",
+            utm0.zone
+        ),
+        span,
+    ))
+}
+
 fn is_c_suffix(name: &str) -> bool {
     name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
@@ -158,17 +189,56 @@ fn capitalize(s: &str) -> String {
     }
 }
 
+/// The reference and the waypoint rows (the implicit `dummy` first).
+pub(super) struct Layout {
+    ref_geo: Geo,
+    utm0: Utm,
+    wps: Vec<WpRow>,
+}
+
+impl Layout {
+    pub(super) fn of(plan: &FlightPlan) -> Result<Layout, CompileError> {
+        let ref_geo =
+            Geo { lat: geo::rad_of_deg(plan.lat0.value), lon: geo::rad_of_deg(plan.lon0.value) };
+        let utm0 = geo::utm_of(ref_geo, None);
+        let wps = rows(plan, ref_geo, utm0)?;
+        Ok(Layout { ref_geo, utm0, wps })
+    }
+
+    /// Where each waypoint is, at which altitude (what upstream checks against the terrain).
+    pub(super) fn points(&self) -> Vec<super::terrain::Point<'_>> {
+        self.wps
+            .iter()
+            .enumerate()
+            .map(|(i, r)| super::terrain::Point {
+                name: (i > 0).then_some(r.name.as_str()),
+                geo: r.geo(self.utm0),
+                alt: r.alt,
+                span: r.span,
+            })
+            .collect()
+    }
+}
+
+impl WpRow {
+    /// The geodetic position (LTP rows know it; UTM rows are offsets from the reference).
+    fn geo(&self, utm0: Utm) -> Geo {
+        self.geo.unwrap_or_else(|| {
+            geo::of_utm(Utm { x: utm0.x + self.x, y: utm0.y + self.y, zone: utm0.zone })
+        })
+    }
+}
+
 pub(super) fn top(
     w: &mut Writer,
     plan: &FlightPlan,
     fps: &Fps,
     opts: &EmitOptions,
+    layout: &Layout,
 ) -> Result<(), CompileError> {
     let ground = plan.ground_alt.value;
-    let ref_geo =
-        Geo { lat: geo::rad_of_deg(plan.lat0.value), lon: geo::rad_of_deg(plan.lon0.value) };
-    let utm0 = geo::utm_of(ref_geo, None);
-    let wps = rows(plan, ref_geo, utm0)?;
+    let Layout { ref_geo, utm0, wps } = layout;
+    let (ref_geo, utm0) = (*ref_geo, *utm0);
 
     banner(w, plan, opts);
     w.raw(&format!("#define FLIGHT_PLAN_NAME \"{}\"", plan.name.value));
@@ -193,7 +263,7 @@ pub(super) fn top(
             w.raw(&format!("#define WP_{} {i}", r.name));
         }
     }
-    waypoint_tables(w, &wps, utm0, geo::ecef_of_geo(ref_geo, ground));
+    waypoint_tables(w, wps, utm0, geo::ecef_of_geo(ref_geo, ground));
     w.raw(&format!("#define NB_WAYPOINT {}", wps.len()));
     w.raw("#define FP_BLOCKS { \\");
     for b in &fps.plan().blocks {
@@ -280,11 +350,7 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], utm0: Utm, ecef0: [f64; 3]) {
         w.raw(&format!(" {{{:.1}, {:.1}, {}}},\\", r.x, r.y, r.alt_text));
     }
     w.raw("};");
-    let geo_of = |r: &WpRow| {
-        r.geo.unwrap_or_else(|| {
-            geo::of_utm(Utm { x: utm0.x + r.x, y: utm0.y + r.y, zone: utm0.zone })
-        })
-    };
+    let geo_of = |r: &WpRow| r.geo(utm0);
     w.raw("#define WAYPOINTS_ENU { \\");
     for r in wps {
         let enu = match r.ltp_enu {

@@ -17,6 +17,9 @@ pub mod geoid;
 mod header;
 pub mod notices;
 pub mod settings;
+pub mod srtm;
+pub mod terrain;
+mod xml_light;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -74,6 +77,11 @@ impl EmitOptions {
             None => Ok(Geoid::model()),
         }
     }
+
+    /// Where SRTM tiles are searched: upstream's directories for the Paparazzi home.
+    pub fn srtm_search(&self) -> srtm::SearchPath {
+        srtm::SearchPath::of_home(self.paparazzi_home.as_deref())
+    }
 }
 
 /// A generated header and the corrections of upstream's output it announces.
@@ -83,8 +91,12 @@ pub struct Emitted {
     pub header: String,
     /// One warning per correction (empty with [`EmitOptions::upstream_compat`]).
     pub corrections: Vec<Diagnostic>,
-    /// Upstream's warnings and NOTICEs for this plan ([`notices::notices`]).
+    /// Upstream's warnings and NOTICEs for this plan ([`notices::notices`]), the terrain
+    /// checks included.
     pub notices: Vec<Diagnostic>,
+    /// Whether an SRTM tile covered the reference (upstream's `No SRTM data found to check
+    /// altitude.` when not).
+    pub terrain: terrain::Coverage,
 }
 
 /// Which printed value a geoid height goes into (for the correction messages).
@@ -108,21 +120,24 @@ pub fn emit_header(
     if opts.flavor == Flavor::DropIn {
         crate::passes::for_bounds(&plan.blocks)?;
     }
-    let notices = notices::notices(plan)?;
+    let layout = header::Layout::of(plan)?;
+    let terrain = terrain::check(plan, &layout.points(), &opts.srtm_search())?;
+    let coverage = terrain.coverage.clone();
+    let notices = notices::notices(plan, terrain, opts.upstream_compat)?;
     let mut w = Writer::new(opts.flavor);
     w.geoid = Some(opts.geoid()?);
     if let Some(home) = &opts.paparazzi_home {
         w.abi = abi::AbiTable::of_home(home)?;
     }
     w.compat = opts.upstream_compat;
-    header::top(&mut w, plan, fps, opts)?;
+    header::top(&mut w, plan, fps, opts, &layout)?;
     auto_nav::functions(&mut w, plan, fps);
     header::bottom(&mut w);
     if let Some(e) = w.geoid_error.take() {
         return Err(CompileError::environment(e.to_string()));
     }
     let corrections = w.corrections();
-    Ok(Emitted { header: w.out, corrections, notices })
+    Ok(Emitted { header: w.out, corrections, notices, terrain: coverage })
 }
 
 /// Text output with upstream's margin (steps of 2 spaces) and the flavour's wrapping.

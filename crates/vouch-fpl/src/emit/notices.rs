@@ -1,5 +1,6 @@
 //! The checks upstream's generator makes while it prints the header (UPSTREAM_CHECKS.md,
-//! sections G4, H7, H11, H12b, H13, H14, H18e, H18p and A1–A5): the geofence limits (errors
+//! sections G4, H7, H11, H12b, H13, H14, H18e, H18p and A1–A5; the terrain checks H8, H12c come
+//! from [`super::terrain`]): the geofence limits (errors
 //! below the ground, security or home-mode altitude; warnings otherwise), and upstream's
 //! warnings and NOTICEs as located warnings with their own codes: low altitudes, waypoints far
 //! from HOME, a reference close to a UTM zone border, `route` without `from`.
@@ -12,13 +13,20 @@ use crate::passes::CompileError;
 use crate::span::Span;
 
 use super::geo::{self, Geo, Utm};
+use super::terrain::Terrain;
 
-/// The plan's warnings (in upstream's order on stderr), or the geofence error.
-pub fn notices(plan: &FlightPlan) -> Result<Vec<Diagnostic>, CompileError> {
+/// The plan's warnings (in upstream's order on stderr, the terrain checks at their place), or
+/// the geofence error.
+pub fn notices(
+    plan: &FlightPlan,
+    terrain: Terrain,
+    upstream_compat: bool,
+) -> Result<Vec<Diagnostic>, CompileError> {
     let mut out = Vec::new();
-    let low = Low::of(plan);
+    let low = Low { upstream_compat, ..Low::of(plan) };
     zone_border(plan, &mut out)?;
     low.check(plan.alt.value, "the plan's default altitude", plan.alt.text.span, &mut out);
+    out.extend(terrain.reference);
     distances(plan, &mut out);
     low.check(
         plan.alt.value,
@@ -35,6 +43,7 @@ pub fn notices(plan: &FlightPlan) -> Result<Vec<Diagnostic>, CompileError> {
         let at = w.alt.as_ref().or(w.height.as_ref()).map_or(w.span, |n| n.text.span);
         low.check(alt, &format!("waypoint '{}'", w.name.value), at, &mut out);
     }
+    out.extend(terrain.waypoints);
     geofence(plan, &mut out)?;
     for b in &plan.blocks {
         stages(&b.stages, &low, &mut out);
@@ -42,15 +51,21 @@ pub fn notices(plan: &FlightPlan) -> Result<Vec<Diagnostic>, CompileError> {
     Ok(out)
 }
 
-/// The low-altitude threshold: `ground_alt + security_height`.
+/// The low-altitude threshold: `ground_alt + security_height` (and whether upstream's
+/// output is printed, for the stage notices).
 struct Low {
     ground: f64,
     security: f64,
+    upstream_compat: bool,
 }
 
 impl Low {
     fn of(plan: &FlightPlan) -> Low {
-        Low { ground: plan.ground_alt.value, security: plan.security_height.value }
+        Low {
+            ground: plan.ground_alt.value,
+            security: plan.security_height.value,
+            upstream_compat: false,
+        }
     }
     fn check(&self, alt: f64, what: &str, span: Span, out: &mut Vec<Diagnostic>) {
         if alt < self.ground + self.security {
@@ -100,15 +115,7 @@ fn stages(list: &[Stage], low: &Low, out: &mut Vec<Diagnostic>) {
             StageKind::For(f) => stages(&f.body, low, out),
             StageKind::Go(g) => {
                 if let Some(t) = g.exceeding_time.as_ref().filter(|t| !is_simple(&t.value)) {
-                    out.push(Diagnostic::correction(
-                        format!(
-                            "exceeding_time=\"{0}\" is printed as the approach time -({0}); upstream prints -{0}",
-                            t.value
-                        ),
-                        t.span,
-                        "upstream puts a minus sign before the raw text, which negates only its first term \
-                         (also with --upstream-compat, vouch negates the whole value)",
-                    ));
+                    out.push(exceeding_time(&t.value, t.span, low.upstream_compat));
                 }
                 if g.hmode.as_ref().is_some_and(|h| h.value == HMode::Route) && g.from.is_none() {
                     out.push(Diagnostic::warning_of(
@@ -129,6 +136,32 @@ fn stages(list: &[Stage], low: &Low, out: &mut Vec<Diagnostic>) {
             _ => {}
         }
     }
+}
+
+/// An `exceeding_time` of several terms: upstream's `-t` negates only the first. By default the
+/// whole value is negated (a correction); `--upstream-compat` prints upstream's text and says
+/// what that C does.
+fn exceeding_time(t: &str, span: Span, upstream_compat: bool) -> Diagnostic {
+    const WHY: &str = "upstream puts a minus sign before the raw text, which negates only its \
+                       first term";
+    if upstream_compat {
+        return Diagnostic::warning_of(
+            ErrorKind::UpstreamMistake,
+            format!(
+                "exceeding_time=\"{t}\" is printed as upstream prints it, -{t}: the generated C \
+                 negates only the first term, not the whole time -({t})"
+            ),
+            Some(span),
+        )
+        .with_help(format!("{WHY}; without --upstream-compat vouch prints -({t})"));
+    }
+    Diagnostic::correction(
+        format!(
+            "exceeding_time=\"{t}\" is printed as the approach time -({t}); upstream prints -{t}"
+        ),
+        span,
+        format!("{WHY}; --upstream-compat prints upstream's text"),
+    )
 }
 
 /// A single number or name, where `-t` negates the whole value.

@@ -43,6 +43,7 @@ fn path_to_gos(ctx: &mut Ctx, path: &Elem) -> Vec<Elem> {
         value: value.to_string(),
         span: wpts.span,
         value_span: wpts.value_span,
+        upper: false,
     };
     let make = |generated: Vec<RawAttr>| {
         // Upstream appends every attribute of the path (`wpts` too) after the generated ones;
@@ -122,6 +123,7 @@ fn replace(s: &mut Elem, waypoints: &mut Vec<Elem>, key: &str, qdr_key: &str, di
         value: v,
         span: s.span,
         value_span: base_attr.value_span,
+        upper: false,
     };
     let mut attrs = vec![
         synth("name", name.clone()),
@@ -156,6 +158,7 @@ fn replace(s: &mut Elem, waypoints: &mut Vec<Elem>, key: &str, qdr_key: &str, di
             value: name,
             span: base_attr.span,
             value_span: base_attr.value_span,
+            upper: false,
         },
     );
     s.attrs = Attrs(rest);

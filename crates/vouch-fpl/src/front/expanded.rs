@@ -15,9 +15,13 @@ use super::tree::Elem;
 /// they end up.
 const PREPENDED: [&str; 5] = ["modules", "variables", "exceptions", "sectors", "header"];
 
-/// Attribute order of upstream's DTD validation: sorted by upper-cased name, last first.
+/// Attribute order and spelling of upstream's DTD validation: sorted by upper-cased name, last
+/// first, names upper-cased.
 pub fn sort_validated(e: &mut Elem) {
     e.attrs.0.sort_by_key(|a| std::cmp::Reverse(a.name.to_ascii_uppercase()));
+    for a in e.attrs.0.iter_mut() {
+        a.upper = true;
+    }
     for c in e.children.iter_mut() {
         sort_validated(c);
     }
@@ -29,7 +33,14 @@ fn node(e: &Elem) -> Node {
 
 /// The element without its children.
 fn leaf(e: &Elem) -> Node {
-    let attrs = e.attrs.0.iter().map(|a| (a.name.clone(), a.value.clone())).collect();
+    let name = |a: &crate::ast::RawAttr| {
+        if a.upper {
+            a.name.to_ascii_uppercase()
+        } else {
+            a.name.clone()
+        }
+    };
+    let attrs = e.attrs.0.iter().map(|a| (name(a), a.value.clone())).collect();
     Node { tag: e.tag.clone(), attrs, children: Vec::new(), text: None }
 }
 

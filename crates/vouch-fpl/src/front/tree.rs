@@ -182,6 +182,7 @@ fn convert(
             value: unescape(raw),
             span: attr_span,
             value_span: lines.span(text, file, rv.start, rv.end),
+            upper: false,
         });
     }
     let mut children = Vec::new();

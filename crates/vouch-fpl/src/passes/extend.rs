@@ -328,6 +328,7 @@ mod tests {
             pre_call: None,
             before: vec![],
             approach: None,
+            approach_upstream: None,
             lines: vec![Code::stmt("Eight(1, 2, 50)")],
             until: None,
             post_call: None,

@@ -181,6 +181,10 @@ pub struct NavStage {
     pub before: Vec<Code>,
     /// `go`: the approach condition and the waypoint remembered as `last_wp`.
     pub approach: Option<(Cond, usize)>,
+    /// The approach condition as upstream prints it, where that differs: an `exceeding_time` of
+    /// several terms, of which upstream's minus sign negates only the first. Only
+    /// `--upstream-compat` prints it; the semantics and the default header use `approach`.
+    pub approach_upstream: Option<Cond>,
     pub lines: Vec<Code>,
     pub until: Option<Cond>,
     pub post_call: Option<Code>,

@@ -240,6 +240,7 @@ fn nav(kind: NavKind, c: &NavCommon, span: Span) -> NavStage {
         pre_call: c.pre_call.as_ref().map(raw),
         before: Vec::new(),
         approach: None,
+        approach_upstream: None,
         lines: Vec::new(),
         until: until(c),
         post_call: c.post_call.as_ref().map(raw),
@@ -263,6 +264,7 @@ fn lower_nav(kind: &StageKind, span: Span) -> Result<NavStage, CompileError> {
             pre_call: None,
             before: Vec::new(),
             approach: None,
+            approach_upstream: None,
             lines: vec![Code::stmt("nav_home()")],
             until: None,
             post_call: None,
@@ -298,6 +300,8 @@ fn go(g: &ast::Go, span: Span) -> Result<NavStage, CompileError> {
             "0".to_string()
         }
     };
+    // Upstream's text: the minus sign before the raw text (quirk 7).
+    let upstream_at = g.exceeding_time.as_ref().map(|e| format!("-{}", e.value));
     let at = match (&g.approaching_time, &g.exceeding_time) {
         (Some(a), None) => a.value.clone(),
         (None, Some(e)) => negate(&e.value),
@@ -310,10 +314,12 @@ fn go(g: &ast::Go, span: Span) -> Result<NavStage, CompileError> {
         }
     };
     let from = g.from.as_ref().map(wp);
-    let cond = match &from {
+    let approaching = |at: &str| match &from {
         Some(f) => format!("{t}ApproachingFrom({w},{f},{at})"),
         None => format!("{t}Approaching({w},{at})"),
     };
+    let cond = approaching(&at);
+    n.approach_upstream = upstream_at.filter(|u| *u != at).map(|u| approaching(&u));
     let route = matches!(g.hmode.as_ref().map(|h| h.value), Some(HMode::Route));
     let vm = g.vertical.vmode.as_ref().map(|m| m.value);
     if vm == Some(VMode::Glide) && !route {
