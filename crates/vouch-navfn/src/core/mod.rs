@@ -1,9 +1,10 @@
 //! The NavFn numeric core: potential propagation (Dijkstra with the `atStart` stop, and A*)
 //! and path extraction, bit-exact with nav2's `navfn.cpp` (see `shared/navfn/SEMANTICS.md`).
 //!
-//! Memory layout: one flat array per quantity (`cost: Vec<u8>`, `pot: Vec<f32>`, the gradient
+//! Memory layout: one flat array per quantity (`cost` bytes, `pot` floats, the gradient
 //! pairs `grad: Vec<[f32; 2]>` (x and y side by side: path extraction reads them together),
-//! `pending: Vec<bool>`) and three priority buffers of fixed capacity. Nothing is
+//! `pending` flags as bytes) and three priority buffers of fixed capacity. The three arrays
+//! the propagation sweeps live on huge pages when they are large (`cells.rs`). Nothing is
 //! allocated during a plan; a [`NavFn`] keeps its arrays between plans of the same map size.
 //!
 //! Float discipline: every operation is written in the exact order and width of
@@ -12,12 +13,14 @@
 // `a = a + b` is kept where SEMANTICS.md writes `a = a ⊕ b`, to read side by side with it.
 #![allow(clippy::assign_op_pattern)]
 
+mod cells;
 mod costs;
 pub mod numeric;
 pub mod observer;
 mod path;
 mod propagate;
 
+use cells::CellArray;
 use propagate::PriorityBuf;
 
 pub use costs::{
@@ -108,11 +111,12 @@ pub struct NavFn {
     pub(crate) nx: usize,
     pub(crate) ny: usize,
     pub(crate) ns: usize,
-    pub(crate) cost: Vec<u8>,
-    pub(crate) pot: Vec<f32>,
+    pub(crate) cost: CellArray<u8>,
+    pub(crate) pot: CellArray<f32>,
     /// Cached normalised gradient `(gx, gy)` of each cell (`gradx`/`grady` upstream).
     pub(crate) grad: Vec<[f32; 2]>,
-    pub(crate) pending: Vec<bool>,
+    /// 1 while a cell is queued (`pending` upstream); bytes so that they can be mapped.
+    pub(crate) pending: CellArray<u8>,
     /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
     pub(crate) grad_touched: Vec<u32>,
     pub(crate) cur: PriorityBuf,
@@ -138,10 +142,10 @@ impl NavFn {
             nx,
             ny,
             ns,
-            cost: vec![COST_NEUTRAL; ns],
-            pot: vec![POT_HIGH; ns],
+            cost: CellArray::filled(ns, COST_NEUTRAL),
+            pot: CellArray::filled(ns, POT_HIGH),
             grad: vec![[0.0; 2]; ns],
-            pending: vec![false; ns],
+            pending: CellArray::zeroed(ns),
             grad_touched: Vec::new(),
             cur: PriorityBuf::new(),
             next: PriorityBuf::new(),
@@ -169,10 +173,10 @@ impl NavFn {
         self.ns = ns;
         // fresh zeroed allocations rather than a fill: pages of the gradient and `pending`
         // arrays that a plan never touches then take no memory (most of them on large maps)
-        self.pot = vec![POT_HIGH; ns];
+        self.pot = CellArray::filled(ns, POT_HIGH);
         self.grad = vec![[0.0; 2]; ns];
-        self.cost = vec![COST_NEUTRAL; ns];
-        self.pending = vec![false; ns];
+        self.cost = CellArray::filled(ns, COST_NEUTRAL);
+        self.pending = CellArray::zeroed(ns);
         self.grad_touched.clear();
         self.cur.clear();
         self.next.clear();
