@@ -273,6 +273,12 @@ fn a_tcp_vehicle_that_drops_is_reconnected_and_routed_again() {
     let (again, _) = r.v2_listener.accept().expect("the guard reconnects");
     assert!(t.elapsed() < Duration::from_secs(3), "reconnected after {:?}", t.elapsed());
     r.v2 = tcp_peer(again);
+    // the connection is accepted before the guard has registered it: wait until it counts it
+    let until = Instant::now() + Duration::from_secs(5);
+    while r.guard.counters().endpoint("v2").is_none_or(|e| (e.connects, e.connections) != (2, 1)) {
+        assert!(Instant::now() < until, "the guard never counted the new connection");
+        std::thread::sleep(Duration::from_millis(10));
+    }
     // what it learned about system 2 is kept: a command to 2/1 reaches the new connection
     let cmd = r.m.command((255, 190), (2, 1), 400);
     r.a.send(&cmd);
