@@ -10,10 +10,12 @@
 //! 3. [`protocol`] (protocol text → checked IR);
 //! 4. [`monitor`] (runs the IR on messages; reports violations);
 //! 5. [`guard`] (sockets, forwarding, enforce mode, signing checks);
-//! 6. [`bench`](mod@bench) (the benchmark harness behind `vouch mav bench`; nothing else uses it).
+//! 6. `bench` (the benchmark harness behind `vouch mav bench`, only with the `bench` feature,
+//!    which the CLI enables; nothing else uses it).
 //!
 //! Nothing here prints: results are data, errors are typed [`miette::Diagnostic`]s with codes.
 
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod codec;
 pub mod dialect;

@@ -82,35 +82,45 @@ pub mod serial {
 /// No process control or `/proc` readings: the benchmark runs unpinned and reports no CPU time
 /// or memory figures.
 pub mod process {
+    #[cfg(feature = "bench")]
     use std::process::Child;
 
     /// No-op.
     pub fn lower_current_thread_priority(_n: i32) {}
     /// No-op.
+    #[cfg(feature = "bench")]
     pub fn pin_current_thread(_cpu: usize) {}
     /// No-op.
+    #[cfg(feature = "bench")]
     pub fn unpin_current_thread() {}
     /// No-op.
+    #[cfg(feature = "bench")]
     pub fn pin_process(_pid: u32, _cpu: usize) {}
     /// Unknown.
+    #[cfg(feature = "bench")]
     pub fn cpu_seconds(_pid: u32) -> Option<f64> {
         None
     }
     /// Unknown.
+    #[cfg(feature = "bench")]
     pub fn peak_rss_kb(_pid: u32) -> Option<u64> {
         None
     }
     /// Unknown.
+    #[cfg(feature = "bench")]
     pub fn rss_kb(_pid: u32) -> Option<u64> {
         None
     }
     /// No-op.
+    #[cfg(feature = "bench")]
     pub fn reset_peak_rss(_pid: u32) {}
     /// Unknown.
+    #[cfg(feature = "bench")]
     pub fn load_average() -> Option<String> {
         None
     }
     /// Kills the child (no SIGTERM without libc).
+    #[cfg(feature = "bench")]
     pub fn terminate(child: &mut Child) {
         let _ = child.kill();
     }

@@ -1,8 +1,10 @@
-//! Process control and `/proc` readings for `vouch mav bench`: CPU pinning, CPU time, RSS,
-//! load average, and a SIGTERM that lets a guard shut down cleanly.
+//! Process control: the priority of the stream writer threads, and (with the `bench` feature)
+//! the CPU pinning, CPU time, RSS, load average and SIGTERM of `vouch mav bench`.
 
+#[cfg(feature = "bench")]
 use std::process::Child;
 
+#[cfg(feature = "bench")]
 fn set_affinity(tid: libc::pid_t, cpus: impl Iterator<Item = usize>) {
     // SAFETY: cpu_set_t is plain data; sched_setaffinity reads it and changes only the CPU mask
     // of the given thread (0 = the caller); errors are ignored (pinning is best effort).
@@ -27,16 +29,19 @@ pub fn lower_current_thread_priority(n: i32) {
 }
 
 /// Pins the calling thread to one CPU.
+#[cfg(feature = "bench")]
 pub fn pin_current_thread(cpu: usize) {
     set_affinity(0, std::iter::once(cpu));
 }
 
 /// Lets the calling thread run on every CPU again.
+#[cfg(feature = "bench")]
 pub fn unpin_current_thread() {
     set_affinity(0, 0..libc::CPU_SETSIZE as usize);
 }
 
 /// Pins every thread of process `pid` to one CPU.
+#[cfg(feature = "bench")]
 pub fn pin_process(pid: u32, cpu: usize) {
     let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else { return };
     for t in tasks.flatten() {
@@ -47,6 +52,7 @@ pub fn pin_process(pid: u32, cpu: usize) {
 }
 
 /// User + system CPU seconds used so far by process `pid` (all its threads).
+#[cfg(feature = "bench")]
 pub fn cpu_seconds(pid: u32) -> Option<f64> {
     let s = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
     let rest = &s[s.rfind(')')? + 2..];
@@ -58,6 +64,7 @@ pub fn cpu_seconds(pid: u32) -> Option<f64> {
     (hz > 0.0).then(|| ticks / hz)
 }
 
+#[cfg(feature = "bench")]
 fn status_kb(pid: u32, key: &str) -> Option<u64> {
     let s = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
     let line = s.lines().find(|l| l.starts_with(key))?;
@@ -65,28 +72,33 @@ fn status_kb(pid: u32, key: &str) -> Option<u64> {
 }
 
 /// Peak resident set size of `pid` in kB (VmHWM).
+#[cfg(feature = "bench")]
 pub fn peak_rss_kb(pid: u32) -> Option<u64> {
     status_kb(pid, "VmHWM:")
 }
 
 /// Current resident set size of `pid` in kB (VmRSS).
+#[cfg(feature = "bench")]
 pub fn rss_kb(pid: u32) -> Option<u64> {
     status_kb(pid, "VmRSS:")
 }
 
 /// Resets the peak RSS counter of `pid` (Linux ≥ 4.0), so that a later [`peak_rss_kb`] covers
 /// only what happened since.
+#[cfg(feature = "bench")]
 pub fn reset_peak_rss(pid: u32) {
     let _ = std::fs::write(format!("/proc/{pid}/clear_refs"), "5");
 }
 
 /// The 1, 5 and 15 minute load averages as printed by the kernel.
+#[cfg(feature = "bench")]
 pub fn load_average() -> Option<String> {
     let s = std::fs::read_to_string("/proc/loadavg").ok()?;
     Some(s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
 }
 
 /// Asks a child process to terminate (SIGTERM), so that a guard flushes its logs.
+#[cfg(feature = "bench")]
 pub fn terminate(child: &mut Child) {
     match libc::pid_t::try_from(child.id()) {
         // SAFETY: kill(2) on the pid of our own child, which has not been waited for yet.
