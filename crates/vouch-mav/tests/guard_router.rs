@@ -154,6 +154,20 @@ const ATTITUDE: u32 = 30;
 const COMMAND_LONG: u32 = 76;
 const COMMAND_ACK: u32 = 77;
 
+/// Waits until endpoint `name` has one open connection and `connects` connections so far: a
+/// TCP peer's connect or accept returns before the guard has registered the connection.
+fn connected(guard: &RunningGuard, name: &str, connects: u64) {
+    let until = Instant::now() + Duration::from_secs(5);
+    while guard
+        .counters()
+        .endpoint(name)
+        .is_none_or(|e| (e.connects, e.connections) != (connects, 1))
+    {
+        assert!(Instant::now() < until, "the guard never registered {name}'s connection");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
 fn rig(enforce: bool, inspector: Box<dyn vouch_mav::guard::Inspector>) -> Option<Rig> {
     let d = dialect()?;
     let v1_sock = UdpSocket::bind("127.0.0.1:0").unwrap();
@@ -190,8 +204,10 @@ fn rig(enforce: bool, inspector: Box<dyn vouch_mav::guard::Inspector>) -> Option
     let comp = tcp_peer(TcpStream::connect(at("comp")).unwrap());
     let a = udp_peer(at("a"));
     let mut r = Rig { guard, v1, v2_listener, v2: tcp_peer(v2s), a, b, comp, m: Msgs { d } };
-    std::thread::sleep(Duration::from_millis(150)); // the accept thread registers the companion
-                                                    // everyone announces itself; heartbeats have no target: everyone else gets them
+    // TCP connections are accepted before the guard has registered them
+    connected(&r.guard, "v2", 1);
+    connected(&r.guard, "comp", 1);
+    // everyone announces itself; heartbeats have no target: everyone else gets them
     let hbs = [
         r.m.heartbeat(1, 1, false),
         r.m.heartbeat(2, 1, false),
@@ -273,12 +289,7 @@ fn a_tcp_vehicle_that_drops_is_reconnected_and_routed_again() {
     let (again, _) = r.v2_listener.accept().expect("the guard reconnects");
     assert!(t.elapsed() < Duration::from_secs(3), "reconnected after {:?}", t.elapsed());
     r.v2 = tcp_peer(again);
-    // the connection is accepted before the guard has registered it: wait until it counts it
-    let until = Instant::now() + Duration::from_secs(5);
-    while r.guard.counters().endpoint("v2").is_none_or(|e| (e.connects, e.connections) != (2, 1)) {
-        assert!(Instant::now() < until, "the guard never counted the new connection");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    connected(&r.guard, "v2", 2);
     // what it learned about system 2 is kept: a command to 2/1 reaches the new connection
     let cmd = r.m.command((255, 190), (2, 1), 400);
     r.a.send(&cmd);
