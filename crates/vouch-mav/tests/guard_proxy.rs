@@ -243,7 +243,8 @@ fn tcp_streams_are_reassembled_and_forwarded() {
     v.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
     let mut gcs = TcpStream::connect(g.gcs_addr.unwrap()).unwrap();
     gcs.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
-    std::thread::sleep(Duration::from_millis(150)); // let the accept thread register the client
+    connected(&g, "vehicle", 1); // connect/accept return before the guard registers them
+    connected(&g, "gcs", 1);
     let mut stream = hex(GCS_HEARTBEAT);
     stream.extend(hex(PARACHUTE_RELEASE));
     for chunk in stream.chunks(7) {
@@ -391,7 +392,8 @@ fn tcp_stream_resynchronises_after_a_corrupt_frame() {
     let (mut v, _) = vehicle.accept().unwrap();
     v.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
     let mut gcs = TcpStream::connect(g.gcs_addr.unwrap()).unwrap();
-    std::thread::sleep(Duration::from_millis(150)); // let the accept thread register the client
+    connected(&g, "vehicle", 1); // connect/accept return before the guard registers them
+    connected(&g, "gcs", 1);
     let hb = hex(GCS_HEARTBEAT);
     let mut corrupt = hb.clone();
     corrupt[1] = 30; // claims itself and the heartbeat behind it

@@ -12,7 +12,7 @@ use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use guard_support::{loopback, standard_inspector};
+use guard_support::{connected, loopback, standard_inspector};
 use vouch_mav::codec::{FrameRef, MessageBuilder, StreamSplitter};
 use vouch_mav::dialect::Dialect;
 use vouch_mav::guard::{
@@ -153,20 +153,6 @@ impl Rig {
 const ATTITUDE: u32 = 30;
 const COMMAND_LONG: u32 = 76;
 const COMMAND_ACK: u32 = 77;
-
-/// Waits until endpoint `name` has one open connection and `connects` connections so far: a
-/// TCP peer's connect or accept returns before the guard has registered the connection.
-fn connected(guard: &RunningGuard, name: &str, connects: u64) {
-    let until = Instant::now() + Duration::from_secs(5);
-    while guard
-        .counters()
-        .endpoint(name)
-        .is_none_or(|e| (e.connects, e.connections) != (connects, 1))
-    {
-        assert!(Instant::now() < until, "the guard never registered {name}'s connection");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
 
 fn rig(enforce: bool, inspector: Box<dyn vouch_mav::guard::Inspector>) -> Option<Rig> {
     let d = dialect()?;

@@ -6,7 +6,7 @@ use std::net::{SocketAddr, UdpSocket};
 use std::process::Child;
 use std::time::{Duration, Instant};
 
-use vouch_mav::guard::{Inspector, MonitorInspector};
+use vouch_mav::guard::{Inspector, MonitorInspector, RunningGuard};
 use vouch_mav::monitor::MonitorSpec;
 use vouch_testkit::Need;
 
@@ -95,3 +95,17 @@ pub const PARACHUTE_RELEASE: &str =
     "fd20000000ffe64c000000000040000000000000000000000000000000000000000000000000d0000101a15d";
 /// HEARTBEAT from the vehicle 1/1 (quadrotor, ArduPilot): `heartbeat_encode(2, 3, 0, 0, 4)`.
 pub const VEHICLE_HEARTBEAT: &str = "fd0900000001010000000000000002030004034ad7";
+
+/// Waits until endpoint `name` has one open connection and `connects` connections so far: a
+/// TCP peer's connect or accept returns before the guard has registered the connection.
+pub fn connected(guard: &RunningGuard, name: &str, connects: u64) {
+    let until = Instant::now() + Duration::from_secs(5);
+    while guard
+        .counters()
+        .endpoint(name)
+        .is_none_or(|e| (e.connects, e.connections) != (connects, 1))
+    {
+        assert!(Instant::now() < until, "the guard never registered {name}'s connection");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
