@@ -15,7 +15,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use guard_support::standard_inspector;
+use guard_support::{read_summary, standard_inspector, tempdir, write_mission};
 use serde_json::Value;
 use vouch_mav::guard::{start, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig};
 use vouch_mav::signing::SigningKey;
@@ -41,43 +41,6 @@ impl Drop for Peer {
 
 fn free_port() -> u16 {
     UdpSocket::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
-}
-
-fn tempdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vouch-interop-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// A QGC WPL 110 file: item 0 = home, items 1..99 NAV_WAYPOINT (16) in frame 3.
-fn write_mission(dir: &Path) -> PathBuf {
-    let mut s = String::from("QGC WPL 110\n");
-    for i in 0..100 {
-        let (cur, frame) = if i == 0 { (1, 0) } else { (0, 3) };
-        s += &format!(
-            "{i}\t{cur}\t{frame}\t16\t0\t0\t0\t0\t{:.7}\t{:.7}\t{:.1}\t1\n",
-            -35.36 + f64::from(i) * 1e-4,
-            149.16 + f64::from(i) * 1e-4,
-            100.0 + f64::from(i)
-        );
-    }
-    let p = dir.join("mission100.txt");
-    std::fs::write(&p, s).unwrap();
-    p
-}
-
-fn read_summary(p: &Path) -> Value {
-    let end = Instant::now() + Duration::from_secs(5);
-    while Instant::now() < end {
-        if let Ok(s) = std::fs::read_to_string(p) {
-            if let Ok(v) = serde_json::from_str(&s) {
-                return v;
-            }
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    panic!("peer wrote no summary at {}", p.display());
 }
 
 enum Vehicle {

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 use std::net::{SocketAddr, UdpSocket};
+use std::path::{Path, PathBuf};
 use std::process::Child;
 use std::time::{Duration, Instant};
 
@@ -108,4 +109,43 @@ pub fn connected(guard: &RunningGuard, name: &str, connects: u64) {
         assert!(Instant::now() < until, "the guard never registered {name}'s connection");
         std::thread::sleep(Duration::from_millis(5));
     }
+}
+
+/// A fresh directory for one test's files.
+pub fn tempdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vouch-guard-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A QGC WPL 110 file: item 0 = home, items 1..99 NAV_WAYPOINT (16) in frame 3.
+pub fn write_mission(dir: &Path) -> PathBuf {
+    let mut s = String::from("QGC WPL 110\n");
+    for i in 0..100 {
+        let (cur, frame) = if i == 0 { (1, 0) } else { (0, 3) };
+        s += &format!(
+            "{i}\t{cur}\t{frame}\t16\t0\t0\t0\t0\t{:.7}\t{:.7}\t{:.1}\t1\n",
+            -35.36 + f64::from(i) * 1e-4,
+            149.16 + f64::from(i) * 1e-4,
+            100.0 + f64::from(i)
+        );
+    }
+    let p = dir.join("mission100.txt");
+    std::fs::write(&p, s).unwrap();
+    p
+}
+
+/// The JSON summary a peer script writes when it ends (waits up to 8 s for it).
+pub fn read_summary(p: &Path) -> serde_json::Value {
+    let end = Instant::now() + Duration::from_secs(8);
+    while Instant::now() < end {
+        if let Ok(s) = std::fs::read_to_string(p) {
+            if let Ok(v) = serde_json::from_str(&s) {
+                return v;
+            }
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    panic!("peer wrote no summary at {}", p.display());
 }
