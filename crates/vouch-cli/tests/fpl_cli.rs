@@ -3,17 +3,12 @@
 //! `../shared` get it through vouch-testkit (skipped when absent, failing under
 //! `VOUCH_REQUIRE_SHARED=1`); the demo under `examples/` is always there.
 
+mod common;
+
+use common::{code, vouch};
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-
-fn vouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vouch")).args(args).output().expect("the vouch binary runs")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited, not killed")
-}
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -3,16 +3,11 @@
 //! model checker reports "fixpoint reached", and a jumps file that is not pairs of numbers is
 //! rejected at the word.
 
+mod common;
+
+use common::{code, vouch};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn vouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vouch")).args(args).output().expect("the vouch binary runs")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited, not killed")
-}
+use std::process::Output;
 
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()

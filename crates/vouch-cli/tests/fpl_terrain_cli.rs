@@ -2,12 +2,11 @@
 //! (upstream's own with `--upstream-compat`, a `-v` note otherwise) and the `MAJOR NOTICE`
 //! warning when a tile puts the ground above the plan. Needs `../shared` (vouch-testkit).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn vouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vouch")).args(args).output().expect("the vouch binary runs")
-}
+use common::vouch;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

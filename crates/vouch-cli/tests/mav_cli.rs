@@ -1,20 +1,15 @@
 //! The `vouch mav` commands as a user runs them: exit codes (0 ok, 1 input rejected, 2 usage or
 //! I/O error, 3 violations), located diagnostics, help texts, and output into a closed pipe.
 
+mod common;
+
+use common::{code, vouch};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 use vouch_mav::codec::MessageBuilder;
 use vouch_mav::dialect::Dialect;
-
-fn vouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vouch")).args(args).output().expect("the vouch binary runs")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited, not killed")
-}
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

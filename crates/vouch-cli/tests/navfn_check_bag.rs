@@ -3,26 +3,17 @@
 //! one that cuts through a shelf) and on bags written here by rosbags and mcap-ros2-support;
 //! exit codes 0 / 1 / 2 / 3, `--json`, a PNG per failing plan.
 
+mod common;
+
+use common::{code, vouch_at_root as vouch};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use serde_json::{json, Value};
 use vouch_navfn::maps::{load_ros_map, WorldParams};
 use vouch_navfn::planner::{NavfnPlanner, PlannerParams, Pose};
 
 const BAG: &str = "examples/navfn/warehouse_bag";
-
-fn vouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vouch"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("the vouch binary runs")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited, not killed")
-}
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")

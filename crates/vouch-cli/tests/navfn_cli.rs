@@ -2,24 +2,15 @@
 //! 3 findings), what they print, help for every subcommand, and a closed pipe. Inputs are the
 //! bundled examples under `examples/navfn/` and files written here.
 
+mod common;
+
+use common::{code, vouch_at_root as vouch};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 
 #[path = "navfn_cli/campaign.rs"]
 mod campaign;
-
-fn vouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vouch"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("the vouch binary runs")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited, not killed")
-}
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()

@@ -1,4 +1,4 @@
-//! Shared helpers of the compiler tests: the upstream corpus (`../shared/fpl/corpus`, through
+//! What the compiler tests share: the upstream corpus (`../shared/fpl/corpus`, through
 //! vouch-testkit: skipped when absent, a failure under `VOUCH_REQUIRE_SHARED=1`), the plans
 //! upstream compiles, and the stub runtime.
 #![allow(dead_code)]

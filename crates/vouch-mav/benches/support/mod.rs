@@ -1,4 +1,4 @@
-//! Timing helpers of the benches: wall time, and the time the bench thread was on a CPU (the
+//! Timing for the benches: wall time, and the time the bench thread was on a CPU (the
 //! thread's CPU clock), which other jobs on a shared machine do not inflate.
 
 use std::time::Instant;

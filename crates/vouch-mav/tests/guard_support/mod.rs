@@ -1,4 +1,4 @@
-//! Shared helpers of the guard tests: loopback sockets with bounded waits, and frames produced by
+//! What the guard tests share: loopback sockets with bounded waits, and frames produced by
 //! pymavlink 2.4.50 (MAVLINK20=1) so that the expected bytes do not come from the code under test.
 #![allow(dead_code)]
 
