@@ -145,7 +145,9 @@ fn main() {
     println!("cargo:rerun-if-env-changed=VOUCH_MAV_DEFINITIONS");
     println!("cargo:rerun-if-env-changed=VOUCH_MAV_NO_DEFAULT_DIALECT");
     let (digest, origin) = if env::var("VOUCH_MAV_NO_DEFAULT_DIALECT").is_ok_and(|v| v == "1") {
-        println!("cargo:warning=vouch-mav: built without a default dialect (VOUCH_MAV_NO_DEFAULT_DIALECT=1)");
+        println!(
+            "cargo:warning=vouch-mav: built without a default dialect (VOUCH_MAV_NO_DEFAULT_DIALECT=1)"
+        );
         (String::new(), "none".to_string())
     } else {
         match digest() {

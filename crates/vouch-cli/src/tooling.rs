@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::{Args, CommandFactory};
 use clap_complete::Shell;
 
-use crate::contract::{CmdResult, Ctx, Exit, Failure};
 use crate::Cli;
+use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// Arguments of `vouch completions`.
 #[derive(Args)]

@@ -146,9 +146,9 @@ fn upstream_forms_and_batch() {
     assert!(b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
     let one = std::fs::read_to_string(out.join("plan.h")).expect("plan.h");
     assert_eq!(one, stdout(&h));
-    assert!(std::fs::read_to_string(out.join("second.h"))
-        .expect("second.h")
-        .contains("\"Second\""));
+    assert!(
+        std::fs::read_to_string(out.join("second.h")).expect("second.h").contains("\"Second\"")
+    );
     // Several plans without --out-dir is a usage error.
     assert_eq!(vouch(&["fpl", "compile", p, p], Some(&home)).status.code(), Some(2));
 }

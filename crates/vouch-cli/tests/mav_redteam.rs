@@ -11,7 +11,7 @@ mod mav_redteam_support;
 use std::time::Duration;
 
 use mav_redteam_support::*;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 const KEY: &str = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f";
 

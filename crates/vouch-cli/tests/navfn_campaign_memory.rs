@@ -43,7 +43,7 @@ fn s(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
 }
 
-fn gen(dir: &Path, maps: &str) {
+fn generate_suite(dir: &Path, maps: &str) {
     let _ = std::fs::remove_dir_all(dir);
     let args = ["-q", "navfn", "suite", "gen", "--seed", "17", "--maps", maps, "--cases", "20"];
     let o = Command::new(env!("CARGO_BIN_EXE_vouch"))
@@ -71,7 +71,7 @@ fn campaign_memory_whole_run_against_shards() {
     }
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("navfn_campaign_memory");
     let suite = dir.join("suite");
-    gen(&suite, "560");
+    generate_suite(&suite, "560");
     let out = |name: &str| -> PathBuf { dir.join(name) };
     let run = |extra: &[&str], report: &Path| {
         let mut args = vec!["-q", "navfn", "campaign", s(&suite), "-o", s(report)];
@@ -96,7 +96,7 @@ fn campaign_memory_whole_run_against_shards() {
     let records = std::fs::read_to_string(&lines).expect("lines").lines().count();
 
     let big = dir.join("suite2x");
-    gen(&big, "1120");
+    generate_suite(&big, "1120");
     let big_run = measured(&["-q", "navfn", "campaign", s(&big), "-o", s(&out("big0.json"))]);
     let big_lines = measured(&[
         "-q",

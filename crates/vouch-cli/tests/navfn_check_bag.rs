@@ -9,8 +9,8 @@ use common::{code, vouch_at_root as vouch};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use serde_json::{json, Value};
-use vouch_navfn::maps::{load_ros_map, WorldParams};
+use serde_json::{Value, json};
+use vouch_navfn::maps::{WorldParams, load_ros_map};
 use vouch_navfn::planner::{NavfnPlanner, PlannerParams, Pose};
 
 const BAG: &str = "examples/navfn/warehouse_bag";

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{Criterion, criterion_group, criterion_main};
 
 fn corpus_plans() -> Vec<PathBuf> {
     let Some(dir) = vouch_testkit::shared("fpl/corpus", "INDEX.tsv") else { return Vec::new() };

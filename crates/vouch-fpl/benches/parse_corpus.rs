@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{Criterion, criterion_group, criterion_main};
 
 /// Every file of the corpus index (flight plans and procedures).
 fn corpus_files(dir: &Path) -> Vec<PathBuf> {

@@ -8,8 +8,8 @@ use rayon::prelude::*;
 
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::emit::settings::Settings;
-use crate::emit::{compile_plan, compile_plan_full, EmitOptions};
-use crate::front::{parse_file, parse_file_with, Options};
+use crate::emit::{EmitOptions, compile_plan, compile_plan_full};
+use crate::front::{Options, parse_file, parse_file_with};
 
 /// Parse, the three passes, emission: `vouch fpl compile` without the file writing.
 /// `opts.source_path` is filled with `path` when empty. Errors of the front end and of the back

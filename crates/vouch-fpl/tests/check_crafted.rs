@@ -3,8 +3,8 @@
 use std::path::Path;
 
 use vouch_fpl::model_check::{build, check};
-use vouch_fpl::semantics::oracle::Scripted;
 use vouch_fpl::semantics::Interp;
+use vouch_fpl::semantics::oracle::Scripted;
 
 fn fp_of(name: &str) -> vouch_fpl::passes::fp::Fp {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans").join(name);
@@ -77,7 +77,7 @@ fn operator_jumps_reach_every_block() {
 /// "fixpoint reached".
 #[test]
 fn last_block_properties_see_the_last_block() {
-    use vouch_fpl::model_check::{run, Spec};
+    use vouch_fpl::model_check::{Spec, run};
     let fp = fp_of("pingpong.xml");
     let spec = Spec {
         properties: vec!["never (block(Refuel) && !last_block(Patrol))".into()],
@@ -100,10 +100,12 @@ fn last_block_properties_see_the_last_block() {
 fn property_errors_are_reported() {
     let fp = fp_of("pingpong.xml");
     let g = build(&fp, 10_000, false).expect("builds");
-    assert!(check::check_text(&g, "always block(Nowhere)")
-        .unwrap_err()
-        .message
-        .contains("unknown block"));
+    assert!(
+        check::check_text(&g, "always block(Nowhere)")
+            .unwrap_err()
+            .message
+            .contains("unknown block")
+    );
     assert!(check::check_text(&g, "sometimes block(Land)").is_err());
     assert!(check::check_text(&g, "always (block(Land)").is_err());
 }

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{corpus_dir, corpus_plans};
-use vouch_fpl::emit::{unwrap_instrumented, EmitOptions, Flavor};
+use vouch_fpl::emit::{EmitOptions, Flavor, unwrap_instrumented};
 use vouch_fpl::pipeline::compile_file;
 
 #[test]

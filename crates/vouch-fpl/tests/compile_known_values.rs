@@ -3,7 +3,7 @@
 
 mod common;
 
-use vouch_fpl::emit::{compile_plan, EmitOptions};
+use vouch_fpl::emit::{EmitOptions, compile_plan};
 use vouch_fpl::pipeline::compile_file;
 
 fn header(rel: &str) -> Option<String> {

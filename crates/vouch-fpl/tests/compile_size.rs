@@ -2,7 +2,7 @@
 //! more than 256 blocks (HOME included) or 256 stages in a block (end stage included) must be
 //! rejected with a clear error, and the limits themselves accepted. Plans are generated here.
 
-use vouch_fpl::passes::{compile, CompileErrorKind};
+use vouch_fpl::passes::{CompileErrorKind, compile};
 
 fn plan(blocks: &[String]) -> String {
     format!(

@@ -15,7 +15,7 @@ fn snap(rel: &str) -> Option<String> {
 }
 
 macro_rules! snapshot_test {
-    ($name:ident, $rel:expr) => {
+    ($name:ident, $rel:expr_2021) => {
         #[test]
         fn $name() {
             let Some(h) = snap($rel) else { return };

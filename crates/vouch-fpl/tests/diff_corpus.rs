@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use rayon::prelude::*;
-use vouch_fpl::emit::{compile_plan, EmitOptions, Flavor};
-use vouch_fpl::semantics::oracle::{seeded_sequence, Scripted};
+use vouch_fpl::emit::{EmitOptions, Flavor, compile_plan};
 use vouch_fpl::semantics::Interp;
+use vouch_fpl::semantics::oracle::{Scripted, seeded_sequence};
 
 const STEPS: usize = 200;
 /// (seed, percent of true conditions): rare exceptions, balanced, mostly true.

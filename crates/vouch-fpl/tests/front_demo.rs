@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use vouch_fpl::ast::StageKind;
 use vouch_fpl::diag::ErrorKind;
-use vouch_fpl::front::{parse_file, parse_file_with, Options};
+use vouch_fpl::front::{Options, parse_file, parse_file_with};
 
 fn demo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/fpl/demo.xml")

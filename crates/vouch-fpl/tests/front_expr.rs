@@ -1,7 +1,7 @@
 //! Expression lexing, parsing and upstream-exact printing. Expected texts are the examples of
 //! upstream's behaviour given in shared/fpl/GENERATOR_FACTS.md (section 9, 11, quirk 4).
 
-use vouch_fpl::expr::{format_g, ocaml_float_text, parse, print_upstream, ExprErrorKind};
+use vouch_fpl::expr::{ExprErrorKind, format_g, ocaml_float_text, parse, print_upstream};
 
 fn p(s: &str) -> String {
     print_upstream(&parse(s).unwrap_or_else(|e| panic!("{s:?} should parse: {e}")))

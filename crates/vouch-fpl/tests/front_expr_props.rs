@@ -3,7 +3,7 @@
 //! parenthesises, so grouping survives) and therefore prints identically.
 
 use proptest::prelude::*;
-use vouch_fpl::expr::{parse, print_upstream, BinOp, Expr, UnOp};
+use vouch_fpl::expr::{BinOp, Expr, UnOp, parse, print_upstream};
 
 fn ident() -> impl Strategy<Value = String> {
     "[A-Za-z_][A-Za-z0-9_]{0,6}"

@@ -5,7 +5,7 @@ mod common;
 
 use std::path::Path;
 
-use vouch_fpl::lint::{counts, lint, render, Rule};
+use vouch_fpl::lint::{Rule, counts, lint, render};
 
 fn lint_plan(name: &str) -> (vouch_fpl::ast::FlightPlan, Vec<vouch_fpl::lint::Warning>) {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans").join(name);

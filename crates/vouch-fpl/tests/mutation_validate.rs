@@ -8,8 +8,8 @@
 
 use std::path::Path;
 
-use vouch_fpl::emit::{compile_plan, EmitOptions, Flavor};
-use vouch_fpl::evidence::validate::{validate_header, Counterexample, Options};
+use vouch_fpl::emit::{EmitOptions, Flavor, compile_plan};
+use vouch_fpl::evidence::validate::{Counterexample, Options, validate_header};
 
 fn plan_and_header(name: &str) -> (vouch_fpl::passes::fp::Fp, String) {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans").join(name);

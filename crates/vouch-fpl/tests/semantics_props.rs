@@ -7,8 +7,8 @@ use proptest::prelude::*;
 use vouch_fpl::ast::Resume;
 use vouch_fpl::passes::extend::extend;
 use vouch_fpl::passes::fp::{Code, Fp, FpBlock, FpException, FpStage, NavKind, NavStage, Reset};
-use vouch_fpl::semantics::oracle::Scripted;
 use vouch_fpl::semantics::Interp;
+use vouch_fpl::semantics::oracle::Scripted;
 use vouch_fpl::span::Span;
 
 fn stage(n_blocks: usize) -> impl Strategy<Value = FpStage> {

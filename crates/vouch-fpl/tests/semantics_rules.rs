@@ -3,9 +3,9 @@
 //! forbidden deroutes, and the per-call bound.
 
 use vouch_fpl::passes::lower::lower;
+use vouch_fpl::semantics::Interp;
 use vouch_fpl::semantics::oracle::Scripted;
 use vouch_fpl::semantics::trace::Event;
-use vouch_fpl::semantics::Interp;
 
 fn plan(body: &str, extra: &str) -> vouch_fpl::ast::FlightPlan {
     let xml = format!(

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use vouch_fpl::diag::{Diagnostic, ErrorKind};
 use vouch_fpl::emit::srtm::{Sample, SearchPath};
 use vouch_fpl::emit::terrain::Coverage;
-use vouch_fpl::emit::{compile_plan_full, EmitOptions, Emitted};
+use vouch_fpl::emit::{EmitOptions, Emitted, compile_plan_full};
 use vouch_fpl::front::{parse_file, parse_str};
 
 const GL3_BYTES: usize = 1201 * 1201 * 2;
@@ -71,9 +71,9 @@ fn env_srtm_below_prints_upstreams_major_notice() {
     let alts: Vec<&str> = notices.iter().map(|d| &d.message[41..51]).collect();
     assert_eq!(alts, ["(260<1000)", "(260<1000)", "(260<1000)", "(260<1000)", "(300<1000)"]);
     assert!(notices[1].message.ends_with(" in <waypoint name=\"dummy\" x=\"0.\" y=\"0.\"/>"));
-    assert!(notices[4]
-        .message
-        .ends_with(" in <waypoint Y=\"50\" X=\"-100\" NAME=\"B\" ALT=\"300\"/>"));
+    assert!(
+        notices[4].message.ends_with(" in <waypoint Y=\"50\" X=\"-100\" NAME=\"B\" ALT=\"300\"/>")
+    );
     assert!(notices.iter().all(|d| d.line.is_some()), "located");
     assert_eq!(e.terrain, Coverage::Tile(with_tile.join("data/srtm/N43E001.hgt")));
     // The header does not depend on the terrain.

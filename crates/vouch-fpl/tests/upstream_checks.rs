@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use vouch_fpl::diag::Diagnostic;
 use vouch_fpl::emit::settings::settings;
-use vouch_fpl::emit::{compile_plan_full, EmitOptions};
+use vouch_fpl::emit::{EmitOptions, compile_plan_full};
 use vouch_fpl::front::parse_file;
 
 /// Cases upstream accepts where vouch rejects: upstream's C would be wrong, or the plan would

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 use vouch_fpl::diag::{Diagnostic, ErrorKind};
-use vouch_fpl::emit::{compile_plan_full, EmitOptions};
+use vouch_fpl::emit::{EmitOptions, compile_plan_full};
 use vouch_fpl::front::parse_file;
 
 /// The 8 corpus plans whose reference lies in a negative EGM96 cell (UPSTREAM_CHECKS.md).

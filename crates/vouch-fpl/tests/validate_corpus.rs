@@ -7,7 +7,7 @@ mod common;
 
 use rayon::prelude::*;
 use std::time::Instant;
-use vouch_fpl::evidence::validate::{validate, Options, Report};
+use vouch_fpl::evidence::validate::{Options, Report, validate};
 
 #[test]
 fn every_corpus_plan_validates_to_the_fixpoint() {

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use vouch_fpl::evidence::validate::{validate, Options};
+use vouch_fpl::evidence::validate::{Options, validate};
 
 fn plan(name: &str) -> vouch_fpl::ast::FlightPlan {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/evidence_plans").join(name);
@@ -45,7 +45,7 @@ fn hand_computed_bound() {
 
 #[test]
 fn upstreams_exceeding_time_text_is_a_disagreement_with_the_semantics() {
-    use vouch_fpl::emit::{compile_plan, EmitOptions, Flavor};
+    use vouch_fpl::emit::{EmitOptions, Flavor, compile_plan};
     use vouch_fpl::evidence::validate::validate_header;
     let Some(_cc) = vouch_testkit::c_compiler() else { return };
     let xml = r#"<flight_plan name="t" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">

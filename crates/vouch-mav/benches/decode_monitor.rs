@@ -11,7 +11,7 @@ mod support;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use support::{timed, Figures};
+use support::{Figures, timed};
 use vouch_mav::codec::{MessageView, TlogReader};
 use vouch_mav::dialect::Dialect;
 use vouch_mav::monitor::{Monitor, Verdict};
@@ -52,12 +52,11 @@ fn main() {
         let mut violations = 0;
         let t = timed(|| {
             for rec in TlogReader::new(&data, &dialect) {
-                if let Some(v) = MessageView::of_frame(&rec.frame, &dialect) {
-                    if let Verdict::Violation(_) =
+                if let Some(v) = MessageView::of_frame(&rec.frame, &dialect)
+                    && let Verdict::Violation(_) =
                         m.observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
-                    {
-                        violations += 1;
-                    }
+                {
+                    violations += 1;
                 }
             }
         });

@@ -10,11 +10,11 @@ mod support;
 
 use std::sync::Arc;
 
-use support::{timed, Figures};
+use support::{Figures, timed};
+use vouch_mav::Side;
 use vouch_mav::codec::{Frame, FrameSplitter, MessageBuilder};
 use vouch_mav::dialect::Dialect;
-use vouch_mav::monitor::{Monitor, MAX_SESSIONS_PER_PROTOCOL};
-use vouch_mav::Side;
+use vouch_mav::monitor::{MAX_SESSIONS_PER_PROTOCOL, Monitor};
 
 const UAV: (u8, u8) = (1, 1);
 

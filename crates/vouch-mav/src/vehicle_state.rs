@@ -6,8 +6,8 @@
 //! believes what it is given: the monitor feeds it only frames from the vehicle side, from a
 //! system that side has shown to be a vehicle (the trust boundary, see `monitor`).
 
-use crate::codec::view::{read_chars, read_field};
 use crate::codec::MessageView;
+use crate::codec::view::{read_chars, read_field};
 use crate::dialect::{Dialect, FieldDef, MsgIndex};
 
 /// `MAV_MODE_FLAG_SAFETY_ARMED` bit of HEARTBEAT.base_mode.
@@ -169,47 +169,47 @@ impl VehicleTracker {
     /// Updates state from a message sent by `sysid/compid` (a frame the monitor trusts).
     pub fn observe(&mut self, sysid: u8, compid: u8, msg: &MessageView) {
         let f = &self.fields;
-        if let Some((idx, base_mode, custom_mode, ty, _)) = &f.heartbeat {
-            if msg.index == *idx {
-                // Only the autopilot's own heartbeat describes the vehicle; cameras, gimbals and
-                // GCSs do not.
-                if self.heartbeat_kind(msg, compid) != Some(HeartbeatKind::Autopilot) {
-                    return;
-                }
-                let t = read_field(msg.payload, ty, 0).as_f64() as u64;
-                let armed = read_field(msg.payload, base_mode, 0).as_f64() as u64 & ARMED_FLAG != 0;
-                let mode = read_field(msg.payload, custom_mode, 0).as_f64() as u32;
-                let st = self.state_mut(sysid);
-                st.armed = Some(armed);
-                st.custom_mode = Some(mode);
-                st.mav_type = Some(t as u8);
+        if let Some((idx, base_mode, custom_mode, ty, _)) = &f.heartbeat
+            && msg.index == *idx
+        {
+            // Only the autopilot's own heartbeat describes the vehicle; cameras, gimbals and
+            // GCSs do not.
+            if self.heartbeat_kind(msg, compid) != Some(HeartbeatKind::Autopilot) {
                 return;
             }
+            let t = read_field(msg.payload, ty, 0).as_f64() as u64;
+            let armed = read_field(msg.payload, base_mode, 0).as_f64() as u64 & ARMED_FLAG != 0;
+            let mode = read_field(msg.payload, custom_mode, 0).as_f64() as u32;
+            let st = self.state_mut(sysid);
+            st.armed = Some(armed);
+            st.custom_mode = Some(mode);
+            st.mav_type = Some(t as u8);
+            return;
         }
-        if let Some((idx, rel_alt, vz)) = &f.gpi {
-            if msg.index == *idx {
-                let alt = read_field(msg.payload, rel_alt, 0).as_f64() / 1000.0;
-                let climb = -read_field(msg.payload, vz, 0).as_f64() / 100.0;
-                let st = self.state_mut(sysid);
-                st.alt_m = Some(alt);
-                st.climb_ms = Some(climb);
-                return;
-            }
+        if let Some((idx, rel_alt, vz)) = &f.gpi
+            && msg.index == *idx
+        {
+            let alt = read_field(msg.payload, rel_alt, 0).as_f64() / 1000.0;
+            let climb = -read_field(msg.payload, vz, 0).as_f64() / 100.0;
+            let st = self.state_mut(sysid);
+            st.alt_m = Some(alt);
+            st.climb_ms = Some(climb);
+            return;
         }
-        if let Some((idx, climb)) = &f.vfr {
-            if msg.index == *idx {
-                let c = read_field(msg.payload, climb, 0).as_f64();
-                self.state_mut(sysid).climb_ms = Some(c);
-                return;
-            }
+        if let Some((idx, climb)) = &f.vfr
+            && msg.index == *idx
+        {
+            let c = read_field(msg.payload, climb, 0).as_f64();
+            self.state_mut(sysid).climb_ms = Some(c);
+            return;
         }
-        if let Some((idx, id, value)) = &f.param_value {
-            if msg.index == *idx && !self.params.names.is_empty() {
-                if let Some(slot) = self.params.find(read_chars(msg.payload, id)) {
-                    let v = read_field(msg.payload, value, 0).as_f64();
-                    self.state_mut(sysid).params[slot] = Some(v);
-                }
-            }
+        if let Some((idx, id, value)) = &f.param_value
+            && msg.index == *idx
+            && !self.params.names.is_empty()
+            && let Some(slot) = self.params.find(read_chars(msg.payload, id))
+        {
+            let v = read_field(msg.payload, value, 0).as_f64();
+            self.state_mut(sysid).params[slot] = Some(v);
         }
     }
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use vouch_testkit::Need;
 
-use vouch_mav::dialect::{load_dialect_file, load_dialect_from, Dialect, DialectError};
+use vouch_mav::dialect::{Dialect, DialectError, load_dialect_file, load_dialect_from};
 
 fn defs() -> Option<PathBuf> {
     vouch_testkit::shared("mavlink/definitions", "common.xml")
@@ -74,8 +74,14 @@ fn embedded_default_is_ardupilotmega_with_includes() {
 fn broken_dialects_are_reported_with_their_location() {
     let files = [
         ("root.xml", "<mavlink><include>missing.xml</include></mavlink>"),
-        ("bad.xml", "<mavlink>\n<messages>\n<message id=\"1\" name=\"X\"><field type=\"uint8_t\" name=\"a\"></message>\n</messages></mavlink>"),
-        ("type.xml", "<mavlink><messages><message id=\"1\" name=\"X\"><field type=\"uint7_t\" name=\"a\">a</field></message></messages></mavlink>"),
+        (
+            "bad.xml",
+            "<mavlink>\n<messages>\n<message id=\"1\" name=\"X\"><field type=\"uint8_t\" name=\"a\"></message>\n</messages></mavlink>",
+        ),
+        (
+            "type.xml",
+            "<mavlink><messages><message id=\"1\" name=\"X\"><field type=\"uint7_t\" name=\"a\">a</field></message></messages></mavlink>",
+        ),
     ];
     let read = |name: &str| -> Result<String, DialectError> {
         files.iter().find(|(n, _)| *n == name).map(|(_, t)| t.to_string()).ok_or_else(|| {

@@ -61,11 +61,12 @@ fn case_two_param_set_violating_the_dependency_is_reported() {
     let r = c.check();
     let v = only_violation(&r);
     assert_eq!(v.protocol, "datum_param_dependency");
-    assert!(v
-        .predicate
-        .as_deref()
-        .unwrap_or("")
-        .starts_with("param_value < (PITCH_P_WEIGHT * param.MC_PITCH_P)"));
+    assert!(
+        v.predicate
+            .as_deref()
+            .unwrap_or("")
+            .starts_with("param_value < (PITCH_P_WEIGHT * param.MC_PITCH_P)")
+    );
     assert_eq!(value(v, "param_value"), "200");
     assert_eq!(value(v, "param.MC_PITCH_P"), "6.5");
     assert_eq!(value(v, "param.MC_PITCHRATE_FF"), "0.5");

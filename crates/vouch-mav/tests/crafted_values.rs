@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use vouch_mav::monitor::eval::{call, Val};
+use vouch_mav::monitor::eval::{Val, call};
 use vouch_mav::protocol::ir::Builtin;
 
 /// The C types of the integer conversions: (function, C type, bits, signed).
@@ -71,7 +71,9 @@ fn conversions_agree_with_c() {
     let Some(cc) = vouch_testkit::c_compiler() else { return };
     let dir = std::env::temp_dir().join(format!("vouch-conv-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut c = String::from("#include <stdio.h>\n#include <stdint.h>\n#include <math.h>\nint main(void) {\n  volatile double x;\n");
+    let mut c = String::from(
+        "#include <stdio.h>\n#include <stdint.h>\n#include <math.h>\nint main(void) {\n  volatile double x;\n",
+    );
     let mut lines = 0;
     for (i, x) in INPUTS.iter().enumerate() {
         c += &format!("  x = {};\n", c_literal(*x));

@@ -7,7 +7,7 @@ use std::path::Path;
 use vouch_testkit::Need;
 
 use vouch_mav::dialect::raw::{read_digest, read_xml, write_digest};
-use vouch_mav::dialect::{embedded_origin, load_dialect_file, Dialect, DialectError};
+use vouch_mav::dialect::{Dialect, DialectError, embedded_origin, load_dialect_file};
 
 fn embedded() -> Option<Dialect> {
     match Dialect::default_dialect() {

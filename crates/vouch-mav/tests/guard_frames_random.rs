@@ -2,9 +2,9 @@
 //! stream reassembly is independent of how reads cut the bytes, CRC_EXTRA recovery is exact, and
 //! any single bit flip in a signed frame is rejected.
 
-use vouch_mav::codec::crc::frame_crc;
-use vouch_mav::codec::split::{split_datagram, Piece, StreamSplitter};
 use vouch_mav::codec::FrameRef;
+use vouch_mav::codec::crc::frame_crc;
+use vouch_mav::codec::split::{Piece, StreamSplitter, split_datagram};
 use vouch_mav::signing::{Signer, SigningKey, Verifier};
 
 /// xorshift64*: a tiny deterministic generator, so failures reproduce from the seed.
@@ -69,10 +69,12 @@ fn stream_reassembly_does_not_depend_on_read_boundaries() {
         if r.below(4) == 0 {
             // junk that cannot be mistaken for a frame start
             let n = 1 + r.below(20) as usize;
-            stream.extend((0..n).map(|_| loop {
-                let b = r.byte();
-                if b != 0xFD && b != 0xFE {
-                    break b;
+            stream.extend((0..n).map(|_| {
+                loop {
+                    let b = r.byte();
+                    if b != 0xFD && b != 0xFE {
+                        break b;
+                    }
                 }
             }));
             junk_total += n;
@@ -88,11 +90,7 @@ fn stream_reassembly_does_not_depend_on_read_boundaries() {
         while i < stream.len() {
             let n = (1 + r.below(600) as usize).min(stream.len() - i);
             sp.push(&stream[i..i + n], |b, is_frame| {
-                if is_frame {
-                    got.push(b.to_vec())
-                } else {
-                    junk += b.len()
-                }
+                if is_frame { got.push(b.to_vec()) } else { junk += b.len() }
             });
             i += n;
         }

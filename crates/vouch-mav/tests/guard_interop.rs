@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 
 use guard_support::{read_summary, standard_inspector, tempdir, write_mission};
 use serde_json::Value;
-use vouch_mav::guard::{start, CounterSnapshot, GuardConfig, RunningGuard, SigningConfig};
+use vouch_mav::guard::{CounterSnapshot, GuardConfig, RunningGuard, SigningConfig, start};
 use vouch_mav::signing::SigningKey;
 
 /// The peer venv's interpreter with pymavlink, MAVProxy and MAVSDK (a skip, or a failure under

@@ -8,14 +8,14 @@ use std::net::{TcpListener, TcpStream};
 use std::time::Duration;
 
 use guard_support::*;
+use vouch_mav::Side;
 use vouch_mav::codec::{FrameRef, InvalidKind};
-use vouch_mav::guard::messages::{command_ack, STATUSTEXT_ID};
+use vouch_mav::guard::messages::{STATUSTEXT_ID, command_ack};
 use vouch_mav::guard::{
-    start, Endpoint, GuardConfig, Inspector, PassThrough, SigningConfig, DATAGRAM_LIMIT,
+    DATAGRAM_LIMIT, Endpoint, GuardConfig, Inspector, PassThrough, SigningConfig, start,
 };
 use vouch_mav::monitor::{Verdict, Violation, ViolationKind};
 use vouch_mav::signing::SigningKey;
-use vouch_mav::Side;
 
 const WAIT: Duration = Duration::from_millis(600);
 
@@ -181,7 +181,7 @@ fn signing_keeps_outsiders_out() {
 
 #[test]
 fn signing_admits_fresh_rejects_replay_and_signs_toward_vehicle() {
-    use vouch_mav::signing::{timestamp_now, Signer, Verifier};
+    use vouch_mav::signing::{Signer, Verifier, timestamp_now};
     let vehicle = udp();
     let mut cfg = config("udpin:127.0.0.1:0", &format!("udpout:{}", vehicle.local_addr().unwrap()));
     cfg.signing = Some(SigningConfig {

@@ -13,12 +13,12 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use guard_support::{connected, loopback, standard_inspector};
+use vouch_mav::Side;
 use vouch_mav::codec::{FrameRef, MessageBuilder, StreamSplitter};
 use vouch_mav::dialect::Dialect;
 use vouch_mav::guard::{
-    start, EndpointConfig, Filter, GuardConfig, PassThrough, RoutingOptions, RunningGuard,
+    EndpointConfig, Filter, GuardConfig, PassThrough, RoutingOptions, RunningGuard, start,
 };
-use vouch_mav::Side;
 
 const WAIT: Duration = Duration::from_millis(400);
 

@@ -17,11 +17,11 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use guard_support::{read_summary, standard_inspector, tempdir, write_mission, KillOnDrop};
+use guard_support::{KillOnDrop, read_summary, standard_inspector, tempdir, write_mission};
 use serde_json::Value;
-use vouch_mav::dialect::Dialect;
-use vouch_mav::guard::{start, EndpointConfig, GuardConfig, RoutingOptions};
 use vouch_mav::Side;
+use vouch_mav::dialect::Dialect;
+use vouch_mav::guard::{EndpointConfig, GuardConfig, RoutingOptions, start};
 
 fn python() -> Option<PathBuf> {
     vouch_testkit::python_with(&["pymavlink", "MAVProxy"]).map(PathBuf::from)

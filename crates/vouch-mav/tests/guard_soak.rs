@@ -15,12 +15,12 @@ use std::net::{SocketAddr, UdpSocket};
 use std::time::{Duration, Instant};
 
 use guard_support::{key_0_to_31, loopback, standard_inspector};
-use vouch_mav::codec::encode::frame_v2_truncated;
 use vouch_mav::codec::FrameRef;
 use vouch_mav::codec::FrameSplitter;
+use vouch_mav::codec::encode::frame_v2_truncated;
 use vouch_mav::dialect::Dialect;
-use vouch_mav::guard::{start, GuardConfig, SigningConfig};
-use vouch_mav::signing::{timestamp_now, Signer, SigningKey, Verifier};
+use vouch_mav::guard::{GuardConfig, SigningConfig, start};
+use vouch_mav::signing::{Signer, SigningKey, Verifier, timestamp_now};
 
 fn rss_kb() -> u64 {
     std::fs::read_to_string("/proc/self/status")
@@ -312,8 +312,8 @@ fn soak(target_frames: u64) {
         gcs.send_raw(&junk); // garbage
         let trunc = parachute_release(gcs.next());
         gcs.send_raw(&trunc[..20]); // truncated
-                                    // unknown message ids: a lone frame, and a stray header claiming the validly signed
-                                    // heartbeat behind it (which must still arrive)
+        // unknown message ids: a lone frame, and a stray header claiming the validly signed
+        // heartbeat behind it (which must still arrive)
         let s = gcs.next();
         gcs.send_raw(&encode_v2(42_000, 0x5A, &[1, 2, 3], 255, 190, s));
         let s = gcs.next();

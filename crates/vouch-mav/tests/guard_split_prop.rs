@@ -5,9 +5,9 @@
 //! their byte ranges, and report every other byte as garbage, in order and without overlap.
 
 use proptest::prelude::*;
-use vouch_mav::codec::crc::frame_crc;
-use vouch_mav::codec::split::{split_datagram_resync, Piece};
 use vouch_mav::codec::FrameRef;
+use vouch_mav::codec::crc::frame_crc;
+use vouch_mav::codec::split::{Piece, split_datagram_resync};
 
 /// One CRC_EXTRA for all generated frames (the splitter does not care which).
 const EXTRA: u8 = 0x5A;

@@ -2,9 +2,9 @@
 
 mod common;
 use common::*;
+use vouch_mav::Side;
 use vouch_mav::codec::{FrameSplitter, MessageBuilder, MessageView};
 use vouch_mav::monitor::{Monitor, Verdict};
-use vouch_mav::Side;
 
 fn frame(c: &Craft, from: (u8, u8), name: &str, fields: &[(&str, f64)]) -> Vec<u8> {
     let mut b = MessageBuilder::new(&c.d, name).unwrap();
@@ -112,9 +112,9 @@ fn a_flood_of_opening_messages_keeps_a_bounded_number_of_sessions() {
     let d = c.d.clone();
     for rec in vouch_mav::TlogReader::new(&c.bytes, &d) {
         let v = MessageView::of_frame(&rec.frame, &d).unwrap();
-        assert!(!m
-            .observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us)
-            .is_violation());
+        assert!(
+            !m.observe(&v, rec.frame.sysid, rec.frame.compid, None, rec.time_us).is_violation()
+        );
     }
     let s = m.summary();
     assert_eq!(s.open_sessions as usize, vouch_mav::monitor::MAX_SESSIONS_PER_PROTOCOL);

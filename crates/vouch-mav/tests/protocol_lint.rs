@@ -6,7 +6,7 @@
 
 mod common;
 use common::dialect;
-use vouch_mav::protocol::{lint, stdlib, ErrorKind, ProtocolError};
+use vouch_mav::protocol::{ErrorKind, ProtocolError, lint, stdlib};
 
 fn lint_src(src: &str) -> Result<(), ProtocolError> {
     let d = dialect().expect("dialect");
@@ -155,12 +155,14 @@ fn overrides_must_name_declared_constants() {
     let e = r.expect_err("unknown constant");
     assert!(e.message.contains("no constant `NOPE`"));
     assert_eq!(e.kind, ErrorKind::Override);
-    assert!(vouch_mav::protocol::load_protocols(
-        &d,
-        &stdlib::sources(),
-        &[("CHUTE_MAX_CLIMB".into(), 1.0)]
-    )
-    .is_ok());
+    assert!(
+        vouch_mav::protocol::load_protocols(
+            &d,
+            &stdlib::sources(),
+            &[("CHUTE_MAX_CLIMB".into(), 1.0)]
+        )
+        .is_ok()
+    );
 }
 
 /// Each class of mistake has its own kind and diagnostic code, so tools can tell them apart.

@@ -4,7 +4,7 @@
 
 mod common;
 use common::dialect;
-use serde_json::{json, Value as J};
+use serde_json::{Value as J, json};
 use std::io::Write;
 use std::process::{Command, Stdio};
 use vouch_mav::codec::{FrameSplitter, MessageBuilder, MessageView, Value};
@@ -116,11 +116,7 @@ fn vouch_encode(d: &vouch_mav::Dialect, name: &str, fields: &J, seq: u8, v: u8) 
             _ => panic!("unsupported"),
         }
     }
-    if v == 1 {
-        b.frame_v1(seq, 255, 190).expect("v1")
-    } else {
-        b.frame_v2(seq, 255, 190)
-    }
+    if v == 1 { b.frame_v1(seq, 255, 190).expect("v1") } else { b.frame_v2(seq, 255, 190) }
 }
 
 #[test]

@@ -9,8 +9,8 @@
 
 use proptest::prelude::*;
 use vouch_mav::codec::encode::frame_v2_truncated;
-use vouch_mav::codec::split::{split_datagram_resync, Piece};
-use vouch_mav::codec::{parse_frame, FrameRef, Parse};
+use vouch_mav::codec::split::{Piece, split_datagram_resync};
+use vouch_mav::codec::{FrameRef, Parse, parse_frame};
 use vouch_mav::dialect::Dialect;
 use vouch_mav::guard::{Inspector, MonitorInspector};
 use vouch_mav::monitor::{Monitor, MonitorSpec, Verdict};
@@ -49,11 +49,7 @@ fn good_frame(d: &Dialect, kind: u8, n: u8, v1: bool) -> Vec<u8> {
             .and_then(|b| b.set("param_index", f64::from(n))),
     }
     .expect("message fields");
-    if v1 {
-        b.frame_v1(n, 255, 190).expect("v1")
-    } else {
-        b.frame_v2(n, 255, 190)
-    }
+    if v1 { b.frame_v1(n, 255, 190).expect("v1") } else { b.frame_v2(n, 255, 190) }
 }
 
 #[derive(Clone, Debug)]

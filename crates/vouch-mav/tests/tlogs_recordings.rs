@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use vouch_mav::dialect::load_dialect_file;
-use vouch_mav::monitor::offline::{check_tlog, RecordingReport};
+use vouch_mav::monitor::offline::{RecordingReport, check_tlog};
 use vouch_mav::monitor::{Monitor, ViolationKind};
 
 fn shared() -> Option<PathBuf> {

@@ -3,13 +3,13 @@
 //! blocks whose `SAFETY:` comments state what the caller promises (the header says the same).
 
 use std::cell::RefCell;
-use std::ffi::{c_char, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ffi::{CStr, CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use vouch_navfn::maps::WorldParams;
 use vouch_navfn::planner::PlannerParams;
 
-use crate::planner::{from_pose, plan_status, to_pose, Failure, VouchNavfnPlanner};
+use crate::planner::{Failure, VouchNavfnPlanner, from_pose, plan_status, to_pose};
 use crate::{
     VouchNavfnCostKind, VouchNavfnParams, VouchNavfnPlanStatus, VouchNavfnPose, VouchNavfnStatus,
 };
@@ -52,13 +52,13 @@ fn null(what: &str) -> Failure {
 
 /// The message of the last failed call on this thread ("" after a success). The pointer stays
 /// valid until the next call on this thread.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub extern "C" fn vouch_navfn_last_error() -> *const c_char {
     LAST_ERROR.with(|e| e.borrow().as_ptr())
 }
 
 /// nav2's default planner parameters.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub extern "C" fn vouch_navfn_default_params() -> VouchNavfnParams {
     PlannerParams::default().into()
 }
@@ -71,7 +71,7 @@ pub extern "C" fn vouch_navfn_default_params() -> VouchNavfnParams {
 /// # Safety
 /// `costs` points to `width`·`height` readable bytes; `params` is NULL or points to a
 /// parameter struct; `out` points to writable storage for a pointer.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_planner_new(
     costs: *const u8,
     width: usize,
@@ -113,7 +113,7 @@ pub unsafe extern "C" fn vouch_navfn_planner_new(
 /// # Safety
 /// `path` is a NUL-terminated string; `params` is NULL or points to a parameter struct; `out`
 /// points to writable storage for a pointer.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_planner_from_map(
     path: *const c_char,
     params: *const VouchNavfnParams,
@@ -143,7 +143,7 @@ pub unsafe extern "C" fn vouch_navfn_planner_from_map(
 /// # Safety
 /// `planner` is NULL or a pointer returned by a `vouch_navfn_planner_*` constructor, not yet
 /// freed.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_planner_free(planner: *mut VouchNavfnPlanner) {
     if !planner.is_null() {
         // SAFETY: the pointer came from `Box::into_raw` and is freed once (caller's promise).
@@ -162,7 +162,7 @@ fn handle<'a>(p: *mut VouchNavfnPlanner) -> Result<&'a mut VouchNavfnPlanner, Fa
 ///
 /// # Safety
 /// `planner` is a live planner; `width` and `height` point to writable `size_t`s.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_size(
     planner: *mut VouchNavfnPlanner,
     width: *mut usize,
@@ -182,7 +182,7 @@ pub unsafe extern "C" fn vouch_navfn_size(
 ///
 /// # Safety
 /// `planner` is a live planner; `costs` points to `len` readable bytes.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_set_costmap(
     planner: *mut VouchNavfnPlanner,
     costs: *const u8,
@@ -207,7 +207,7 @@ pub unsafe extern "C" fn vouch_navfn_set_costmap(
 /// # Safety
 /// `planner` is a live planner; `start`, `goal` point to poses; `pose_count` is NULL or
 /// writable.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_plan_world(
     planner: *mut VouchNavfnPlanner,
     start: *const VouchNavfnPose,
@@ -229,7 +229,7 @@ pub unsafe extern "C" fn vouch_navfn_plan_world(
 ///
 /// # Safety
 /// `planner` is a live planner; `pose_count` is NULL or writable.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_plan_cells(
     planner: *mut VouchNavfnPlanner,
     start_x: u32,
@@ -262,7 +262,7 @@ fn finish_plan(p: &VouchNavfnPlanner, pose_count: *mut usize) -> Result<(), Fail
 ///
 /// # Safety
 /// `planner` is a live planner; `status` points to writable storage.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_plan_status(
     planner: *mut VouchNavfnPlanner,
     status: *mut VouchNavfnPlanStatus,
@@ -310,7 +310,7 @@ fn copy_out<T: Copy>(
 /// # Safety
 /// `planner` is a live planner; `out` points to `capacity` writable poses (or is NULL when
 /// only the count is wanted); `count` is NULL or writable.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_get_poses(
     planner: *mut VouchNavfnPlanner,
     out: *mut VouchNavfnPose,
@@ -331,7 +331,7 @@ pub unsafe extern "C" fn vouch_navfn_get_poses(
 /// # Safety
 /// `planner` is a live planner; `out` points to `2·capacity` writable floats (or is NULL when
 /// only the count is wanted); `count` is NULL or writable.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_get_navfn_path(
     planner: *mut VouchNavfnPlanner,
     out: *mut f32,
@@ -349,7 +349,7 @@ pub unsafe extern "C" fn vouch_navfn_get_navfn_path(
 /// # Safety
 /// `planner` is a live planner; `out` points to `capacity` writable floats (or is NULL when
 /// only the count is wanted); `count` is NULL or writable.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_get_potential(
     planner: *mut VouchNavfnPlanner,
     out: *mut f32,
@@ -371,7 +371,7 @@ pub unsafe extern "C" fn vouch_navfn_get_potential(
 ///
 /// # Safety
 /// `planner` is a live planner; `violations` points to a writable `size_t`.
-#[no_mangle]
+#[unsafe(no_mangle)]
 pub unsafe extern "C" fn vouch_navfn_check(
     planner: *mut VouchNavfnPlanner,
     violations: *mut usize,

@@ -1,12 +1,12 @@
 //! The planner behind a handle: a costmap it owns, the world frame, the parameters and the
 //! results of the last plan. Safe Rust; the C entry points in `ffi.rs` call into it.
 
-use vouch_navfn::checks::{check_plan, CheckReport, PlanView};
+use vouch_navfn::NoObserver;
+use vouch_navfn::checks::{CheckReport, PlanView, check_plan};
 use vouch_navfn::core::{Algo, Cell};
-use vouch_navfn::maps::{load_ros_map, WorldParams};
+use vouch_navfn::maps::{WorldParams, load_ros_map};
 use vouch_navfn::planner::{End, NavfnPlanner, PlanStatus, PlannerParams, Pose};
 use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};
-use vouch_navfn::NoObserver;
 
 use crate::{VouchNavfnCostKind, VouchNavfnParams, VouchNavfnPlanStatus, VouchNavfnPose};
 

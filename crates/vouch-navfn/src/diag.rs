@@ -11,10 +11,10 @@ pub fn field_span(text: &str, line: usize, field: &str) -> SourceSpan {
     for (i, l) in text.split_inclusive('\n').enumerate() {
         if i + 1 == line {
             let body = l.trim_end_matches(['\n', '\r']);
-            if !field.is_empty() {
-                if let Some(at) = body.find(field) {
-                    return (offset + at, field.len()).into();
-                }
+            if !field.is_empty()
+                && let Some(at) = body.find(field)
+            {
+                return (offset + at, field.len()).into();
             }
             let start = body.len() - body.trim_start().len();
             return (offset + start, body.trim().len()).into();

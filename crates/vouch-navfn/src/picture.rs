@@ -4,8 +4,8 @@
 
 use std::io::Write;
 
-use crate::checks::{reached, PlanView};
-use crate::core::{Cell, NavFn, COST_OBS, POT_HIGH};
+use crate::checks::{PlanView, reached};
+use crate::core::{COST_OBS, Cell, NavFn, POT_HIGH};
 
 /// What a picture shows: one plan (its start marked in green, its goal in blue) and the
 /// orientation.

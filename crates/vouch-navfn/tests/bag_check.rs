@@ -9,9 +9,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use serde_json::{json, Value};
-use vouch_navfn::bagcheck::{check_bag_file, BagCheckOptions, PathViolation, Replay};
-use vouch_navfn::maps::{load_ros_map, RosMap, WorldParams};
+use serde_json::{Value, json};
+use vouch_navfn::bagcheck::{BagCheckOptions, PathViolation, Replay, check_bag_file};
+use vouch_navfn::maps::{RosMap, WorldParams, load_ros_map};
 use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, Pose};
 
 /// How a plan was corrupted.

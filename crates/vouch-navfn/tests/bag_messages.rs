@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 
 use miette::Diagnostic;
 use vouch_navfn::bagcheck::{
-    check_bag, check_bag_file, BagCheckOptions, CostmapKind, PathViolation, ReplayMode,
+    BagCheckOptions, CostmapKind, PathViolation, ReplayMode, check_bag, check_bag_file,
 };
-use vouch_navfn::rosbag::msgs::{decode, NavMessage};
-use vouch_navfn::rosbag::{read_bag, Bag, BagError, BagMessage};
+use vouch_navfn::rosbag::msgs::{NavMessage, decode};
+use vouch_navfn::rosbag::{Bag, BagError, BagMessage, read_bag};
 
 /// A little-endian CDR writer: alignment relative to the body, as XCDR1 requires.
 struct Cdr(Vec<u8>);
@@ -256,19 +256,25 @@ fn sqlite_bags_with_wrong_tables_or_formats_are_rejected() {
                   CREATE TABLE messages (id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);";
     let yaml_format = make(
         "yaml-format.db3",
-        &format!("{layout} INSERT INTO topics VALUES (1, '/plan', 'nav_msgs/msg/Path', 'yaml', ''); INSERT INTO messages VALUES (1, 1, 5, x'00');"),
+        &format!(
+            "{layout} INSERT INTO topics VALUES (1, '/plan', 'nav_msgs/msg/Path', 'yaml', ''); INSERT INTO messages VALUES (1, 1, 5, x'00');"
+        ),
     );
     let e = read_bag(&yaml_format, &topics()).expect_err("yaml");
     assert!(e.to_string().contains("serialization format `yaml`"), "{e}");
     let negative = make(
         "negative.db3",
-        &format!("{layout} INSERT INTO topics VALUES (1, '/plan', 'nav_msgs/msg/Path', 'cdr', ''); INSERT INTO messages VALUES (1, 1, -5, x'00');"),
+        &format!(
+            "{layout} INSERT INTO topics VALUES (1, '/plan', 'nav_msgs/msg/Path', 'cdr', ''); INSERT INTO messages VALUES (1, 1, -5, x'00');"
+        ),
     );
     let e = read_bag(&negative, &topics()).expect_err("negative time");
     assert!(e.to_string().contains("negative timestamp -5"), "{e}");
     let text_data = make(
         "text-data.db3",
-        &format!("{layout} INSERT INTO topics VALUES (1, '/plan', 'nav_msgs/msg/Path', 'cdr', ''); INSERT INTO messages VALUES (1, 1, 5, 'not a blob');"),
+        &format!(
+            "{layout} INSERT INTO topics VALUES (1, '/plan', 'nav_msgs/msg/Path', 'cdr', ''); INSERT INTO messages VALUES (1, 1, 5, 'not a blob');"
+        ),
     );
     let report = check_bag_file(&text_data, &BagCheckOptions::default());
     assert!(report.is_err(), "a text cell is no CDR message");

@@ -7,7 +7,7 @@ use vouch_navfn::campaign::names::Outcome;
 use vouch_navfn::campaign::optimal::{grid_optimum, path_cost};
 use vouch_navfn::campaign::pictures::counterexample_png;
 use vouch_navfn::campaign::report::CaseRecord;
-use vouch_navfn::campaign::runner::{prepare, run_campaign, to_pairs, CampaignOptions};
+use vouch_navfn::campaign::runner::{CampaignOptions, prepare, run_campaign, to_pairs};
 use vouch_navfn::campaign::suite_io::read_test_file;
 use vouch_navfn::suite::{CaseRunner, RunMode};
 
@@ -48,7 +48,10 @@ fn circus_counterexample_is_reproduced() {
     let navfn_cells: Vec<(u32, u32)> =
         path.iter().map(|p| (p.0.round() as u32, p.1.round() as u32)).collect();
     let cell_excess = cells(&navfn_cells) as i64 - cells(&opt.cells) as i64;
-    println!("circus_12L (3,12)->(2,1): NavFn {navfn_cost:.1}, optimum {:.1}, excess {excess:.1} (model); cell-sum excess {cell_excess}", opt.cost);
+    println!(
+        "circus_12L (3,12)->(2,1): NavFn {navfn_cost:.1}, optimum {:.1}, excess {excess:.1} (model); cell-sum excess {cell_excess}",
+        opt.cost
+    );
     assert!(excess > 600.0 && excess < 900.0, "excess {excess}");
     assert!((600..=800).contains(&cell_excess), "cell-sum excess {cell_excess} vs the paper's 700");
 

@@ -5,10 +5,10 @@
 
 use std::path::PathBuf;
 
-use vouch_navfn::campaign::diff::{describe, diff_file, diff_suite, DiffOptions};
+use vouch_navfn::campaign::diff::{DiffOptions, describe, diff_file, diff_suite};
 use vouch_navfn::campaign::exec::run_case;
 use vouch_navfn::campaign::grid::SuiteMap;
-use vouch_navfn::campaign::oracle::{emit_file, parse_answers, EmitOptions};
+use vouch_navfn::campaign::oracle::{EmitOptions, emit_file, parse_answers};
 use vouch_navfn::campaign::suite_io::read_test_file;
 use vouch_navfn::campaign::trace::TraceDetail;
 use vouch_navfn::maps::read_suite_file;

@@ -3,7 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use vouch_navfn::campaign::gen::{generate, write_generated, GenOptions, RosImport, CATEGORIES};
+use vouch_navfn::campaign::generate::{
+    CATEGORIES, GenOptions, RosImport, generate, write_generated,
+};
 use vouch_navfn::campaign::grid::OBSTACLE;
 use vouch_navfn::campaign::identity::MANIFEST;
 use vouch_navfn::campaign::names::FindingKind;
@@ -154,7 +156,7 @@ fn ros_import_reproduces_the_paper_ros_maps() {
 
 #[test]
 fn generated_circus_maps_reproduce_the_lane_counterexample() {
-    use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+    use vouch_navfn::campaign::runner::{CampaignOptions, run_campaign};
     let d = tmp("circus");
     let maps = generate(&GenOptions {
         categories: vec!["circus".into()],
@@ -174,10 +176,9 @@ fn generated_circus_maps_reproduce_the_lane_counterexample() {
         "no circus counterexample in {} paths",
         c.optimality.compared
     );
-    assert!(report
-        .findings
-        .iter()
-        .any(|f| f.kind == FindingKind::Suboptimal && f.category == "circus"));
+    assert!(
+        report.findings.iter().any(|f| f.kind == FindingKind::Suboptimal && f.category == "circus")
+    );
     let _ = std::fs::remove_dir_all(d);
 }
 

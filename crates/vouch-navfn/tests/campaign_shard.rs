@@ -4,10 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use vouch_navfn::campaign::gen::{generate, write_generated, GenOptions, RosImport};
+use vouch_navfn::campaign::generate::{GenOptions, RosImport, generate, write_generated};
 use vouch_navfn::campaign::merge::{Completeness, MergeError};
 use vouch_navfn::campaign::report::Report;
-use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+use vouch_navfn::campaign::runner::{CampaignOptions, run_campaign};
 use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::campaign::suite_io::write_suite;
 use vouch_navfn::campaign::summary::summary_table;

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+use vouch_navfn::campaign::runner::{CampaignOptions, run_campaign};
 use vouch_navfn::campaign::summary::summary_table;
 
 fn shared() -> Option<PathBuf> {

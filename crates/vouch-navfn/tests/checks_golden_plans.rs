@@ -3,7 +3,7 @@
 
 mod common;
 
-use vouch_navfn::checks::{check_plan, PlanView, Violation};
+use vouch_navfn::checks::{PlanView, Violation, check_plan};
 use vouch_navfn::core::NoObserver;
 use vouch_navfn::maps::{find_test_files, read_suite_file};
 use vouch_navfn::suite::{CaseRunner, CostInput, RunMode};

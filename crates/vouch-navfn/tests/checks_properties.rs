@@ -2,8 +2,8 @@
 //! corrupting a plan (path or potential) is caught by the checks.
 
 use proptest::prelude::*;
-use vouch_navfn::checks::{check_plan, PlanView, Violation};
-use vouch_navfn::core::{Algo, Cell, NoObserver, COST_OBS, POT_HIGH};
+use vouch_navfn::checks::{PlanView, Violation, check_plan};
+use vouch_navfn::core::{Algo, COST_OBS, Cell, NoObserver, POT_HIGH};
 use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};
 
 /// A random map in NavFn costs (border 254, interior 50..=253 or 254) with two open cells.
@@ -161,10 +161,9 @@ fn end_point_and_unreached_corruptions_are_caught() {
         }
     }
     let r = check_plan(&PlanView { potential: &pot, ..PlanView::of(nav) });
-    assert!(r
-        .violations
-        .iter()
-        .any(|v| matches!(v, Violation::PoseOnUnreachedCell { index: 1, .. })));
+    assert!(
+        r.violations.iter().any(|v| matches!(v, Violation::PoseOnUnreachedCell { index: 1, .. }))
+    );
 }
 
 /// A map of raw NavFn costs.

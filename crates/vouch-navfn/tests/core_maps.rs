@@ -5,7 +5,7 @@ mod common;
 
 use std::path::Path;
 
-use vouch_navfn::maps::{load_ros_map, parse_map_yaml, parse_suite_text, pgm::parse_pgm, MapError};
+use vouch_navfn::maps::{MapError, load_ros_map, parse_map_yaml, parse_suite_text, pgm::parse_pgm};
 
 #[test]
 fn nav2_400x400_map_equals_suite_ros_costmap() {
@@ -93,14 +93,18 @@ fn bad_yaml_values_are_rejected_with_line_numbers() {
     };
     assert!(yaml_err(&with("resolution", "0")).contains("m.yaml:2: resolution 0 must be"));
     assert!(yaml_err(&with("resolution", ".inf")).contains("m.yaml:2: resolution inf"));
-    assert!(yaml_err(&with("origin", "[1, 2]")).contains("m.yaml:3: origin should have 3 elements"));
+    assert!(
+        yaml_err(&with("origin", "[1, 2]")).contains("m.yaml:3: origin should have 3 elements")
+    );
     assert!(yaml_err(&with("origin", "[1, x, 0]")).contains("m.yaml:3: origin element `x`"));
     assert!(yaml_err(&with("negate", "2.5")).contains("m.yaml:4: negate must be an integer"));
     assert!(
         yaml_err(&with("free_thresh", "low")).contains("m.yaml:6: free_thresh must be a number")
     );
-    assert!(yaml_err(&format!("image: m.pgm\n{REST}mode: fancy\n"))
-        .contains("m.yaml:7: mode must be trinary, scale or raw"));
+    assert!(
+        yaml_err(&format!("image: m.pgm\n{REST}mode: fancy\n"))
+            .contains("m.yaml:7: mode must be trinary, scale or raw")
+    );
     assert!(yaml_err(REST).contains("m.yaml:1: missing `image:`"));
     assert!(yaml_err(&format!("image: ''\n{REST}")).contains("the image tag is empty"));
     assert!(yaml_err("image: [m.pgm\n").contains("m.yaml:"));
@@ -149,13 +153,19 @@ fn suite_err(text: &str, map: Vec<u8>) -> String {
 
 #[test]
 fn bad_suite_files_are_rejected() {
-    assert!(suite_err("3 3\nmap.bin\n\n1 1 1 1\n", vec![50; 8])
-        .contains("map has 8 bytes, but t/test.txt declares 3x3 = 9"));
+    assert!(
+        suite_err("3 3\nmap.bin\n\n1 1 1 1\n", vec![50; 8])
+            .contains("map has 8 bytes, but t/test.txt declares 3x3 = 9")
+    );
     assert!(suite_err("3 x\nmap.bin\n", vec![]).contains("t/test.txt:1: map size `x`"));
-    assert!(suite_err("3 3\nmap.bin\n\n1 1 1\n", vec![50; 9])
-        .contains("t/test.txt:4: expected `x0 y0 x1 y1`"));
-    assert!(suite_err("3 3\nmap.bin\n\n1 1 nan 1\n", vec![50; 9])
-        .contains("t/test.txt:4: `nan` is not a finite number"));
+    assert!(
+        suite_err("3 3\nmap.bin\n\n1 1 1\n", vec![50; 9])
+            .contains("t/test.txt:4: expected `x0 y0 x1 y1`")
+    );
+    assert!(
+        suite_err("3 3\nmap.bin\n\n1 1 nan 1\n", vec![50; 9])
+            .contains("t/test.txt:4: `nan` is not a finite number")
+    );
     assert!(suite_err("", vec![]).contains("empty test file"));
     let ok =
         parse_suite_text(Path::new("t/test.txt"), "3 3\nmap.bin\n\n-1 comment\n1 1 1 2\n", |_| {
@@ -183,7 +193,9 @@ fn load_pair(tag: &str, yaml: &str, image_name: &str, image: &[u8]) -> vouch_nav
 }
 
 fn meta(mode: &str, negate: u8, occ: f64, free: f64) -> String {
-    format!("image: i.pgm\nresolution: 1\norigin: [0, 0, 0]\nnegate: {negate}\nmode: {mode}\noccupied_thresh: {occ}\nfree_thresh: {free}\n")
+    format!(
+        "image: i.pgm\nresolution: 1\norigin: [0, 0, 0]\nnegate: {negate}\nmode: {mode}\noccupied_thresh: {occ}\nfree_thresh: {free}\n"
+    )
 }
 
 #[test]

@@ -1,8 +1,8 @@
 //! The plan picture: decodes as a PNG of the expected size, obstacles black, the path red,
 //! start green and goal blue where the cells are.
 
-use vouch_navfn::core::{Cell, NoObserver, COST_OBS};
-use vouch_navfn::picture::{cell_scale, render, write_png, PictureInput};
+use vouch_navfn::core::{COST_OBS, Cell, NoObserver};
+use vouch_navfn::picture::{PictureInput, cell_scale, render, write_png};
 use vouch_navfn::suite::CaseRunner;
 
 #[test]
@@ -35,7 +35,7 @@ fn picture_shows_map_path_and_end_points() {
     assert!(red > 10 * s, "path drawn ({red} red pixels)");
     let mut bytes = Vec::new();
     write_png(&mut bytes, &img).unwrap();
-    let decoder = png::Decoder::new(bytes.as_slice());
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes.as_slice()));
     let reader = decoder.read_info().unwrap();
     assert_eq!(reader.info().width as usize, img.width);
 }

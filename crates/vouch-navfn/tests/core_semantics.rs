@@ -4,8 +4,8 @@
 mod common;
 
 use vouch_navfn::core::{
-    Algo, Cell, CoreError, CycleView, NavFn, NoObserver, PathStartView, PropagationEnd,
-    PropagationEndView, SearchObserver, COST_OBS, POT_HIGH,
+    Algo, COST_OBS, Cell, CoreError, CycleView, NavFn, NoObserver, POT_HIGH, PathStartView,
+    PropagationEnd, PropagationEndView, SearchObserver,
 };
 use vouch_navfn::planner::{End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, WorldParams};
 use vouch_navfn::suite::{CaseRunner, CostInput, MapRef};

@@ -7,7 +7,7 @@ mod common;
 use vouch_navfn::core::Algo;
 use vouch_navfn::maps::{read_suite_file, read_world_params};
 use vouch_navfn::planner::WorldParams;
-use vouch_navfn::suite::{run_file, CostInput, SuiteMode, SuiteOptions};
+use vouch_navfn::suite::{CostInput, SuiteMode, SuiteOptions, run_file};
 
 const MAPS: [(&str, usize, usize); 5] = [
     // (map, navfn cases, planner cases) as listed in golden/README.md

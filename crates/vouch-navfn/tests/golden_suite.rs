@@ -6,7 +6,7 @@ mod common;
 use vouch_navfn::core::Algo;
 use vouch_navfn::maps::{find_test_files, read_suite_file};
 use vouch_navfn::planner::WorldParams;
-use vouch_navfn::suite::{run_file, CostInput, SuiteMode, SuiteOptions};
+use vouch_navfn::suite::{CostInput, SuiteMode, SuiteOptions, run_file};
 
 fn check_mode(mode: SuiteMode, algo: Algo, golden_name: &str) {
     let Some(shared) = common::shared_navfn() else { return };

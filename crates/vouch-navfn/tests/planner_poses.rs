@@ -2,7 +2,7 @@
 //! height) on the last pose, the final approach orientation on request, the one-pose answer to
 //! a start equal to the goal, and `max_cycles_factor` as the path iteration limit.
 
-use vouch_navfn::planner::{NavfnPlanner, PlanStatus, PlannerParams, Pose, WorldParams, IDENTITY};
+use vouch_navfn::planner::{IDENTITY, NavfnPlanner, PlanStatus, PlannerParams, Pose, WorldParams};
 
 /// A 20×20 free map with a wall, 0.1 m cells.
 fn map() -> Vec<u8> {

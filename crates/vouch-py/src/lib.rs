@@ -13,22 +13,18 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use vouch_navfn::bagcheck::{check_bag_file, BagCheckOptions, ReplayMode};
-use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions};
+use vouch_navfn::bagcheck::{BagCheckOptions, ReplayMode, check_bag_file};
+use vouch_navfn::campaign::runner::{CampaignOptions, run_campaign};
 use vouch_navfn::campaign::shard::{Shard, ShardBy};
-use vouch_navfn::checks::{check_plan, PlanView};
+use vouch_navfn::checks::{PlanView, check_plan};
 use vouch_navfn::core::{Algo, Cell};
-use vouch_navfn::maps::{load_ros_map, read_suite_file, MapError, WorldParams};
+use vouch_navfn::maps::{MapError, WorldParams, load_ros_map, read_suite_file};
 use vouch_navfn::planner::{End, NavfnPlanner, PlannerParams, Pose};
 use vouch_navfn::suite::run_file;
 use vouch_navfn::suite::{CostInput, RunMode, SuiteMode, SuiteOptions};
 
 fn map_error(e: MapError) -> PyErr {
-    if e.is_io() {
-        PyOSError::new_err(e.to_string())
-    } else {
-        PyValueError::new_err(e.located())
-    }
+    if e.is_io() { PyOSError::new_err(e.to_string()) } else { PyValueError::new_err(e.located()) }
 }
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -200,18 +196,13 @@ fn check_bag<'py>(
         "report" => ReplayMode::Report,
         "off" => ReplayMode::Off,
         other => {
-            return Err(value_error(format!("replay must be check, report or off, not {other}")))
+            return Err(value_error(format!("replay must be check, report or off, not {other}")));
         }
     };
     let mut opts = BagCheckOptions { replay, ..BagCheckOptions::default() };
     opts.params = PlannerParams { tolerance, use_astar, allow_unknown, ..PlannerParams::default() };
-    let report = check_bag_file(&path, &opts).map_err(|e| {
-        if e.is_io() {
-            PyOSError::new_err(e.to_string())
-        } else {
-            value_error(e)
-        }
-    })?;
+    let report = check_bag_file(&path, &opts)
+        .map_err(|e| if e.is_io() { PyOSError::new_err(e.to_string()) } else { value_error(e) })?;
     json(py, &report)
 }
 
@@ -240,7 +231,7 @@ fn run_suite(
         "navfn" => SuiteMode::Navfn,
         "planner" => SuiteMode::Planner,
         other => {
-            return Err(value_error(format!("mode must be paper, navfn or planner, not {other}")))
+            return Err(value_error(format!("mode must be paper, navfn or planner, not {other}")));
         }
     };
     let file = read_suite_file(&test_file).map_err(map_error)?;
@@ -288,13 +279,8 @@ fn run_campaign_shard<'py>(
         optimality,
         ..CampaignOptions::default()
     };
-    let report = run_campaign(&suite_dir, &opts, &(), None).map_err(|e| {
-        if e.is_io() {
-            PyOSError::new_err(e.to_string())
-        } else {
-            value_error(e)
-        }
-    })?;
+    let report = run_campaign(&suite_dir, &opts, &(), None)
+        .map_err(|e| if e.is_io() { PyOSError::new_err(e.to_string()) } else { value_error(e) })?;
     json(py, &report)
 }
 

@@ -185,14 +185,13 @@ fn load_crate(src: &Path) -> Crate {
 /// The module (node) that an absolute path inside the crate points into.
 fn target(krate: &Crate, abs: &[String]) -> Option<Module> {
     let mut abs = abs.to_vec();
-    if let Some(first) = abs.first() {
-        if let Some(module) = krate.root_exports.get(first) {
-            if !krate.files.contains_key(&vec![first.clone()]) {
-                let mut v = module.clone();
-                v.extend(abs.drain(1..));
-                abs = v;
-            }
-        }
+    if let Some(first) = abs.first()
+        && let Some(module) = krate.root_exports.get(first)
+        && !krate.files.contains_key(&vec![first.clone()])
+    {
+        let mut v = module.clone();
+        v.extend(abs.drain(1..));
+        abs = v;
     }
     (1..=abs.len()).rev().map(|n| abs[..n].to_vec()).find(|m| krate.files.contains_key(m))
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use vouch_fpl::aircraft::{find, layout};
 use vouch_fpl::emit::EmitOptions;
-use vouch_fpl::pipeline::{build, Request};
+use vouch_fpl::pipeline::{Request, build};
 
 use super::rejected;
 use crate::contract::{CmdResult, Ctx, Exit, Failure};

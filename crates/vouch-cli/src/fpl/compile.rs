@@ -6,7 +6,7 @@ use clap::Args;
 use vouch_fpl::emit::{EmitOptions, Flavor};
 use vouch_fpl::pipeline::Request;
 
-use super::{rejected, write_file, PlanArgs};
+use super::{PlanArgs, rejected, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure, Verbosity};
 
 /// Arguments of `vouch fpl parse`.
@@ -82,10 +82,10 @@ pub fn parse(a: ParseArgs, ctx: &mut Ctx) -> CmdResult {
 /// --out-dir; upstream's notices and the corrections of upstream's output are warnings.
 pub fn compile(a: CompileArgs, ctx: &mut Ctx) -> CmdResult {
     let req = request(&a);
-    if ctx.verbosity == Verbosity::Verbose {
-        if let Ok(g) = req.emit.geoid() {
-            ctx.note(format_args!("geoid heights: {}", g.describe()));
-        }
+    if ctx.verbosity == Verbosity::Verbose
+        && let Ok(g) = req.emit.geoid()
+    {
+        ctx.note(format_args!("geoid heights: {}", g.describe()));
     }
     match &a.out_dir {
         Some(dir) => batch(&a, dir, &req, ctx),
@@ -116,11 +116,7 @@ fn request(a: &CompileArgs) -> Request {
 
 /// Writes to a file, or to standard output for "-".
 fn emit_to(path: &Path, bytes: &[u8], ctx: &mut Ctx) -> Result<(), Failure> {
-    if path == Path::new("-") {
-        ctx.out.write_all(bytes)
-    } else {
-        write_file(path, bytes)
-    }
+    if path == Path::new("-") { ctx.out.write_all(bytes) } else { write_file(path, bytes) }
 }
 
 fn single(a: &CompileArgs, plan: &Path, req: &Request, ctx: &mut Ctx) -> CmdResult {

@@ -6,7 +6,7 @@ use clap::Args;
 use vouch_fpl::evidence::validate::{self, ValidateError};
 use vouch_fpl::model_check::{self, CheckError, Spec};
 
-use super::{lowered, write_file, PlanArgs};
+use super::{PlanArgs, lowered, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// Arguments of `vouch fpl validate`.
@@ -167,11 +167,7 @@ pub fn graph(a: GraphArgs, ctx: &mut Ctx) -> CmdResult {
 /// Why an evidence run did not run: the interpreter's bound rejects the plan; anything else (no
 /// C compiler, a property that does not parse) is a usage or I/O error.
 fn not_run(e: impl miette::Diagnostic + Send + Sync + 'static, interpreter: bool) -> Failure {
-    if interpreter {
-        Failure::rejected(e)
-    } else {
-        Failure::Usage(miette::Report::new(e))
-    }
+    if interpreter { Failure::rejected(e) } else { Failure::Usage(miette::Report::new(e)) }
 }
 
 /// The report as one JSON document, or its text.
@@ -181,9 +177,5 @@ fn print_report(
     report: &impl serde::Serialize,
     text: &str,
 ) -> Result<(), Failure> {
-    if json {
-        ctx.out.json(report)
-    } else {
-        ctx.out.write_all(text.as_bytes())
-    }
+    if json { ctx.out.json(report) } else { ctx.out.write_all(text.as_bytes()) }
 }

@@ -119,11 +119,7 @@ impl PlanArgs {
 
 /// A parse or compile failure: an unreadable plan is an I/O error, anything else a rejection.
 fn rejected(d: Diagnostics) -> Failure {
-    if d.is_io() {
-        Failure::Usage(miette::Report::new(d))
-    } else {
-        Failure::rejected(d)
-    }
+    if d.is_io() { Failure::Usage(miette::Report::new(d)) } else { Failure::rejected(d) }
 }
 
 /// The three passes (size checks included) and the FP the semantics runs on.

@@ -6,7 +6,7 @@ use clap::Args;
 use vouch_fpl::semantics::oracle::{Oracle, Scripted, Seeded};
 use vouch_fpl::semantics::sim;
 
-use super::{lowered, PlanArgs};
+use super::{PlanArgs, lowered};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// Arguments of `vouch fpl sim`.

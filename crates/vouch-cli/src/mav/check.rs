@@ -4,9 +4,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use vouch_mav::monitor::offline::{check_tlog, RecordingReport};
+use vouch_mav::monitor::offline::{RecordingReport, check_tlog};
 
-use super::{load_failure, MonitorOpts};
+use super::{MonitorOpts, load_failure};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// Arguments of `vouch mav check`.
@@ -79,7 +79,13 @@ fn write_report(w: &mut String, file: &Path, r: &RecordingReport, max: usize) ->
     writeln!(
         w,
         "  input problems: bad crc {}, bad length {}, unknown id {}, bad incompat flags {}, truncated {}, garbage bytes {}, records skipped {}",
-        c.bad_crc, c.bad_length, c.unknown_id, c.bad_incompat, c.truncated, c.garbage_bytes, r.skipped_records
+        c.bad_crc,
+        c.bad_length,
+        c.unknown_id,
+        c.bad_incompat,
+        c.truncated,
+        c.garbage_bytes,
+        r.skipped_records
     )?;
     let s = &r.summary;
     writeln!(

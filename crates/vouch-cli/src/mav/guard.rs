@@ -8,8 +8,8 @@ use std::time::{Duration, Instant};
 
 use vouch_mav::guard::conf::{self, LogLevel};
 use vouch_mav::guard::{
-    self, side_word, CounterSnapshot, GuardConfig, GuardEvent, Inspector, MonitorInspector,
-    PassThrough, RoutingOptions, SigningConfig,
+    self, CounterSnapshot, GuardConfig, GuardEvent, Inspector, MonitorInspector, PassThrough,
+    RoutingOptions, SigningConfig, side_word,
 };
 use vouch_mav::monitor::MonitorSpec;
 use vouch_mav::signing::state;

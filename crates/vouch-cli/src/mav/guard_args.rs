@@ -4,8 +4,8 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::Args;
-use vouch_mav::guard::conf::LogLevel;
 use vouch_mav::guard::Endpoint;
+use vouch_mav::guard::conf::LogLevel;
 use vouch_mav::signing::SigningKey;
 
 use super::MonitorOpts;

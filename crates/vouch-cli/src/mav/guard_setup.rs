@@ -5,13 +5,13 @@
 use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 
-use vouch_mav::guard::conf::{self, FileEndpoint, GuardKeys, RouterFile};
-use vouch_mav::guard::{Endpoint, EndpointConfig, DEFAULT_TCP_RETRY};
-use vouch_mav::monitor::MonitorSpec;
 use vouch_mav::Side;
+use vouch_mav::guard::conf::{self, FileEndpoint, GuardKeys, RouterFile};
+use vouch_mav::guard::{DEFAULT_TCP_RETRY, Endpoint, EndpointConfig};
+use vouch_mav::monitor::MonitorSpec;
 
-use super::guard_args::GuardArgs;
 use super::MonitorOpts;
+use super::guard_args::GuardArgs;
 use crate::contract::Failure;
 
 fn endpoint_failure(e: vouch_mav::guard::EndpointError) -> Failure {

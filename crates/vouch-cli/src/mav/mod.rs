@@ -91,9 +91,5 @@ fn parse_set(s: &str) -> Result<(String, f64), String> {
 /// A monitor that could not be built: unreadable files are usage/I-O errors (exit 2), rejected
 /// dialects and protocols are rejected input (exit 1).
 fn load_failure(e: LoadError) -> Failure {
-    if e.is_io() {
-        Failure::Usage(miette::Report::new(e))
-    } else {
-        Failure::rejected(e)
-    }
+    if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
 }

@@ -24,11 +24,11 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use cpu_time::ThreadTime;
 use vouch_navfn::core::{Cell, NoObserver, POT_HIGH};
-use vouch_navfn::maps::{find_test_files, load_ros_map, read_suite_file, SuiteFile};
+use vouch_navfn::maps::{SuiteFile, find_test_files, load_ros_map, read_suite_file};
 use vouch_navfn::planner::{NavfnPlanner, PlannerParams};
 use vouch_navfn::suite::{CaseRunner, CostInput, MapRef, RunMode};
 
-use super::{map_failure, parse_pair, run_mode, AlgoArg, ModeArg};
+use super::{AlgoArg, ModeArg, map_failure, parse_pair, run_mode};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 use side::{Side, TimeLine};
 

@@ -4,19 +4,19 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
-use vouch_navfn::campaign::diff::{add_oracle, describe, diff_suite, DiffOptions};
-use vouch_navfn::campaign::gen::{write_generated, GenOptions, RosImport};
+use vouch_navfn::campaign::CampaignError;
+use vouch_navfn::campaign::diff::{DiffOptions, add_oracle, describe, diff_suite};
+use vouch_navfn::campaign::generate::{GenOptions, RosImport, write_generated};
 use vouch_navfn::campaign::merge::Completeness;
 use vouch_navfn::campaign::names::FindingKind;
 use vouch_navfn::campaign::pictures::write_pictures;
 use vouch_navfn::campaign::report::{CaseRecord, Report};
-use vouch_navfn::campaign::runner::{run_campaign, CampaignOptions, CaseSink, Progress};
+use vouch_navfn::campaign::runner::{CampaignOptions, CaseSink, Progress, run_campaign};
 use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::campaign::summary::summary_table;
 use vouch_navfn::campaign::trace::TraceDetail;
-use vouch_navfn::campaign::CampaignError;
 
-use super::{write_file, CellModeArgs};
+use super::{CellModeArgs, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// Arguments of `vouch navfn suite gen`.

@@ -5,12 +5,12 @@ use std::path::PathBuf;
 
 use clap::Args;
 use vouch_navfn::bagcheck::{
-    check_bag_file, BagCheckOptions, BagReport, PlanVerdict, Replay, ReplayMode, Topics,
+    BagCheckOptions, BagReport, PlanVerdict, Replay, ReplayMode, Topics, check_bag_file,
 };
 use vouch_navfn::planner::PlannerParams;
 use vouch_navfn::rosbag::BagError;
 
-use super::{write_file, AlgoArg};
+use super::{AlgoArg, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// `--replay`.
@@ -166,7 +166,13 @@ fn print_report(ctx: &mut Ctx, report: &BagReport) -> Result<(), Failure> {
     writeln!(
         ctx.out,
         "summary: {} plans, {} passed, {} failed; replay {} equal, {} different, {} no plan; {} requests recorded",
-        s.plans, s.passed, s.failed, s.replay_equal, s.replay_different, s.replay_no_plan, s.requests_recorded
+        s.plans,
+        s.passed,
+        s.failed,
+        s.replay_equal,
+        s.replay_different,
+        s.replay_no_plan,
+        s.requests_recorded
     )?;
     Ok(())
 }
@@ -193,9 +199,5 @@ fn plan_line(p: &PlanVerdict, mode: ReplayMode) -> String {
 
 /// An unreadable bag is an I/O error (exit 2); a malformed one is rejected input (exit 1).
 fn bag_failure(e: BagError) -> Failure {
-    if e.is_io() {
-        Failure::Usage(miette::Report::new(e))
-    } else {
-        Failure::rejected(e)
-    }
+    if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
 }

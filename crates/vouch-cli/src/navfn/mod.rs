@@ -139,20 +139,12 @@ fn parse_pair(s: &str) -> Result<[f64; 2], String> {
 
 /// A map or suite error: unreadable files are I/O errors (exit 2), the rest rejected input.
 fn map_failure(e: MapError) -> Failure {
-    if e.is_io() {
-        Failure::Usage(miette::Report::new(e))
-    } else {
-        Failure::rejected(e)
-    }
+    if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
 }
 
 /// A campaign error: I/O problems exit 2, rejected input 1.
 fn campaign_failure(e: CampaignError) -> Failure {
-    if e.is_io() {
-        Failure::Usage(miette::Report::new(e))
-    } else {
-        Failure::rejected(e)
-    }
+    if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
 }
 
 /// Writes `bytes` to `path`.

@@ -6,14 +6,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use vouch_navfn::checks::{check_plan, CheckReport, PlanView};
+use vouch_navfn::checks::{CheckReport, PlanView, check_plan};
 use vouch_navfn::maps::load_ros_map;
-use vouch_navfn::picture::{save_png, PictureInput};
+use vouch_navfn::picture::{PictureInput, save_png};
 use vouch_navfn::planner::{
     End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, PlannerPlan, Pose, PosePlan,
 };
 
-use super::{map_failure, parse_pair, write_file, AlgoArg};
+use super::{AlgoArg, map_failure, parse_pair, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// Arguments of `vouch navfn plan`.

@@ -4,15 +4,15 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use vouch_navfn::campaign::oracle::{emit_path, EmitOptions};
+use vouch_navfn::campaign::oracle::{EmitOptions, emit_path};
 use vouch_navfn::campaign::trace::TraceDetail;
-use vouch_navfn::checks::{check_plan, PlanView};
+use vouch_navfn::checks::{PlanView, check_plan};
 use vouch_navfn::core::NoObserver;
-use vouch_navfn::maps::{find_test_files, read_suite_file, read_world_params, SuiteFile};
+use vouch_navfn::maps::{SuiteFile, find_test_files, read_suite_file, read_world_params};
 use vouch_navfn::planner::WorldParams;
-use vouch_navfn::suite::{run_file, CaseRunner, CostInput, RunMode, SuiteMode, SuiteOptions};
+use vouch_navfn::suite::{CaseRunner, CostInput, RunMode, SuiteMode, SuiteOptions, run_file};
 
-use super::{map_failure, parse_pair, run_mode, AlgoArg, ModeArg};
+use super::{AlgoArg, ModeArg, map_failure, parse_pair, run_mode};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
 /// `--costs`: how map bytes become NavFn costs.

@@ -52,10 +52,10 @@ impl Drop for Proc {
 fn read_json(p: &Path, who: &str) -> Value {
     let end = Instant::now() + Duration::from_secs(10);
     loop {
-        if let Ok(s) = std::fs::read_to_string(p) {
-            if let Ok(v) = serde_json::from_str(&s) {
-                return v;
-            }
+        if let Ok(s) = std::fs::read_to_string(p)
+            && let Ok(v) = serde_json::from_str(&s)
+        {
+            return v;
         }
         assert!(Instant::now() < end, "{who} wrote no summary at {}", p.display());
         std::thread::sleep(Duration::from_millis(50));

@@ -36,7 +36,7 @@ fn s(p: &Path) -> &str {
 }
 
 /// `suite gen` into `dir` (small maps: the campaigns below take well under a second).
-fn gen(dir: &Path, seed: &str, extra: &[&str]) {
+fn generate_suite(dir: &Path, seed: &str, extra: &[&str]) {
     let mut args = vec![
         "navfn", "suite", "gen", "--seed", seed, "--maps", "3", "--cases", "6", "--size", "5..12",
     ];
@@ -97,7 +97,7 @@ fn json(p: &Path) -> serde_json::Value {
 fn every_bad_merge_is_refused_and_good_ones_do_not_depend_on_order_or_path() {
     let d = tmp("merge");
     let suite = d.join("suite");
-    gen(&suite, "5", &[]);
+    generate_suite(&suite, "5", &[]);
     // shards by a relative path (from the working directory vouch runs in)
     let rel =
         relative(&suite.canonicalize().expect("absolute"), &repo().canonicalize().expect("repo"));
@@ -166,7 +166,7 @@ fn every_bad_merge_is_refused_and_good_ones_do_not_depend_on_order_or_path() {
 
     // different contents at the same path: another suite (another seed)
     let other = d.join("other");
-    gen(&other, "6", &[]);
+    generate_suite(&other, "6", &[]);
     std::fs::remove_dir_all(&suite).expect("removed");
     std::fs::rename(&other, &suite).expect("moved");
     let r1_other = d.join("r1_other.json");
@@ -178,7 +178,7 @@ fn every_bad_merge_is_refused_and_good_ones_do_not_depend_on_order_or_path() {
 fn a_map_edited_in_place_is_caught_by_the_shards_that_share_it() {
     let d = tmp("edited");
     let suite = d.join("suite");
-    gen(&suite, "8", &[]);
+    generate_suite(&suite, "8", &[]);
     let (a, b) = (d.join("a.json"), d.join("b.json"));
     shard(s(&suite), "0/2", &a, &["--shard-by", "case"]);
     let free = suite.join("free");
@@ -195,7 +195,7 @@ fn a_map_edited_in_place_is_caught_by_the_shards_that_share_it() {
 fn shard_auto_reads_slurm_and_kubernetes_array_jobs() {
     let d = tmp("auto");
     let suite = d.join("suite");
-    gen(&suite, "9", &[]);
+    generate_suite(&suite, "9", &[]);
     let run = |env: &[(&str, &str)], out: &Path| {
         vouch_env(&["-q", "navfn", "campaign", s(&suite), "--shard", "auto", "-o", s(out)], env)
     };
@@ -230,7 +230,7 @@ fn shard_auto_reads_slurm_and_kubernetes_array_jobs() {
 fn generation_shards_add_up_to_the_suite_and_run_where_they_were_written() {
     let d = tmp("gen");
     let whole = d.join("whole");
-    gen(&whole, "4", &[]);
+    generate_suite(&whole, "4", &[]);
     let manifest = std::fs::read(whole.join("vouch-suite.json")).expect("the suite's manifest");
     let mut reports = Vec::new();
     for i in 0..3 {
@@ -296,7 +296,7 @@ fn generation_shards_add_up_to_the_suite_and_run_where_they_were_written() {
 fn cases_out_streams_one_line_per_case_in_suite_order() {
     let d = tmp("lines");
     let suite = d.join("suite");
-    gen(&suite, "10", &[]);
+    generate_suite(&suite, "10", &[]);
     let lines = d.join("cases.jsonl");
     let o = vouch(&["-q", "navfn", "campaign", s(&suite), "--json", "--cases-out", s(&lines)]);
     assert_eq!(code(&o), 0, "{}", text(&o.stderr));
@@ -424,7 +424,7 @@ fn the_kubernetes_indexed_job_example_runs_as_written() {
 fn oracle_comparisons_are_split_by_home_shard_and_recorded_among_the_options() {
     let d = tmp("oracle");
     let suite = d.join("suite");
-    gen(&suite, "12", &[]);
+    generate_suite(&suite, "12", &[]);
     let oracle = format!("{} -q navfn suite run", env!("CARGO_BIN_EXE_vouch"));
     let fast = ["--no-metamorphic", "--no-optimality"];
     let with_oracle = [&fast[..], &["--oracle", &oracle]].concat();

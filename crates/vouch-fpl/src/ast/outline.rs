@@ -13,7 +13,12 @@ pub fn outline(p: &FlightPlan) -> String {
     let _ = writeln!(
         s,
         "flight plan \"{}\"  lat0={} lon0={} alt={} ground_alt={} security_height={} max_dist_from_home={}",
-        p.name.value, p.lat0.value, p.lon0.value, p.alt.text.value, p.ground_alt.text.value, p.security_height.text.value,
+        p.name.value,
+        p.lat0.value,
+        p.lon0.value,
+        p.alt.text.value,
+        p.ground_alt.text.value,
+        p.security_height.text.value,
         p.max_dist_from_home.text.value
     );
     for inc in &p.includes {

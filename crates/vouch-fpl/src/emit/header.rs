@@ -5,10 +5,10 @@
 use crate::ast::{AbiBinding, FlightPlan, VariableDecl, WpFrame};
 use crate::expr::ocaml_float_text;
 use crate::passes::size::Fps;
-use crate::passes::{lower, CompileError};
+use crate::passes::{CompileError, lower};
 
 use super::geo::{self, Geo, Utm};
-use super::{EmitOptions, Flavor, GeoidUse, Writer, HEADER_MARKER};
+use super::{EmitOptions, Flavor, GeoidUse, HEADER_MARKER, Writer};
 use crate::front::values::ocaml_float;
 
 /// One row of the waypoint tables (the implicit `dummy` waypoint is row 0).
@@ -101,7 +101,7 @@ fn row(
                     w.name.value
                 ),
                 w.span,
-            ))
+            ));
         }
         (Some((la, lo)), false) => {
             // Projected in the reference zone, then printed "%.2f" and parsed back.
@@ -398,7 +398,10 @@ fn sectors(w: &mut Writer, plan: &FlightPlan) -> Result<(), CompileError> {
     for s in &plan.sectors {
         if s.sector_type.is_some() {
             return Err(CompileError::new(
-                format!("sector '{}': typed (dynamic) sectors are not supported by the header generator", s.name.value),
+                format!(
+                    "sector '{}': typed (dynamic) sectors are not supported by the header generator",
+                    s.name.value
+                ),
                 s.span,
             ));
         }

@@ -26,8 +26,8 @@ use std::sync::Arc;
 
 use crate::ast::FlightPlan;
 use crate::diag::Diagnostic;
-use crate::passes::size::Fps;
 use crate::passes::CompileError;
+use crate::passes::size::Fps;
 use crate::span::Span;
 
 use geo::Geo;
@@ -282,11 +282,7 @@ impl Writer {
     /// A statement: `text;` (or `text` for the few upstream prints without semicolon).
     pub fn stmt(&self, code: &crate::passes::fp::Code) -> String {
         let body = self.wrap("FP_X", &code.text);
-        if code.semi {
-            format!("{body};")
-        } else {
-            body
-        }
+        if code.semi { format!("{body};") } else { body }
     }
     fn wrap(&self, mac: &str, text: &str) -> String {
         match self.flavor {
@@ -367,8 +363,7 @@ pub fn unwrap_instrumented(text: &str, header_text: Option<&str>) -> String {
 }
 
 /// Why upstream's geoid heights are wrong where the geoid is negative.
-const GEOID_WHY: &str =
-    "upstream assembles the 16-bit grid value and sign-extends it with a shift pair \
+const GEOID_WHY: &str = "upstream assembles the 16-bit grid value and sign-extends it with a shift pair \
     that does nothing on 64-bit OCaml, so negative heights come out 655.36 m too high; \
     --upstream-compat prints upstream's value";
 

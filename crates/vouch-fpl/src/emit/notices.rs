@@ -258,10 +258,20 @@ fn geofence(plan: &FlightPlan, out: &mut Vec<Diagnostic>) -> Result<(), CompileE
             return fail(format!("geofence_max_alt {v:.0} is below ground_alt {ground:.0}"), sp);
         }
         if v < ground + sh {
-            return fail(format!("geofence_max_alt {v:.0} is below ground_alt + security_height ({ground:.0}+{sh:.0})"), sp);
+            return fail(
+                format!(
+                    "geofence_max_alt {v:.0} is below ground_alt + security_height ({ground:.0}+{sh:.0})"
+                ),
+                sp,
+            );
         }
         if v < ground + hmh {
-            return fail(format!("geofence_max_alt {v:.0} is below ground_alt + home_mode_height ({ground:.0}+{hmh:.0})"), sp);
+            return fail(
+                format!(
+                    "geofence_max_alt {v:.0} is below ground_alt + home_mode_height ({ground:.0}+{hmh:.0})"
+                ),
+                sp,
+            );
         }
         if v < alt {
             out.push(note(

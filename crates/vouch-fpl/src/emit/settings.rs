@@ -185,11 +185,7 @@ fn dl_settings(h: &mut Header, list: &[Setting]) -> Result<(), CompileError> {
 
 /// The value a setting reads back (`fun` settings have none).
 fn value_of(s: &Setting) -> &str {
-    if s.get("type") == Some("fun") {
-        "0"
-    } else {
-        s.var()
-    }
+    if s.get("type") == Some("fun") { "0" } else { s.var() }
 }
 
 /// The `DlSetting` case of one setting: plain assignment, or the handler of its module/header.
@@ -199,19 +195,18 @@ fn set_case(i: usize, s: &Setting) -> Result<String, CompileError> {
         return Ok(format!("case {i}: {v} = _value; break;\\"));
     };
     let basename = |p: &str| p.rsplit('/').next().unwrap_or(p).to_string();
-    let module = match (s.get("module").unwrap_or(""), s.get("header").unwrap_or("")) {
-        ("", "") => {
-            return Err(s.error(format!(
+    let module =
+        match (s.get("module").unwrap_or(""), s.get("header").unwrap_or("")) {
+            ("", "") => return Err(s.error(format!(
                 "setting '{v}': handler '{handler}' needs a 'header' (or legacy 'module') attribute"
-            )))
-        }
-        ("", m) | (m, "") => basename(m),
-        _ => {
-            return Err(s.error(format!(
-                "setting '{v}': handler '{handler}' with both 'module' and 'header' attributes"
-            )))
-        }
-    };
+            ))),
+            ("", m) | (m, "") => basename(m),
+            _ => {
+                return Err(s.error(format!(
+                    "setting '{v}': handler '{handler}' with both 'module' and 'header' attributes"
+                )));
+            }
+        };
     Ok(if s.get("type") == Some("fun") {
         format!("case {i}: {module}_{handler}( _value ); break;\\")
     } else {

@@ -15,8 +15,8 @@
 
 use std::path::PathBuf;
 
-use crate::ast::expanded::Node;
 use crate::ast::FlightPlan;
+use crate::ast::expanded::Node;
 use crate::diag::{Diagnostic, ErrorKind};
 use crate::passes::{CompileError, CompileErrorKind};
 use crate::span::Span;
@@ -79,7 +79,7 @@ pub(crate) fn check(
                 message: format!("{e}: the terrain at the reference cannot be checked"),
                 span: Some(plan.lat0.text.span),
                 kind: CompileErrorKind::Environment,
-            })
+            });
         }
         Sample::OffTile(t) => Coverage::OffTile(t.path.clone()),
         Sample::Height(h, t) => {

@@ -124,11 +124,12 @@ pub fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
             i += 1;
             continue;
         }
-        if c == b'/' && b.get(i + 1) == Some(&b'*') {
-            if let Some(n) = comment_len(&b[i..]) {
-                i += n;
-                continue;
-            }
+        if c == b'/'
+            && b.get(i + 1) == Some(&b'*')
+            && let Some(n) = comment_len(&b[i..])
+        {
+            i += n;
+            continue;
         }
         let start = i;
         if c.is_ascii_digit() {
@@ -156,16 +157,15 @@ pub fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
             out.push(Token { kind: TokenKind::Ident(text[start..i].to_string()), start, end: i });
             continue;
         }
-        if c == b'\'' {
-            if let Some(close) = b[i + 1..].iter().position(|&d| d == b'\'') {
-                if close > 0 {
-                    let end = i + 1 + close + 1;
-                    let name = text[i + 1..end - 1].to_string();
-                    out.push(Token { kind: TokenKind::Ident(name), start, end });
-                    i = end;
-                    continue;
-                }
-            }
+        if c == b'\''
+            && let Some(close) = b[i + 1..].iter().position(|&d| d == b'\'')
+            && close > 0
+        {
+            let end = i + 1 + close + 1;
+            let name = text[i + 1..end - 1].to_string();
+            out.push(Token { kind: TokenKind::Ident(name), start, end });
+            i = end;
+            continue;
         }
         if let Some((s, k)) = FIXED.iter().find(|(s, _)| b[i..].starts_with(s.as_bytes())) {
             i += s.len();

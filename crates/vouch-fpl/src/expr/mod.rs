@@ -13,10 +13,10 @@ mod print;
 mod subst;
 
 pub use error::{ExprError, ExprErrorKind};
-pub use lexer::{lex, Token, TokenKind};
+pub use lexer::{Token, TokenKind, lex};
 pub use parser::parse;
 pub use print::{format_g, ocaml_float_text, print_upstream};
-pub use subst::{subst_procedure, ProcEnv};
+pub use subst::{ProcEnv, subst_procedure};
 
 use serde::Serialize;
 

@@ -5,7 +5,7 @@
 //! error, as with upstream's end-of-input token).
 
 use super::error::{ExprError, ExprErrorKind};
-use super::lexer::{lex, Token, TokenKind};
+use super::lexer::{Token, TokenKind, lex};
 use super::{BinOp, Expr, UnOp};
 
 /// Parses one expression.

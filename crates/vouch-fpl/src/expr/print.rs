@@ -77,11 +77,7 @@ fn write_ident(s: &mut String, i: &str) {
 /// integer (`185.` for 185, `25.5` for 25.5, `1e+20` unchanged).
 pub fn ocaml_float_text(v: f64) -> String {
     let g = format_g(v, 12);
-    if g.contains(['.', 'e', 'n', 'i']) {
-        g
-    } else {
-        g + "."
-    }
+    if g.contains(['.', 'e', 'n', 'i']) { g } else { g + "." }
 }
 
 /// C's `%.<prec>g`.
@@ -111,9 +107,5 @@ pub fn format_g(v: f64, prec: usize) -> String {
 }
 
 fn trim_zeros(s: &str) -> &str {
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        s
-    }
+    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.') } else { s }
 }

@@ -10,7 +10,7 @@ use super::ctx::Ctx;
 use super::expand::{expand_paths, relative_waypoints};
 use super::include::expand;
 use super::schema;
-use super::tree::{read_document, Elem};
+use super::tree::{Elem, read_document};
 
 /// Runs the whole front end on the main file.
 pub fn run(ctx: &mut Ctx, main: FileId) -> Option<FlightPlan> {

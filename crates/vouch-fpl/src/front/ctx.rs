@@ -7,13 +7,13 @@ use std::path::PathBuf;
 
 use crate::ast::{BlockRef, ExprAttr, FlightPlan, Num, Text, WpRef};
 use crate::diag::{Diagnostic, Diagnostics, ErrorKind, Severity};
-use crate::expr::{parse, Expr};
+use crate::expr::{Expr, parse};
 use crate::ids::{BlockId, WpId};
-use crate::span::{line_col, SourceMap, Span};
+use crate::span::{SourceMap, Span, line_col};
 
+use super::Options;
 use super::tree::Elem;
 use super::values::{degrees, ocaml_float};
-use super::Options;
 
 /// Shared state of one front-end run.
 pub struct Ctx {
@@ -236,14 +236,13 @@ impl Ctx {
         let mut unknown = Vec::new();
         let blocks = &self.blocks;
         expr.walk_mut(&mut |x| {
-            if let Expr::Call(f, args) = x {
-                if f == "IndexOfBlock" {
-                    if let [Expr::Ident(name)] = args.as_slice() {
-                        match blocks.get(name) {
-                            Some(id) => *x = Expr::BlockIndex { name: name.clone(), id: *id },
-                            None => unknown.push(name.clone()),
-                        }
-                    }
+            if let Expr::Call(f, args) = x
+                && f == "IndexOfBlock"
+                && let [Expr::Ident(name)] = args.as_slice()
+            {
+                match blocks.get(name) {
+                    Some(id) => *x = Expr::BlockIndex { name: name.clone(), id: *id },
+                    None => unknown.push(name.clone()),
                 }
             }
         });

@@ -34,11 +34,7 @@ fn node(e: &Elem) -> Node {
 /// The element without its children.
 fn leaf(e: &Elem) -> Node {
     let name = |a: &crate::ast::RawAttr| {
-        if a.upper {
-            a.name.to_ascii_uppercase()
-        } else {
-            a.name.clone()
-        }
+        if a.upper { a.name.to_ascii_uppercase() } else { a.name.clone() }
     };
     let attrs = e.attrs.0.iter().map(|a| (name(a), a.value.clone())).collect();
     Node { tag: e.tag.clone(), attrs, children: Vec::new(), text: None }

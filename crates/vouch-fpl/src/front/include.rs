@@ -13,11 +13,11 @@ use std::path::{Path, PathBuf};
 
 use crate::ast::{Attrs, IncludeInfo, NameValue, RawAttr, Text};
 use crate::diag::ErrorKind;
-use crate::expr::{parse, print_upstream, subst_procedure, ProcEnv};
+use crate::expr::{ProcEnv, parse, print_upstream, subst_procedure};
 use crate::span::{FileId, Span};
 
 use super::ctx::Ctx;
-use super::tree::{read_document, Elem};
+use super::tree::{Elem, read_document};
 
 /// The plan's lists after include expansion (main plan's elements first).
 #[derive(Default)]

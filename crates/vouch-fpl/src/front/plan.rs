@@ -31,14 +31,14 @@ pub fn build_plan(ctx: &mut Ctx, root: &Elem, m: Merged) -> Option<FlightPlan> {
     let max_dist_from_home = ctx.req_num(root, "max_dist_from_home");
     let ground_alt = ctx.req_num(root, "ground_alt");
     let security_height = ctx.req_num(root, "security_height");
-    if let Some(sh) = &security_height {
-        if sh.value < 0.0 {
-            ctx.error(
-                ErrorKind::NumberOutOfRange,
-                "security_height must not be negative",
-                sh.text.span,
-            );
-        }
+    if let Some(sh) = &security_height
+        && sh.value < 0.0
+    {
+        ctx.error(
+            ErrorKind::NumberOutOfRange,
+            "security_height must not be negative",
+            sh.text.span,
+        );
     }
     let alt = ctx.req_num(root, "alt");
     let wp_frame = wp_frame(ctx, root);

@@ -340,14 +340,14 @@ fn vertical(ctx: &mut Ctx, e: &Elem, hmode: Option<&Spanned<HMode>>) -> Vertical
         Some(_) => ctx.expr_attr(e, "pitch").map(Pitch::Expr),
         None => None,
     };
-    if let (Some(Pitch::Auto(sp)), Some(v)) = (&pitch, &vmode) {
-        if v.value == VMode::Throttle {
-            ctx.error(
-                ErrorKind::Conflict,
-                "pitch=\"auto\" cannot be combined with vmode=\"throttle\"",
-                *sp,
-            );
-        }
+    if let (Some(Pitch::Auto(sp)), Some(v)) = (&pitch, &vmode)
+        && v.value == VMode::Throttle
+    {
+        ctx.error(
+            ErrorKind::Conflict,
+            "pitch=\"auto\" cannot be combined with vmode=\"throttle\"",
+            *sp,
+        );
     }
     if let Some(v) = vmode.as_ref().filter(|v| v.value == VMode::Glide) {
         if e.tag != "go" {

@@ -6,7 +6,7 @@ use crate::ast::{Attrs, RawAttr};
 use crate::diag::{Diagnostic, ErrorKind};
 use crate::span::{FileId, Span};
 
-use super::tolerant::{sanitize, FixKind};
+use super::tolerant::{FixKind, sanitize};
 
 /// Maps byte offsets to 1-based line/column quickly (binary search over line starts).
 pub struct LineIndex {
@@ -114,7 +114,8 @@ pub fn read_document(file: FileId, text: &str) -> Result<Document, Box<Diagnosti
             Some(lines.span(text, file, at, at + 8)),
         )));
     }
-    let opts = roxmltree::ParsingOptions { allow_dtd: true, nodes_limit: u32::MAX };
+    let opts =
+        roxmltree::ParsingOptions { allow_dtd: true, nodes_limit: u32::MAX, ..Default::default() };
     let doc = roxmltree::Document::parse_with_options(&san.text, opts).map_err(|e| {
         let off = match e {
             // roxmltree reports these at 1:1; the problem is at the end of the content.
@@ -214,14 +215,13 @@ fn unescape(raw: &str) -> String {
     let mut out = String::with_capacity(raw.len());
     let mut it = raw.chars().peekable();
     while let Some(c) = it.next() {
-        if c == '\\' {
-            if let Some(&n) = it.peek() {
-                if n == '"' || n == '\'' || n == '\\' {
-                    out.push(n);
-                    it.next();
-                    continue;
-                }
-            }
+        if c == '\\'
+            && let Some(&n) = it.peek()
+            && (n == '"' || n == '\'' || n == '\\')
+        {
+            out.push(n);
+            it.next();
+            continue;
         }
         out.push(c);
     }

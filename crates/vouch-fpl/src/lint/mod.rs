@@ -72,9 +72,15 @@ impl Rule {
             Rule::UnreachableBlock => {
                 "block unreachable from the first block (and not an operator entry point)"
             }
-            Rule::AlwaysForbidden => "block change always forbidden: the deroute, exception or next-block step can never happen",
-            Rule::ForbiddenWhen => "block change forbidden under `only_when`: the step can block while the condition holds",
-            Rule::ReturnAfterDeroute => "RETURN reachable after a DEROUTE into its block: the return re-runs the deroute (ping-pong)",
+            Rule::AlwaysForbidden => {
+                "block change always forbidden: the deroute, exception or next-block step can never happen"
+            }
+            Rule::ForbiddenWhen => {
+                "block change forbidden under `only_when`: the step can block while the condition holds"
+            }
+            Rule::ReturnAfterDeroute => {
+                "RETURN reachable after a DEROUTE into its block: the return re-runs the deroute (ping-pong)"
+            }
             Rule::ForBound => "`for` bound does not fit the `int8_t` loop counter",
             Rule::SelfException => "block exception targets its own block and can never fire",
             Rule::UnusedWaypoint => "waypoint never used by the plan",

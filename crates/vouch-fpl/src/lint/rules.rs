@@ -246,26 +246,26 @@ pub fn return_after_deroute(plan: &FlightPlan, out: &mut Vec<Warning>) {
             continue;
         }
         live_stages(&block.stages, &mut |s| {
-            if let StageKind::Return(r) = &s.kind {
-                if r.resume() == Resume::SavedStage {
-                    let from: Vec<String> = into[t]
-                        .iter()
-                        .map(|(b, _)| format!("'{}'", plan.blocks[*b].name.value))
-                        .collect();
-                    let mut w = warn(
-                        Rule::ReturnAfterDeroute,
-                        format!(
-                            "return in '{}' after a deroute from {} resumes at that deroute stage, which derouts here again (ping-pong); use a deroute back, or return reset_stage=\"1\"",
-                            block.name.value,
-                            from.join(", ")
-                        ),
-                        s.span,
-                    );
-                    for (_, span) in into[t].iter().take(3) {
-                        w.notes.push(Note::new("the deroute that comes here", *span));
-                    }
-                    out.push(w);
+            if let StageKind::Return(r) = &s.kind
+                && r.resume() == Resume::SavedStage
+            {
+                let from: Vec<String> = into[t]
+                    .iter()
+                    .map(|(b, _)| format!("'{}'", plan.blocks[*b].name.value))
+                    .collect();
+                let mut w = warn(
+                    Rule::ReturnAfterDeroute,
+                    format!(
+                        "return in '{}' after a deroute from {} resumes at that deroute stage, which derouts here again (ping-pong); use a deroute back, or return reset_stage=\"1\"",
+                        block.name.value,
+                        from.join(", ")
+                    ),
+                    s.span,
+                );
+                for (_, span) in into[t].iter().take(3) {
+                    w.notes.push(Note::new("the deroute that comes here", *span));
                 }
+                out.push(w);
             }
         });
     }
@@ -285,15 +285,15 @@ pub fn for_bounds(plan: &FlightPlan, out: &mut Vec<Warning>) {
     for block in &plan.blocks {
         walk(&block.stages, &mut |s| {
             if let StageKind::For(l) = &s.kind {
-                if let Some(to) = literal(&l.to.expr) {
-                    if !fits(to) {
-                        out.push(warn(Rule::ForBound, format!("`for` bound to=\"{to}\" does not fit the int8_t counter (-128..127): it wraps in C"), l.to.text.span));
-                    }
+                if let Some(to) = literal(&l.to.expr)
+                    && !fits(to)
+                {
+                    out.push(warn(Rule::ForBound, format!("`for` bound to=\"{to}\" does not fit the int8_t counter (-128..127): it wraps in C"), l.to.text.span));
                 }
-                if let Some(from) = literal(&l.from.expr) {
-                    if !fits(from - 1) || !fits(from) {
-                        out.push(warn(Rule::ForBound, format!("`for` start from=\"{from}\" does not fit the int8_t counter (the counter starts at from-1)"), l.from.text.span));
-                    }
+                if let Some(from) = literal(&l.from.expr)
+                    && (!fits(from - 1) || !fits(from))
+                {
+                    out.push(warn(Rule::ForBound, format!("`for` start from=\"{from}\" does not fit the int8_t counter (the counter starts at from-1)"), l.from.text.span));
                 }
             }
         });
@@ -401,7 +401,10 @@ pub fn dead_stages(plan: &FlightPlan, out: &mut Vec<Warning>) {
                     let n = stages.len() - i - 1;
                     let mut w = warn(
                         Rule::DeadStage,
-                        format!("{n} stage(s) of block '{block}' can never run: they follow a <{}> that never goes on to the next stage", s.kind.tag()),
+                        format!(
+                            "{n} stage(s) of block '{block}' can never run: they follow a <{}> that never goes on to the next stage",
+                            s.kind.tag()
+                        ),
                         next.span,
                     );
                     w.notes.push(Note::new("this stage never hands over", s.span));

@@ -9,8 +9,8 @@ use std::collections::VecDeque;
 
 use serde::Serialize;
 
-use super::property::{Property, PropertyError, Temporal};
 use super::Graph;
+use super::property::{Property, PropertyError, Temporal};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Step {

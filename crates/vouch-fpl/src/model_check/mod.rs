@@ -19,15 +19,15 @@ pub mod check;
 pub mod property;
 mod report;
 
-pub use report::{run, CheckError, CheckReport, Spec};
+pub use report::{CheckError, CheckReport, Spec, run};
 
 use serde::Serialize;
 
 use crate::passes::fp::Fp;
+use crate::semantics::StepError;
 use crate::semantics::explore::{FORCED_SUFFIX, MARKER_PREFIX};
 use crate::semantics::space::{self, Alone, Move, Space, SpaceOptions};
 use crate::semantics::trace::Observation;
-use crate::semantics::StepError;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Edge {

@@ -210,17 +210,9 @@ impl<'a> Parser<'a> {
 pub fn parse(text: &str, blocks: &[String]) -> Result<Property, PropertyError> {
     let mut p = Parser { s: text, pos: 0, blocks, depth: 0 };
     let temporal = if p.eat("always") {
-        if p.eat("eventually") {
-            Temporal::AlwaysEventually
-        } else {
-            Temporal::Always
-        }
+        if p.eat("eventually") { Temporal::AlwaysEventually } else { Temporal::Always }
     } else if p.eat("eventually") {
-        if p.eat("always") {
-            Temporal::EventuallyAlways
-        } else {
-            Temporal::Eventually
-        }
+        if p.eat("always") { Temporal::EventuallyAlways } else { Temporal::Eventually }
     } else if p.eat("never") {
         let f = p.or()?;
         p.ws();

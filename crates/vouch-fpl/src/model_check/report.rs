@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use super::check::{self, Outcome};
 use super::property::PropertyError;
-use super::{build_with, BuildOptions, Graph};
+use super::{BuildOptions, Graph, build_with};
 use crate::passes::fp::Fp;
 use crate::semantics::StepError;
 

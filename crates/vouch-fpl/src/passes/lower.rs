@@ -10,8 +10,8 @@ use crate::ast::{
 use crate::expr::print_upstream;
 use crate::span::Span;
 
-use super::fp::*;
 use super::CompileError;
+use super::fp::*;
 
 /// Builds the FP structure of a resolved plan.
 pub fn lower(plan: &FlightPlan) -> Result<Fp, CompileError> {
@@ -310,7 +310,7 @@ fn go(g: &ast::Go, span: Span) -> Result<NavStage, CompileError> {
             return Err(CompileError::new(
                 "approaching_time and exceeding_time are not compatible",
                 span,
-            ))
+            ));
         }
     };
     let from = g.from.as_ref().map(wp);
@@ -465,11 +465,7 @@ fn survey_rectangle(s: &ast::SurveyRectangle, span: Span) -> Result<NavStage, Co
 fn negate(t: &str) -> String {
     let simple =
         !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
-    if simple {
-        format!("-{t}")
-    } else {
-        format!("-({t})")
-    }
+    if simple { format!("-{t}") } else { format!("-({t})") }
 }
 
 /// The "hmode line". `from` is the route start (`last_wp` when the stage has none).

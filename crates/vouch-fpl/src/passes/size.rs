@@ -9,8 +9,8 @@
 
 use serde::Serialize;
 
-use super::extend::{Ext, ExtBlock, ExtException, ExtForbidden, ExtKind, ExtStage, Fpe};
 use super::CompileError;
+use super::extend::{Ext, ExtBlock, ExtException, ExtForbidden, ExtKind, ExtStage, Fpe};
 
 /// The largest count representable by `uint8_t` numbers 0..=255.
 pub const MAX_BLOCKS: usize = 256;

@@ -13,7 +13,7 @@
 //! The state-space walk of [`super::space`], hence the validator and the model checker, build
 //! on this, so they explore the same tree.
 
-use super::oracle::{literal_value, Oracle};
+use super::oracle::{Oracle, literal_value};
 use super::trace::{Event, Observation};
 use super::{Interp, State, StepError};
 

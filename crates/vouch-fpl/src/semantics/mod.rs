@@ -53,7 +53,9 @@ pub enum StepError {
     #[error("the reference interpreter exceeded its per-call bound in block {block}")]
     #[diagnostic(
         code(fpl::E040),
-        help("one call visits each stage at most twice; exceeding 2 × stages + 2 iterations is a defect of the interpreter")
+        help(
+            "one call visits each stage at most twice; exceeding 2 × stages + 2 iterations is a defect of the interpreter"
+        )
     )]
     Diverged {
         /// The block the call ran in.
@@ -494,16 +496,12 @@ impl<'p> Interp<'p> {
             FpStage::Call { fun, loop_: true, brk, until, .. } => {
                 if !Self::cond(ev, oracle, fun) {
                     self.pop();
-                    if *brk {
-                        Flow::Break
-                    } else {
-                        Flow::Continue
-                    }
+                    if *brk { Flow::Break } else { Flow::Continue }
                 } else {
-                    if let Some(u) = until {
-                        if Self::cond(ev, oracle, u) {
-                            self.pop();
-                        }
+                    if let Some(u) = until
+                        && Self::cond(ev, oracle, u)
+                    {
+                        self.pop();
                     }
                     Flow::Break
                 }
@@ -511,11 +509,7 @@ impl<'p> Interp<'p> {
             FpStage::Call { fun, loop_: false, brk, .. } => {
                 ev.push(Event::Code { text: fun.clone() });
                 self.pop();
-                if *brk {
-                    Flow::Break
-                } else {
-                    Flow::Continue
-                }
+                if *brk { Flow::Break } else { Flow::Continue }
             }
             FpStage::Deroute { target, .. } => {
                 // The deroute stays the current stage while saved as last (quirk 1).
@@ -571,14 +565,14 @@ impl<'p> Interp<'p> {
                 Self::code(ev, c);
             }
         }
-        if let Some(u) = &n.until {
-            if Self::cond(ev, oracle, u) {
-                if let Some(c) = &n.post_call {
-                    Self::code(ev, c);
-                }
-                self.pop();
-                return Flow::Break;
+        if let Some(u) = &n.until
+            && Self::cond(ev, oracle, u)
+        {
+            if let Some(c) = &n.post_call {
+                Self::code(ev, c);
             }
+            self.pop();
+            return Flow::Break;
         }
         if let Some(c) = &n.post_call {
             Self::code(ev, c);

@@ -26,7 +26,12 @@ pub fn literal_value(text: &str) -> Option<i64> {
 /// An answer file with something that is not an integer.
 #[derive(Debug, Clone, thiserror::Error, miette::Diagnostic)]
 #[error("not an integer: '{word}'")]
-#[diagnostic(code(fpl::E041), help("answers are whitespace-separated integers: a condition is true when its number is odd, a value is the number / 2"))]
+#[diagnostic(
+    code(fpl::E041),
+    help(
+        "answers are whitespace-separated integers: a condition is true when its number is odd, a value is the number / 2"
+    )
+)]
 pub struct AnswerError {
     /// The offending word.
     pub word: String,
@@ -65,7 +70,7 @@ impl Scripted {
                         word: word.to_string(),
                         text: text.to_string(),
                         at: (offset, len).into(),
-                    })
+                    });
                 }
             }
             rest = &rest[start + len..];
@@ -127,16 +132,16 @@ pub fn seeded_sequence(seed: u64, len: usize, percent_true: u64) -> Vec<i64> {
 /// Seeded random answers (an endless [`Scripted`] stream).
 #[derive(Debug, Clone)]
 pub struct Seeded {
-    gen: SplitMix64,
+    rng: SplitMix64,
     percent_true: u64,
 }
 
 impl Seeded {
     pub fn new(seed: u64, percent_true: u64) -> Self {
-        Seeded { gen: SplitMix64::new(seed), percent_true }
+        Seeded { rng: SplitMix64::new(seed), percent_true }
     }
     fn next_number(&mut self) -> i64 {
-        let r = self.gen.next_u64();
+        let r = self.rng.next_u64();
         let odd = (r % 100) < self.percent_true;
         (((r >> 32) % 8) as i64) * 2 + i64::from(odd)
     }

@@ -27,7 +27,12 @@ pub fn simulate_with_jumps(
 /// A jumps file that is not "call block" pairs of block numbers.
 #[derive(Debug, Clone, thiserror::Error, miette::Diagnostic)]
 #[error("{message}")]
-#[diagnostic(code(fpl::E044), help("a jumps file holds \"call block\" pairs of whole numbers: an operator jump to the block just before that call"))]
+#[diagnostic(
+    code(fpl::E044),
+    help(
+        "a jumps file holds \"call block\" pairs of whole numbers: an operator jump to the block just before that call"
+    )
+)]
 pub struct JumpsError {
     /// What is wrong.
     pub message: String,

@@ -27,7 +27,7 @@ use std::time::{Duration, Instant};
 
 use crate::guard::sys::process;
 pub use router::RouterResult;
-use traffic::{handshake, ping_latencies, stream, upload_latencies, WAIT};
+use traffic::{WAIT, handshake, ping_latencies, stream, upload_latencies};
 
 /// What to measure.
 #[derive(Clone, Debug)]

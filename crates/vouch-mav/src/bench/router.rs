@@ -16,15 +16,15 @@
 use std::io::{self, Read};
 use std::net::{SocketAddr, TcpStream, UdpSocket};
 use std::process::Command;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::traffic::{attitude, heartbeat_vehicle};
-use super::{percentiles, spawn_relay, stop, BenchConfig, Relay};
+use super::{BenchConfig, Relay, percentiles, spawn_relay, stop};
 use crate::codec::frame::frame_len;
-use crate::codec::split::{split_datagram, Piece};
+use crate::codec::split::{Piece, split_datagram};
 use crate::guard::sys::{process, udp_batch};
 
 /// Frames the vehicle sends in the throughput phase.

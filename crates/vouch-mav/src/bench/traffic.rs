@@ -3,12 +3,12 @@
 
 use std::io;
 use std::net::{SocketAddr, UdpSocket};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::codec::encode::frame_v2_truncated;
-use crate::codec::split::{split_datagram, Piece};
+use crate::codec::split::{Piece, split_datagram};
 use crate::guard::sys::process;
 
 /// How long a receive waits before a message counts as lost.

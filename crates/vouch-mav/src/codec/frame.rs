@@ -6,7 +6,7 @@
 //! unchanged (signatures and zero truncation stay intact). Splitting buffers into frames is
 //! [`split`](super::split)'s.
 
-use super::crc::{frame_crc, X25};
+use super::crc::{X25, frame_crc};
 use crate::dialect::{Dialect, MsgIndex};
 
 /// Start marker of a MAVLink 1 frame.
@@ -109,19 +109,11 @@ impl<'a> FrameRef<'a> {
     }
     /// The protocol version.
     pub fn version(&self) -> Version {
-        if self.is_v2() {
-            Version::V2
-        } else {
-            Version::V1
-        }
+        if self.is_v2() { Version::V2 } else { Version::V1 }
     }
     /// Header length including the magic byte.
     pub fn header_len(&self) -> usize {
-        if self.is_v2() {
-            V2_HEADER_LEN
-        } else {
-            V1_HEADER_LEN
-        }
+        if self.is_v2() { V2_HEADER_LEN } else { V1_HEADER_LEN }
     }
     /// Payload length as carried (possibly zero-truncated).
     pub fn payload_len(&self) -> usize {
@@ -129,19 +121,11 @@ impl<'a> FrameRef<'a> {
     }
     /// Incompatibility flags (0 for MAVLink 1).
     pub fn incompat_flags(&self) -> u8 {
-        if self.is_v2() {
-            self.bytes[2]
-        } else {
-            0
-        }
+        if self.is_v2() { self.bytes[2] } else { 0 }
     }
     /// Compatibility flags (0 for MAVLink 1).
     pub fn compat_flags(&self) -> u8 {
-        if self.is_v2() {
-            self.bytes[3]
-        } else {
-            0
-        }
+        if self.is_v2() { self.bytes[3] } else { 0 }
     }
     /// Whether a signature block follows the checksum.
     pub fn is_signed(&self) -> bool {

@@ -9,7 +9,7 @@ pub mod tlog;
 pub mod view;
 
 pub use encode::{EncodeError, MessageBuilder};
-pub use frame::{parse_frame, CodecStats, Frame, FrameRef, InvalidKind, Parse, Version};
+pub use frame::{CodecStats, Frame, FrameRef, InvalidKind, Parse, Version, parse_frame};
 pub use split::{FrameSplitter, Piece, StreamSplitter};
 pub use tlog::{TlogReader, TlogRecord};
 pub use view::{MessageView, Value};

@@ -9,7 +9,7 @@
 
 use std::ops::Range;
 
-use super::frame::{cut, parse_frame, CodecStats, Cut, Frame, FrameRef, Parse};
+use super::frame::{CodecStats, Cut, Frame, FrameRef, Parse, cut, parse_frame};
 use crate::dialect::Dialect;
 
 /// One piece of a scanned buffer, as absolute byte offsets `(start, end)`.

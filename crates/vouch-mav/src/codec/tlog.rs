@@ -3,7 +3,7 @@
 //! There is no record length, so after a broken record the reader resynchronises: it moves one
 //! byte on and accepts a record again only where a plausible timestamp precedes a valid frame.
 
-use super::frame::{is_magic, parse_frame, CodecStats, Frame, Parse};
+use super::frame::{CodecStats, Frame, Parse, is_magic, parse_frame};
 use crate::dialect::Dialect;
 
 /// One record of a tlog.

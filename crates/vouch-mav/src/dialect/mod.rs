@@ -7,7 +7,7 @@ pub mod raw;
 mod xml;
 
 pub use xml::{
-    embedded_origin, load_dialect_file, load_dialect_from, DialectError, MessageError, XmlError,
+    DialectError, MessageError, XmlError, embedded_origin, load_dialect_file, load_dialect_from,
 };
 
 use std::collections::HashMap;

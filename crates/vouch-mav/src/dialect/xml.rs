@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use miette::{NamedSource, SourceSpan};
 
-use super::raw::{read_digest, read_xml, RawDialect, RawError, RawMessage};
-use super::{compute_crc_extra, Dialect, EnumDef, FieldDef, MessageDef, PrimType};
+use super::raw::{RawDialect, RawError, RawMessage, read_digest, read_xml};
+use super::{Dialect, EnumDef, FieldDef, MessageDef, PrimType, compute_crc_extra};
 
 include!(concat!(env!("OUT_DIR"), "/embedded_dialect.rs"));
 
@@ -33,7 +33,9 @@ pub enum DialectError {
     #[diagnostic(transparent)]
     Message(Box<MessageError>),
     /// The library was built without the default dialect.
-    #[error("no default dialect was embedded at build time (the build set VOUCH_MAV_NO_DEFAULT_DIALECT); pass a dialect file")]
+    #[error(
+        "no default dialect was embedded at build time (the build set VOUCH_MAV_NO_DEFAULT_DIALECT); pass a dialect file"
+    )]
     #[diagnostic(code(mav::D004))]
     NoEmbedded,
     /// The embedded digest does not read back (the build script and the loader disagree).
@@ -193,11 +195,7 @@ fn finish_message(m: RawMessage) -> Result<MessageDef, DialectError> {
             is_extension: f.is_extension,
             enum_name: f.enum_name,
         };
-        if def.is_extension {
-            ext.push(def)
-        } else {
-            base.push(def)
-        }
+        if def.is_extension { ext.push(def) } else { base.push(def) }
     }
     // Wire order: base fields by element size, largest first; stable, so ties keep XML order.
     base.sort_by_key(|f| std::cmp::Reverse(f.ty.size()));

@@ -9,14 +9,14 @@ use std::time::Instant;
 
 use serde_json::json;
 
-use super::events::{within_rate, GuardEvent};
-use super::messages::{statustext, SEVERITY_WARNING};
+use super::events::{GuardEvent, within_rate};
+use super::messages::{SEVERITY_WARNING, statustext};
 use super::routing::RouteMask;
-use super::state::{lock, unix_micros, Core};
+use super::state::{Core, lock, unix_micros};
 use crate::codec::FrameRef;
 use crate::monitor::{Reply, Verdict, Violation};
 use crate::side::Side;
-use crate::signing::{timestamp_now, SETUP_SIGNING_ID};
+use crate::signing::{SETUP_SIGNING_ID, timestamp_now};
 
 /// Most STATUSTEXT alerts per second: a violation flood must not flood the pilot's link too.
 const MAX_ALERTS_PER_SECOND: u64 = 5;
@@ -56,27 +56,27 @@ impl Core {
             }
             self.record(ep, bytes);
         }
-        if let Some(d) = &self.dedup {
-            if lock(d).is_duplicate(bytes, Instant::now()) {
-                c.duplicates.fetch_add(1, Ordering::Relaxed);
-                return Admission::Drop;
-            }
+        if let Some(d) = &self.dedup
+            && lock(d).is_duplicate(bytes, Instant::now())
+        {
+            c.duplicates.fetch_add(1, Ordering::Relaxed);
+            return Admission::Drop;
         }
         if !self.endpoints[ep].inbound.passes(fr.msgid(), fr.sysid(), fr.compid()) {
             c.endpoints[ep].filtered_in.fetch_add(1, Ordering::Relaxed);
             return Admission::Drop;
         }
-        if let Some(v) = verify {
-            if let Err(why) = lock(v).check(&fr, timestamp_now()) {
-                let n = c.signing_rejected.fetch_add(1, Ordering::Relaxed);
-                if n < MAX_LOGGED_SIG_REJECTS {
-                    self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(),
+        if let Some(v) = verify
+            && let Err(why) = lock(v).check(&fr, timestamp_now())
+        {
+            let n = c.signing_rejected.fetch_add(1, Ordering::Relaxed);
+            if n < MAX_LOGGED_SIG_REJECTS {
+                self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(),
                         "endpoint": self.endpoints[ep].name, "action": "dropped", "kind": "signing",
                         "reason": why.as_str(), "sysid": fr.sysid(), "compid": fr.compid(),
                         "msgid": fr.msgid()}));
-                }
-                return Admission::Drop;
             }
+            return Admission::Drop;
         }
         if fr.is_v2() && fr.msgid() == SETUP_SIGNING_ID {
             // It carries a secret key: never forwarded, whatever the mode (MAVLink signing spec).
@@ -191,10 +191,10 @@ impl Core {
         };
         let seq = self.own_seq.fetch_add(1, Ordering::Relaxed);
         let mut frame = r.encode_v2(seq);
-        if r.to == Side::Vehicle {
-            if let Some(signed) = self.sign(&frame) {
-                frame = signed;
-            }
+        if r.to == Side::Vehicle
+            && let Some(signed) = self.sign(&frame)
+        {
+            frame = signed;
         }
         if self.push(mask, &frame) {
             self.counters.replies_sent.fetch_add(1, Ordering::Relaxed);

@@ -3,8 +3,8 @@
 //! configuration files (`super::conf`), tests and library users directly.
 
 use std::path::PathBuf;
-use std::sync::mpsc::SyncSender;
 use std::sync::Arc;
+use std::sync::mpsc::SyncSender;
 use std::time::Duration;
 
 use super::endpoint::{Endpoint, EndpointError};

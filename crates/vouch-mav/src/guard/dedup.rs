@@ -4,8 +4,8 @@
 //! frames. Bounded: at most [`MAX_TRACKED`] frames are remembered; when full and nothing has
 //! expired, new frames pass unremembered.
 
-use std::collections::hash_map::DefaultHasher;
 use std::collections::HashMap;
+use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 use std::time::{Duration, Instant};
 

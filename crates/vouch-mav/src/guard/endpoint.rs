@@ -114,7 +114,9 @@ pub enum EndpointError {
         scheme: String,
     },
     /// An address that does not resolve.
-    #[error("endpoint `{spec}`: bad address `{addr}` ({reason}); expected HOST:PORT, e.g. 127.0.0.1:14550 or [::1]:14550")]
+    #[error(
+        "endpoint `{spec}`: bad address `{addr}` ({reason}); expected HOST:PORT, e.g. 127.0.0.1:14550 or [::1]:14550"
+    )]
     #[diagnostic(code(mav::E003))]
     BadAddress {
         /// What was given.
@@ -128,7 +130,9 @@ pub enum EndpointError {
     #[error("endpoint `{spec}`: {problem}")]
     #[diagnostic(
         code(mav::E004),
-        help("DEVICE,BAUD, /dev/ttyX:BAUD or serial:DEVICE:BAUD with BAUD one of {SUPPORTED_BAUDS:?}")
+        help(
+            "DEVICE,BAUD, /dev/ttyX:BAUD or serial:DEVICE:BAUD with BAUD one of {SUPPORTED_BAUDS:?}"
+        )
     )]
     BadSerial {
         /// What was given.
@@ -137,7 +141,9 @@ pub enum EndpointError {
         problem: String,
     },
     /// `SIDE:URL` without a known side.
-    #[error("endpoint `{spec}`: expected SIDE:URL with SIDE `vehicle` or `ground` (or `gcs`), e.g. vehicle:serial:/dev/ttyACM0:115200")]
+    #[error(
+        "endpoint `{spec}`: expected SIDE:URL with SIDE `vehicle` or `ground` (or `gcs`), e.g. vehicle:serial:/dev/ttyACM0:115200"
+    )]
     #[diagnostic(code(mav::E005))]
     NoSide {
         /// What was given.
@@ -225,7 +231,7 @@ impl std::str::FromStr for Endpoint {
             _ if rest.parse::<u16>().is_ok() => Endpoint::UdpOut(addr(s)?),
             _ if s.starts_with('[') => Endpoint::UdpOut(addr(s)?),
             other => {
-                return Err(EndpointError::UnknownScheme { spec: s.into(), scheme: other.into() })
+                return Err(EndpointError::UnknownScheme { spec: s.into(), scheme: other.into() });
             }
         })
     }

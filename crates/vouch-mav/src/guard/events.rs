@@ -2,8 +2,8 @@
 //! counters count everything; events are rate-limited so that a flood of violations cannot flood
 //! the caller too.
 
-use std::sync::mpsc::SyncSender;
 use std::sync::Mutex;
+use std::sync::mpsc::SyncSender;
 use std::time::Instant;
 
 use crate::side::Side;
@@ -90,10 +90,10 @@ impl Events {
     }
 
     fn emit(&self, window: &Mutex<(Instant, u64)>, make: impl FnOnce() -> GuardEvent) {
-        if let Some(sink) = &self.sink {
-            if within_rate(window, MAX_EVENTS_PER_SECOND) {
-                let _ = sink.try_send(make());
-            }
+        if let Some(sink) = &self.sink
+            && within_rate(window, MAX_EVENTS_PER_SECOND)
+        {
+            let _ = sink.try_send(make());
         }
     }
 }

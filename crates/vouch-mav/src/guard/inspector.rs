@@ -18,8 +18,8 @@
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use super::Inspector;
-use crate::codec::frame::{is_magic, MAGIC_V2, V1_HEADER_LEN, V2_HEADER_LEN};
-use crate::codec::{parse_frame, Frame, FrameRef, InvalidKind, Parse};
+use crate::codec::frame::{MAGIC_V2, V1_HEADER_LEN, V2_HEADER_LEN, is_magic};
+use crate::codec::{Frame, FrameRef, InvalidKind, Parse, parse_frame};
 use crate::dialect::Dialect;
 use crate::monitor::{Monitor, Verdict};
 use crate::side::Side;

@@ -40,21 +40,21 @@ pub(crate) use linux as sys;
 pub(crate) use portable as sys;
 
 use std::io;
-use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 
 pub use config::{
-    parse_side, side_word, EndpointConfig, GuardConfig, RoutingOptions, SigningConfig,
-    DEFAULT_TCP_RETRY,
+    DEFAULT_TCP_RETRY, EndpointConfig, GuardConfig, RoutingOptions, SigningConfig, parse_side,
+    side_word,
 };
 pub use counters::{CounterSnapshot, EndpointSnapshot};
-pub use endpoint::{Endpoint, EndpointError, DEFAULT_BAUD, SUPPORTED_BAUDS};
+pub use endpoint::{DEFAULT_BAUD, Endpoint, EndpointError, SUPPORTED_BAUDS};
 pub use events::{GuardEvent, MAX_EVENTS_PER_SECOND};
 pub use filter::{Filter, Filters};
 pub use inspector::MonitorInspector;
 pub use link::{MAX_TCP_CLIENTS, MAX_UDP_PEERS};
 pub use outbox::DATAGRAM_LIMIT;
-pub use router::{start, RunningGuard, MAX_ENDPOINTS};
+pub use router::{MAX_ENDPOINTS, RunningGuard, start};
 pub use routing::{MAX_IDS_PER_ROUTE, MAX_ROUTES};
 
 use crate::codec::{FrameRef, InvalidKind};

@@ -7,27 +7,27 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use super::Inspector;
 use super::admit::Admission;
-use super::config::{side_word, GuardConfig};
+use super::config::{GuardConfig, side_word};
 use super::counters::{CounterSnapshot, Counters};
 use super::dedup::Dedup;
 use super::endpoint::Endpoint;
 use super::events::{Events, GuardEvent};
 use super::link::{self, LinkEvent, Peer, Received, Sink};
 use super::outbox;
-use super::routing::{indices, FrameInfo, RouteMask, Routes, Targets};
-use super::state::{lock, Core, EndpointState};
-use super::Inspector;
-use crate::codec::split::{split_datagram, split_datagram_resync, Piece};
+use super::routing::{FrameInfo, RouteMask, Routes, Targets, indices};
+use super::state::{Core, EndpointState, lock};
 use crate::codec::FrameRef;
+use crate::codec::split::{Piece, split_datagram, split_datagram_resync};
 use crate::side::Side;
-use crate::signing::state::{resume, StateSaver};
-use crate::signing::{timestamp_now, Signer, Verifier};
+use crate::signing::state::{StateSaver, resume};
+use crate::signing::{Signer, Verifier, timestamp_now};
 
 /// Most endpoints of one router.
 pub const MAX_ENDPOINTS: usize = 64;
@@ -150,11 +150,11 @@ impl Core {
         }
         self.push_locked(&routes, mask & !vehicle_mask, bytes);
         drop(routes);
-        if vehicle_mask != 0 {
-            if let Some(signed) = self.resign_all(bytes) {
-                let routes = lock(&self.routes);
-                self.push_locked(&routes, vehicle_mask, &signed);
-            }
+        if vehicle_mask != 0
+            && let Some(signed) = self.resign_all(bytes)
+        {
+            let routes = lock(&self.routes);
+            self.push_locked(&routes, vehicle_mask, &signed);
         }
     }
 
@@ -193,12 +193,11 @@ impl Core {
         let mut one = Vec::with_capacity(280);
         let mut s = lock(signer);
         split_datagram(bytes, |p| {
-            if let Piece::Frame(a, b) = p {
-                if let Some(fr) = FrameRef::new(&bytes[a..b]) {
-                    if s.sign_into(&fr, timestamp_now(), &mut one) {
-                        buf.extend_from_slice(&one);
-                    }
-                }
+            if let Piece::Frame(a, b) = p
+                && let Some(fr) = FrameRef::new(&bytes[a..b])
+                && s.sign_into(&fr, timestamp_now(), &mut one)
+            {
+                buf.extend_from_slice(&one);
             }
         });
         (!buf.is_empty()).then_some(buf)

@@ -287,11 +287,7 @@ impl Routes {
             let k = &self.known[r.known];
             r.side == side && if comp == 0 { k.has_sys(sys) } else { k.has(sys, comp) }
         });
-        if seen != 0 {
-            seen
-        } else {
-            self.of_side(side)
-        }
+        if seen != 0 { seen } else { self.of_side(side) }
     }
 
     fn mask_where(&self, keep: impl Fn(usize, &Route) -> bool) -> RouteMask {

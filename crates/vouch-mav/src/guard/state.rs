@@ -3,10 +3,11 @@
 
 use std::fs::File;
 use std::io::BufWriter;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU64};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
+use super::Inspector;
 use super::counters::Counters;
 use super::dedup::Dedup;
 use super::endpoint::Endpoint;
@@ -14,7 +15,6 @@ use super::events::Events;
 use super::filter::Filter;
 use super::link::Egress;
 use super::routing::{Routes, Targets};
-use super::Inspector;
 use crate::side::Side;
 use crate::signing::{Signer, Verifier};
 

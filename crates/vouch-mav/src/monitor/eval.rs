@@ -167,14 +167,14 @@ fn bin(op: BinOp, a: &Expr, b: &Expr, env: &Env) -> Val {
                 (Val::Bool(false), _) | (_, Val::Bool(false)) => Val::Bool(false),
                 (Val::Bool(true), Val::Bool(true)) => Val::Bool(true),
                 _ => Val::Unknown,
-            }
+            };
         }
         BinOp::Or => {
             return match (eval(a, env), eval(b, env)) {
                 (Val::Bool(true), _) | (_, Val::Bool(true)) => Val::Bool(true),
                 (Val::Bool(false), Val::Bool(false)) => Val::Bool(false),
                 _ => Val::Unknown,
-            }
+            };
         }
         _ => {}
     }

@@ -1,11 +1,11 @@
 //! Turning a failed step into a [`Violation`]: which branch, which conjunct, which values.
 
-use super::eval::{eval, read_loc, Env, Val};
+use super::Monitor;
+use super::eval::{Env, Val, eval, read_loc};
 use super::identity::Forgery;
 use super::report::{Reply, Violation, ViolationKind};
-use super::session::{key_values, session_ids, vehicle_sys, Arrival, Session};
+use super::session::{Arrival, Session, key_values, session_ids, vehicle_sys};
 use super::step::StepResult;
-use super::Monitor;
 use crate::codec::MessageView;
 use crate::protocol::ir::{Conjunct, FieldLoc, Protocol, ReplyIR};
 

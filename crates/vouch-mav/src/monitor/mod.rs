@@ -23,7 +23,7 @@ mod spec;
 pub mod step;
 
 pub use report::{Reply, Violation, ViolationKind};
-pub use session::{ProtocolStats, Summary, MAX_SESSIONS_PER_PROTOCOL};
+pub use session::{MAX_SESSIONS_PER_PROTOCOL, ProtocolStats, Summary};
 pub use spec::{LoadError, MonitorSpec};
 
 use std::sync::Arc;
@@ -31,7 +31,7 @@ use std::sync::Arc;
 use crate::codec::{Frame, MessageView};
 use crate::dialect::Dialect;
 use crate::protocol::ir::{FieldLoc, ProtocolSet};
-use crate::protocol::{load_protocols, stdlib, ProtocolError};
+use crate::protocol::{ProtocolError, load_protocols, stdlib};
 use crate::side::Side;
 use crate::vehicle_state::VehicleTracker;
 use eval::Val;

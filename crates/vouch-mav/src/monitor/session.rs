@@ -1,9 +1,9 @@
 //! Sessions: matching a message to open sessions, opening new ones, closing them, and turning
 //! failed steps into violation reports.
 
-use super::eval::{holds, read_loc, Env, Val};
+use super::eval::{Env, Val, holds, read_loc};
 use super::report::Violation;
-use super::step::{step, StepInput, StepResult};
+use super::step::{StepInput, StepResult, step};
 use super::{Monitor, Verdict};
 use crate::codec::MessageView;
 use crate::protocol::ir::{Protocol, StateId, UnverifiablePolicy};
@@ -82,11 +82,7 @@ impl Summary {
 pub const MAX_SESSIONS_PER_PROTOCOL: usize = 64;
 
 fn role_of_kind(p: &Protocol, k: Side) -> usize {
-    if p.roles[0].1 == k {
-        0
-    } else {
-        1
-    }
+    if p.roles[0].1 == k { 0 } else { 1 }
 }
 
 /// System id of the vehicle of a session (0 = not known yet, or a broadcast).
@@ -210,14 +206,11 @@ impl Monitor {
                         accepted = true;
                         // A new start replaces a session of the same participants and keys that
                         // could not use this message (e.g. MISSION_COUNT sent again).
-                        if let Some(serial) = mismatch_here {
-                            if serial != started {
-                                if let Some(j) =
-                                    self.sessions.iter().position(|s| s.serial == serial)
-                                {
-                                    self.close(j, false);
-                                }
-                            }
+                        if let Some(serial) = mismatch_here
+                            && serial != started
+                            && let Some(j) = self.sessions.iter().position(|s| s.serial == serial)
+                        {
+                            self.close(j, false);
                         }
                     }
                     Some(Err(v)) => violations.push(*v),
@@ -236,10 +229,10 @@ impl Monitor {
         // state is complete (e.g. a download without the optional closing ACK).
         if accepted {
             for &serial in &mismatched[..n_mismatched] {
-                if let Some(j) = self.sessions.iter().position(|s| s.serial == serial) {
-                    if self.completable(j) {
-                        self.close(j, false);
-                    }
+                if let Some(j) = self.sessions.iter().position(|s| s.serial == serial)
+                    && self.completable(j)
+                {
+                    self.close(j, false);
                 }
             }
         }

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::Monitor;
-use crate::dialect::{load_dialect_file, Dialect, DialectError};
-use crate::protocol::{load_protocols, stdlib, ProtocolError};
+use crate::dialect::{Dialect, DialectError, load_dialect_file};
+use crate::protocol::{ProtocolError, load_protocols, stdlib};
 
 /// Where a monitor's dialect and protocols come from.
 #[derive(Clone, Debug, Default)]

@@ -1,9 +1,9 @@
 //! One step of a session: find the branch a message takes, bind, check refinements, apply the
 //! continuation (enter/continue a recursion with its invariant). No allocation on this path.
 
-use super::eval::{eval, first_failing, holds, read_loc, Env, Val};
+use super::eval::{Env, Val, eval, first_failing, holds, read_loc};
 use crate::codec::MessageView;
-use crate::protocol::ir::{Cont, Protocol, StateId, MAX_CONTINUE_ASSIGNS};
+use crate::protocol::ir::{Cont, MAX_CONTINUE_ASSIGNS, Protocol, StateId};
 use crate::vehicle_state::VehicleState;
 
 /// What a message did to a session (or to a would-be session, in the start state).
@@ -62,16 +62,16 @@ pub fn step(
             vehicle: input.vehicle,
             param_names: input.param_names,
         };
-        if let Some(w) = &t.when {
-            if !holds(w, &env) {
-                continue;
-            }
+        if let Some(w) = &t.when
+            && !holds(w, &env)
+        {
+            continue;
         }
-        if let Some(w) = &t.where_ {
-            if let Some(c) = first_failing(w, &env) {
-                refused.get_or_insert(StepResult::Refused { transition: ti, conjunct: c });
-                continue;
-            }
+        if let Some(w) = &t.where_
+            && let Some(c) = first_failing(w, &env)
+        {
+            refused.get_or_insert(StepResult::Refused { transition: ti, conjunct: c });
+            continue;
         }
         // Taken: run the continuation on the scratch copy.
         let next = match &t.cont {

@@ -7,7 +7,7 @@
 //! predicates are typed in [`typing`](super::typing).
 
 use super::ast::{self, BinOp, ExprKind, Stmt, UnOp};
-use super::compile::{loc_of, ty_of_loc, CResult, Compiler, Scope};
+use super::compile::{CResult, Compiler, Scope, loc_of, ty_of_loc};
 use super::error::ErrorKind;
 use super::ir::*;
 use crate::dialect::MsgIndex;
@@ -127,14 +127,14 @@ impl<'a> Compiler<'a> {
                     ErrorKind::Structure,
                     p.name.span,
                     "a protocol must start with a message step or a choice",
-                )
+                );
             }
             None => {
                 return self.err(
                     ErrorKind::Structure,
                     p.name.span,
                     "empty protocol: it needs at least one message step",
-                )
+                );
             }
         }
         let mut scope = Scope::default();

@@ -46,11 +46,7 @@ pub(super) fn loc_of(def: &MessageDef, name: &str) -> Option<FieldLoc> {
 }
 
 pub(super) fn ty_of_loc(l: &FieldLoc) -> Ty {
-    if l.text_len > 0 {
-        Ty::Str
-    } else {
-        Ty::Num { enum_: l.enum_name.clone() }
-    }
+    if l.text_len > 0 { Ty::Str } else { Ty::Num { enum_: l.enum_name.clone() } }
 }
 
 /// Static type of an expression.

@@ -3,7 +3,7 @@
 //! field slots resolved per alternative label.
 
 use super::ast::{self, Stmt};
-use super::compile::{loc_of, ty_of_loc, CResult, Compiler, Scope, StepCx, Ty};
+use super::compile::{CResult, Compiler, Scope, StepCx, Ty, loc_of, ty_of_loc};
 use super::error::ErrorKind;
 use super::error::Span;
 use super::ir::*;
@@ -127,7 +127,7 @@ impl Compiler<'_> {
                             ErrorKind::Structure,
                             name.span,
                             "the body of a `rec` must start with a message step or a choice",
-                        )
+                        );
                     }
                 }
                 let then = self.state_for(body, scope)?;
@@ -198,7 +198,7 @@ impl Compiler<'_> {
                     ErrorKind::Structure,
                     stmt_span(other),
                     "expected a message step or a choice here",
-                )
+                );
             }
         }
         let st = &mut self.proto_mut().states[id];
@@ -282,7 +282,7 @@ impl Compiler<'_> {
                         ErrorKind::UnknownName,
                         span,
                         format!("message {} has no field `{name}`", def.name),
-                    )
+                    );
                 }
             }
         }

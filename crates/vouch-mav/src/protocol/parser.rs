@@ -2,7 +2,7 @@
 
 use super::ast::*;
 use super::error::{ErrorKind, ProtocolError, Span};
-use super::lexer::{lex, Tok, Token};
+use super::lexer::{Tok, Token, lex};
 
 pub fn parse(src: &str) -> Result<FileAst, ProtocolError> {
     let toks = lex(src)?;
@@ -179,7 +179,7 @@ impl<'s> Parser<'s> {
                             self.src,
                             unit.span,
                             "time unit must be `s` or `ms`",
-                        ))
+                        ));
                     }
                 };
                 d.timeout_ms = Some((ms as u64, sp.to(unit.span)));
@@ -356,7 +356,7 @@ impl<'s> Parser<'s> {
                     self.src,
                     t.span,
                     "unknown type: expected int, float, bool or str",
-                ))
+                ));
             }
         })
     }

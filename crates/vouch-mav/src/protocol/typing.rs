@@ -1,7 +1,7 @@
 //! Typing and compilation of expressions and predicates (part of the compiler, see `compile`).
 
 use super::ast::{self, BinOp, ExprKind, UnOp};
-use super::compile::{ty_of_loc, CResult, Compiler, Scope, StepCx, Ty};
+use super::compile::{CResult, Compiler, Scope, StepCx, Ty, ty_of_loc};
 use super::error::{ErrorKind, ProtocolError, Span};
 use super::ir::*;
 
@@ -130,7 +130,7 @@ impl<'a> Compiler<'a> {
                             m.span,
                             format!("unknown vehicle attribute `{}`", m.name),
                         )
-                        .with_help("vehicle attributes: armed, mode, alt, climb, type"))
+                        .with_help("vehicle attributes: armed, mode, alt, climb, type"));
                     }
                 };
                 let x = Expr::Vehicle(attr);

@@ -101,7 +101,9 @@ impl SigningKey {
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum KeyError {
     /// Neither hex nor a passphrase, and no file by that name can be read.
-    #[error("signing key `{spec}` is neither 64 hex digits, `passphrase:…`, nor a readable file: {source}")]
+    #[error(
+        "signing key `{spec}` is neither 64 hex digits, `passphrase:…`, nor a readable file: {source}"
+    )]
     #[diagnostic(code(mav::K001))]
     Unreadable {
         /// What was given.
@@ -110,9 +112,7 @@ pub enum KeyError {
         source: std::io::Error,
     },
     /// A key file that holds neither 32 raw bytes nor 64 hex digits.
-    #[error(
-        "signing key file `{path}`: expected 32 raw bytes or 64 hex digits, found {len} bytes"
-    )]
+    #[error("signing key file `{path}`: expected 32 raw bytes or 64 hex digits, found {len} bytes")]
     #[diagnostic(code(mav::K002))]
     BadFile {
         /// The file.

@@ -49,7 +49,9 @@ pub enum StateError {
     #[error("signing state {}: not a vouch signing state file ({why})", path.display())]
     #[diagnostic(
         code(mav::S002),
-        help("move it away to start without the saved replay state (frames accepted before can then be replayed)")
+        help(
+            "move it away to start without the saved replay state (frames accepted before can then be replayed)"
+        )
     )]
     Damaged {
         /// The state file.
@@ -68,7 +70,9 @@ pub enum StateError {
         path: PathBuf,
     },
     /// No default location: none of STATE_DIRECTORY, XDG_STATE_HOME, HOME is set.
-    #[error("no place for the signing state: set --signing-state FILE (or STATE_DIRECTORY, XDG_STATE_HOME or HOME)")]
+    #[error(
+        "no place for the signing state: set --signing-state FILE (or STATE_DIRECTORY, XDG_STATE_HOME or HOME)"
+    )]
     #[diagnostic(code(mav::S004))]
     NoDefault,
 }
@@ -90,7 +94,7 @@ pub fn key_fingerprint(key: &SigningKey) -> String {
     let mut h = Sha256::new();
     h.update(b"vouch-mav signing state\0");
     h.update(key.0);
-    h.finalize()[..8].iter().map(|b| format!("{b:02x}")).collect()
+    hex::encode(&h.finalize()[..8])
 }
 
 /// The default state file of a key: `mav-signing-<fingerprint>.json` in `$STATE_DIRECTORY`
@@ -243,7 +247,7 @@ impl Drop for StateSaver {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::signing::{timestamp_now, Signer};
+    use crate::signing::{Signer, timestamp_now};
 
     fn key(b: u8) -> SigningKey {
         SigningKey([b; 32])

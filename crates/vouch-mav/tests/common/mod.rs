@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use vouch_mav::codec::MessageBuilder;
 use vouch_mav::dialect::Dialect;
-use vouch_mav::monitor::offline::{check_tlog, RecordingReport};
+use vouch_mav::monitor::offline::{RecordingReport, check_tlog};
 use vouch_mav::monitor::{Monitor, Violation};
 
 pub const GCS: (u8, u8) = (255, 190);

@@ -140,10 +140,10 @@ pub fn write_mission(dir: &Path) -> PathBuf {
 pub fn read_summary(p: &Path) -> serde_json::Value {
     let end = Instant::now() + Duration::from_secs(8);
     while Instant::now() < end {
-        if let Ok(s) = std::fs::read_to_string(p) {
-            if let Ok(v) = serde_json::from_str(&s) {
-                return v;
-            }
+        if let Ok(s) = std::fs::read_to_string(p)
+            && let Ok(v) = serde_json::from_str(&s)
+        {
+            return v;
         }
         std::thread::sleep(Duration::from_millis(100));
     }

@@ -12,16 +12,16 @@ mod state;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-pub use plan_check::{check_plan_on, DETOUR_CELLS, DETOUR_FACTOR, MAX_STEP_CELLS};
+pub use plan_check::{DETOUR_CELLS, DETOUR_FACTOR, MAX_STEP_CELLS, check_plan_on};
 pub use report::{
     BagReport, CostmapUsed, PathViolation, PlanVerdict, Replay, ReplayMode, Request, Source,
     Summary,
 };
-pub use state::{translate_cost, untranslate, CostmapKind, CostmapState, TfTree};
+pub use state::{CostmapKind, CostmapState, TfTree, translate_cost, untranslate};
 
 use crate::planner::{PlannerParams, Pose};
-use crate::rosbag::msgs::{decode, NavMessage};
-use crate::rosbag::{read_bag, Bag, BagError};
+use crate::rosbag::msgs::{NavMessage, decode};
+use crate::rosbag::{Bag, BagError, read_bag};
 
 /// Topic names and frames (nav2's defaults in `Default`).
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]

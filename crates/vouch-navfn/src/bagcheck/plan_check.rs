@@ -5,9 +5,9 @@
 //! that keeps rising from the robot to the goal (`Progress` along the path), not much longer
 //! than the replayed plan, and the end points of the request.
 
-use crate::checks::{check_potential, PlanView};
-use crate::core::{ros_to_navfn_cost, Cell, COST_OBS, POT_HIGH};
-use crate::picture::{render, write_png, PictureInput};
+use crate::checks::{PlanView, check_potential};
+use crate::core::{COST_OBS, Cell, POT_HIGH, ros_to_navfn_cost};
+use crate::picture::{PictureInput, render, write_png};
 use crate::planner::{NavfnPlanner, PlanStatus, PlannerParams, Pose, PosePlan};
 
 use super::report::{PathViolation, PlanVerdict, Replay, ReplayMode, Request, Source};
@@ -160,10 +160,10 @@ fn check_poses(g: &Grid, cells: &[[f64; 2]], out: &mut Vec<PathViolation>) {
         if !g.open(p) {
             out.push(PathViolation::PoseInObstacle { index, cell: p });
         }
-        if let Some(pot) = g.potential {
-            if !g.reached(pot, p) {
-                out.push(PathViolation::PoseOnUnreachedCell { index, cell: p });
-            }
+        if let Some(pot) = g.potential
+            && !g.reached(pot, p)
+        {
+            out.push(PathViolation::PoseOnUnreachedCell { index, cell: p });
         }
     }
     for (index, pair) in cells.windows(2).enumerate() {

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::maps::{static_layer_value, WorldParams};
+use crate::maps::{WorldParams, static_layer_value};
 use crate::planner::Pose;
 use crate::rosbag::msgs::{Grid, GridCells, GridUpdate, PoseMsg, Transform};
 

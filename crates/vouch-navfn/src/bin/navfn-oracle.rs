@@ -11,9 +11,9 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use vouch_navfn::campaign::oracle::{emit_path, EmitOptions};
-use vouch_navfn::campaign::trace::TraceDetail;
 use vouch_navfn::campaign::CampaignError;
+use vouch_navfn::campaign::oracle::{EmitOptions, emit_path};
+use vouch_navfn::campaign::trace::TraceDetail;
 use vouch_navfn::suite::RunMode;
 
 /// Why the oracle stopped: bad input, or its own output went away.
@@ -30,7 +30,9 @@ impl From<CampaignError> for Stop {
 
 fn usage(msg: &str) -> ExitCode {
     eprintln!("navfn-oracle: {msg}");
-    eprintln!("usage: navfn-oracle [--mode paper|navfn] [--algo dijkstra|astar] [--trace hash|cells] [--pot] TEST_TXT");
+    eprintln!(
+        "usage: navfn-oracle [--mode paper|navfn] [--algo dijkstra|astar] [--trace hash|cells] [--pot] TEST_TXT"
+    );
     ExitCode::from(2)
 }
 

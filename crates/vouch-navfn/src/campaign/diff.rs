@@ -15,12 +15,12 @@ use rayon::prelude::*;
 use crate::campaign::error::CampaignError;
 use crate::campaign::names::FindingKind;
 use crate::campaign::oracle::{
-    contract_args, emit_file, parse_answers, run_oracle, CaseAnswer, EmitOptions,
+    CaseAnswer, EmitOptions, contract_args, emit_file, parse_answers, run_oracle,
 };
 use crate::campaign::report::{Finding, Report};
 use crate::campaign::shard::Shard;
 use crate::campaign::suite_io::walk_suite;
-use crate::campaign::trace::{first_divergence, TraceDetail, TraceDivergence};
+use crate::campaign::trace::{TraceDetail, TraceDivergence, first_divergence};
 use crate::maps::{find_test_files, read_suite_file};
 use crate::suite::RunMode;
 

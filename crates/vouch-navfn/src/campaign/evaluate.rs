@@ -7,15 +7,15 @@ use std::collections::HashMap;
 use std::time::Instant;
 
 use crate::campaign::error::CampaignError;
-use crate::campaign::exec::{navfn_ends, plan_checks, run_case, CaseRun};
-use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
+use crate::campaign::exec::{CaseRun, navfn_ends, plan_checks, run_case};
+use crate::campaign::grid::{Case, OBSTACLE, SuiteMap};
 use crate::campaign::metamorphic::{self, OriginalCtx, RunDigest};
 use crate::campaign::names::{Failed, FindingKind, Outcome, Property};
 use crate::campaign::optimal::{dijkstra, path_cost, path_shape};
 use crate::campaign::report::{CaseRecord, CategoryStats, Finding};
 use crate::campaign::shard::Shard;
 use crate::campaign::transform::Transform;
-use crate::core::{Cell, PropagationEnd, POT_HIGH};
+use crate::core::{Cell, POT_HIGH, PropagationEnd};
 use crate::suite::{CaseRunner, RunMode};
 
 /// What a campaign does.

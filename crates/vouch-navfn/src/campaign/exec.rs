@@ -2,13 +2,13 @@
 //! NavFn runs (through the core's zero-cost `SearchObserver` hook), and the per-cycle trace is
 //! recorded when asked for.
 
-use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
+use crate::campaign::grid::{Case, OBSTACLE, SuiteMap};
 use crate::campaign::names::Property;
 use crate::campaign::trace::{Trace, TraceDetail, TraceRecorder};
-use crate::checks::{check_plan, PlanView, Violation as PlanViolation};
+use crate::checks::{PlanView, Violation as PlanViolation, check_plan};
 use crate::core::{
-    Cell, CycleView, NavFn, PathStartView, PropagationEnd, PropagationEndView, SearchObserver,
-    POT_HIGH,
+    Cell, CycleView, NavFn, POT_HIGH, PathStartView, PropagationEnd, PropagationEndView,
+    SearchObserver,
 };
 use crate::suite::{CaseError, CaseOutcome, CaseRunner, CostInput, MapRef, RunMode};
 

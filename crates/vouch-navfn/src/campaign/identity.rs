@@ -32,7 +32,7 @@ pub fn map_digest(test_txt: &[u8], map: &[u8]) -> String {
 }
 
 fn hex(h: Sha256) -> String {
-    format!("{:x}", h.finalize())
+    hex::encode(h.finalize())
 }
 
 /// Where a suite's fingerprint and size come from.

@@ -25,7 +25,9 @@ pub enum MergeError {
     #[error("reports run with different options: {0} and {1}")]
     #[diagnostic(
         code(navfn::E044),
-        help("every shard must run with the same --mode/--algo, --ratio, --no-metamorphic, --no-optimality and --oracle")
+        help(
+            "every shard must run with the same --mode/--algo, --ratio, --no-metamorphic, --no-optimality and --oracle"
+        )
     )]
     Options(String, String),
     /// Reports of different suites.
@@ -45,10 +47,7 @@ pub enum MergeError {
     },
     /// Shards of different splits (mixed N or mixed --shard-by).
     #[error("shards of different splits: {0} and {1}")]
-    #[diagnostic(
-        code(navfn::E047),
-        help("merge the shards of one `--shard I/N --shard-by …` run")
-    )]
+    #[diagnostic(code(navfn::E047), help("merge the shards of one `--shard I/N --shard-by …` run"))]
     Split(String, String),
     /// A shard given twice (directly or inside merged reports).
     #[error("shard {index}/{count} appears twice")]
@@ -127,10 +126,10 @@ impl Report {
         count_maps(&mut out.categories, &out.suite.maps);
         out.trim_findings();
         out.suite.seal();
-        if completeness == Completeness::Required {
-            if let Some(gap) = incompleteness(&out) {
-                return Err(MergeError::Incomplete(gap));
-            }
+        if completeness == Completeness::Required
+            && let Some(gap) = incompleteness(&out)
+        {
+            return Err(MergeError::Incomplete(gap));
         }
         Ok(out)
     }

@@ -24,7 +24,7 @@
 
 use crate::campaign::names::{Relation, RelationKind};
 use crate::campaign::transform::Transform;
-use crate::core::{PropagationEnd, POT_HIGH};
+use crate::core::{POT_HIGH, PropagationEnd};
 
 /// Relative tolerance of the approximate relations.
 pub const APPROX_REL: f64 = 0.25;
@@ -173,13 +173,13 @@ pub fn evaluate(
                     format!("start potential {a} vs {b}")
                 });
             }
-            if let (Some(a), Some(b)) = (o.cost, r.cost) {
-                if a > 0.0 || b > 0.0 {
-                    let ok = (a - b).abs() <= APPROX_REL * a.max(b);
-                    out.push(RelationKind::ApproxPathCost, ok, || {
-                        format!("path cost {a:.1} vs {b:.1}")
-                    });
-                }
+            if let (Some(a), Some(b)) = (o.cost, r.cost)
+                && (a > 0.0 || b > 0.0)
+            {
+                let ok = (a - b).abs() <= APPROX_REL * a.max(b);
+                out.push(RelationKind::ApproxPathCost, ok, || {
+                    format!("path cost {a:.1} vs {b:.1}")
+                });
             }
         }
     }

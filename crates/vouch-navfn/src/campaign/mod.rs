@@ -19,7 +19,7 @@ pub mod diff;
 pub mod error;
 pub mod evaluate;
 pub mod exec;
-pub mod gen;
+pub mod generate;
 pub mod grid;
 pub mod identity;
 pub mod merge;

@@ -13,8 +13,8 @@ use std::process::Command;
 
 use crate::campaign::error::{CampaignError, OracleError};
 use crate::campaign::trace::{self, Trace, TraceDetail, TraceRecorder};
-use crate::maps::{find_test_files, read_suite_file, SuiteFile};
-use crate::suite::{write_cell_case, CaseError, CaseRunner, CostInput, RunMode};
+use crate::maps::{SuiteFile, find_test_files, read_suite_file};
+use crate::suite::{CaseError, CaseRunner, CostInput, RunMode, write_cell_case};
 
 /// What one side said about one case.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

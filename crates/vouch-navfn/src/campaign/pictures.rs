@@ -7,14 +7,14 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::campaign::error::CampaignError;
-use crate::campaign::evaluate::{picture_path, prepare, PreparedMap};
+use crate::campaign::evaluate::{PreparedMap, picture_path, prepare};
 use crate::campaign::exec::{navfn_ends, run_case};
 use crate::campaign::grid::{Case, OBSTACLE};
 use crate::campaign::names::FindingKind;
 use crate::campaign::optimal::grid_optimum;
 use crate::campaign::report::{Finding, Report};
 use crate::campaign::suite_io::{read_test_file, walk_suite};
-use crate::picture::{cell_scale, render, write_png, PictureInput, Rgb};
+use crate::picture::{PictureInput, Rgb, cell_scale, render, write_png};
 use crate::suite::{CaseRunner, RunMode};
 
 /// Writes a picture of every finding of `report` (not the oracle mismatches and approximate

@@ -30,11 +30,7 @@ pub struct PassFail {
 impl PassFail {
     /// Counts one evaluation.
     pub fn record(&mut self, ok: bool) {
-        if ok {
-            self.pass += 1
-        } else {
-            self.fail += 1
-        }
+        if ok { self.pass += 1 } else { self.fail += 1 }
     }
     pub(crate) fn merge(&mut self, o: &PassFail) {
         self.pass = self.pass.saturating_add(o.pass);

@@ -6,10 +6,10 @@
 
 use std::path::Path;
 
-use crate::campaign::grid::{SuiteMap, FREE, MAX_TRAVERSABLE, OBSTACLE};
+use crate::campaign::grid::{FREE, MAX_TRAVERSABLE, OBSTACLE, SuiteMap};
+use crate::maps::MapError;
 use crate::maps::pgm::parse_pgm;
 use crate::maps::ros_yaml::parse_map_yaml;
-use crate::maps::MapError;
 
 /// Convert one grey sample (0..=maxval) with the yaml thresholds.
 pub fn pixel_to_navfn(

@@ -15,15 +15,15 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::campaign::error::CampaignError;
-pub use crate::campaign::evaluate::{prepare, to_pairs, CampaignOptions, PreparedMap};
-use crate::campaign::evaluate::{run_unit, UnitResult};
-use crate::campaign::identity::{read_manifest, IdentityBasis, ListingFingerprint, MapDigest};
+pub use crate::campaign::evaluate::{CampaignOptions, PreparedMap, prepare, to_pairs};
+use crate::campaign::evaluate::{UnitResult, run_unit};
+use crate::campaign::identity::{IdentityBasis, ListingFingerprint, MapDigest, read_manifest};
 use crate::campaign::merge::count_maps;
 use crate::campaign::report::{
-    CaseRecord, Report, ResultOptions, RunInfo, ShardSet, REPORT_FORMAT,
+    CaseRecord, REPORT_FORMAT, Report, ResultOptions, RunInfo, ShardSet,
 };
 use crate::campaign::shard::{Shard, ShardBy};
-use crate::campaign::suite_io::{no_test_files, read_entry_with_digest, walk_suite, SuiteEntry};
+use crate::campaign::suite_io::{SuiteEntry, no_test_files, read_entry_with_digest, walk_suite};
 
 /// Receives progress from the worker threads.
 pub trait Progress: Sync {

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use crate::campaign::grid::{Case, SuiteMap};
 use crate::campaign::identity::map_digest;
-use crate::maps::{parse_suite_text, read_suite_file, MapError, SuiteFile};
+use crate::maps::{MapError, SuiteFile, parse_suite_text, read_suite_file};
 
 /// A suite that cannot be read into the campaign IR or written.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]

@@ -3,14 +3,10 @@
 
 use std::fmt::Write as _;
 
-use crate::campaign::report::{CategoryStats, Report, RATIO_BINS};
+use crate::campaign::report::{CategoryStats, RATIO_BINS, Report};
 
 fn pct(part: u64, whole: u64) -> String {
-    if whole == 0 {
-        "-".into()
-    } else {
-        format!("{:.2}%", 100.0 * part as f64 / whole as f64)
-    }
+    if whole == 0 { "-".into() } else { format!("{:.2}%", 100.0 * part as f64 / whole as f64) }
 }
 
 /// The human summary: one row per category and a total row, then the checks.
@@ -64,7 +60,11 @@ pub fn summary_table(r: &Report) -> String {
             c.outcomes.unreachable,
             c.outcomes.cycle_limit,
             c.outcomes.path_failed,
-            if checks_fail == 0 { format!("ok{}", if checks_all == 0 { "?" } else { "" }) } else { format!("{checks_fail}F") },
+            if checks_fail == 0 {
+                format!("ok{}", if checks_all == 0 { "?" } else { "" })
+            } else {
+                format!("{checks_fail}F")
+            },
             if rel_fail == 0 { "ok".to_string() } else { format!("{rel_fail}F") },
             o.excess_percent(),
             o.ratio_max,

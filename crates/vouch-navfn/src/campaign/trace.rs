@@ -17,7 +17,7 @@
 
 use std::fmt::Write as _;
 
-use crate::core::numeric::{Fnv1a, FNV_OFFSET};
+use crate::core::numeric::{FNV_OFFSET, Fnv1a};
 use crate::core::{CycleView, PropagationEnd, PropagationEndView, SearchObserver};
 
 /// How much of each buffer a trace keeps.
@@ -306,20 +306,20 @@ pub fn first_divergence(ours: &Trace, theirs: &Trace) -> Option<TraceDivergence>
             detail: format!("{} cycles vs {}", ours.cycles.len(), theirs.cycles.len()),
         });
     }
-    if let (Some(a), Some(b)) = (&ours.end, &theirs.end) {
-        if a != b {
-            return Some(TraceDivergence {
-                cycle: a.cycles,
-                what: "end".into(),
-                position: None,
-                ours: None,
-                theirs: None,
-                detail: format!(
-                    "end {} after {} cycles vs {} after {}",
-                    a.end, a.cycles, b.end, b.cycles
-                ),
-            });
-        }
+    if let (Some(a), Some(b)) = (&ours.end, &theirs.end)
+        && a != b
+    {
+        return Some(TraceDivergence {
+            cycle: a.cycles,
+            what: "end".into(),
+            position: None,
+            ours: None,
+            theirs: None,
+            detail: format!(
+                "end {} after {} cycles vs {} after {}",
+                a.end, a.cycles, b.end, b.cycles
+            ),
+        });
     }
     None
 }

@@ -2,7 +2,7 @@
 //! (rotations by 90/180/270°, mirrors) and embedding in a larger frame of obstacles.
 //! The relations that must hold between runs are in `metamorphic.rs`.
 
-use crate::campaign::grid::{Case, SuiteMap, OBSTACLE};
+use crate::campaign::grid::{Case, OBSTACLE, SuiteMap};
 
 /// A transform of a map and its cases.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]

@@ -11,7 +11,7 @@ mod report;
 
 pub use report::{CheckReport, Violation};
 
-use crate::core::{Cell, NavFn, COST_OBS, POT_HIGH};
+use crate::core::{COST_OBS, Cell, NavFn, POT_HIGH};
 
 /// A cell NavFn reached has a potential below `POT_HIGH`; a NaN counts as not reached.
 pub(crate) fn reached(potential: f32) -> bool {

@@ -27,7 +27,11 @@ impl fmt::Display for Violation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Violation::PoseInObstacle { index, point } => {
-                write!(f, "path point {index} ({}, {}) lies in an obstacle (ValidPath)", point[0], point[1])
+                write!(
+                    f,
+                    "path point {index} ({}, {}) lies in an obstacle (ValidPath)",
+                    point[0], point[1]
+                )
             }
             Violation::PoseOnUnreachedCell { index, point } => write!(
                 f,
@@ -35,7 +39,11 @@ impl fmt::Display for Violation {
                 point[0], point[1]
             ),
             Violation::PotentialOnObstacle { cell } => {
-                write!(f, "obstacle cell ({}, {}) has a finite potential (PositionSafe)", cell.x, cell.y)
+                write!(
+                    f,
+                    "obstacle cell ({}, {}) has a finite potential (PositionSafe)",
+                    cell.x, cell.y
+                )
             }
             Violation::NoProgress { cell } => write!(
                 f,

@@ -33,10 +33,10 @@ impl<T: Pod> CellArray<T> {
     /// `len` zeroed elements.
     pub(crate) fn zeroed(len: usize) -> Self {
         let bytes = len * size_of::<T>();
-        if bytes >= HUGE_PAGE {
-            if let Some(store) = Self::mapped(bytes) {
-                return CellArray { store };
-            }
+        if bytes >= HUGE_PAGE
+            && let Some(store) = Self::mapped(bytes)
+        {
+            return CellArray { store };
         }
         CellArray { store: Store::Heap(vec![T::zeroed(); len]) }
     }

@@ -17,11 +17,7 @@ pub const COST_NEUTRAL: u8 = 50;
 /// 8-bit input but is kept for fidelity.
 const fn formula(v: u8) -> u8 {
     let c = (COST_NEUTRAL as f64 + 0.8 * v as f64) as i32;
-    if c >= COST_OBS as i32 {
-        COST_OBS - 1
-    } else {
-        c as u8
-    }
+    if c >= COST_OBS as i32 { COST_OBS - 1 } else { c as u8 }
 }
 
 const fn build_table() -> [u8; 253] {

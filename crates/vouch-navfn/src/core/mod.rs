@@ -24,8 +24,8 @@ use cells::CellArray;
 use propagate::PriorityBuf;
 
 pub use costs::{
-    ros_to_navfn_cost, COST_NEUTRAL, COST_OBS, COST_OBS_ROS, COST_UNKNOWN_ROS, FREE_SPACE_ROS,
-    ROS_COST_TABLE,
+    COST_NEUTRAL, COST_OBS, COST_OBS_ROS, COST_UNKNOWN_ROS, FREE_SPACE_ROS, ROS_COST_TABLE,
+    ros_to_navfn_cost,
 };
 pub use observer::{
     CycleView, NoObserver, PathStartView, PropagationEnd, PropagationEndView, SearchObserver,
@@ -66,9 +66,7 @@ impl Cell {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error, miette::Diagnostic)]
 pub enum CoreError {
     /// The map size cannot hold NavFn's arrays.
-    #[error(
-        "map size {nx}x{ny} is not usable: NavFn needs at least 1x1 cells and fewer than 2^31"
-    )]
+    #[error("map size {nx}x{ny} is not usable: NavFn needs at least 1x1 cells and fewer than 2^31")]
     #[diagnostic(code(navfn::E001))]
     BadSize {
         /// Columns.

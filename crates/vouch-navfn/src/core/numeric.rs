@@ -30,11 +30,7 @@ pub fn astar_heuristic(dx: i64, dy: i64) -> f32 {
 /// to `INT_MAX` instead, which would change grid following on unreached start cells.
 #[inline(always)]
 pub fn c_float_to_int(f: f32) -> i32 {
-    if (-2147483648.0..2147483648.0).contains(&f) {
-        f as i32
-    } else {
-        i32::MIN
-    }
+    if (-2147483648.0..2147483648.0).contains(&f) { f as i32 } else { i32::MIN }
 }
 
 /// `int(roundf(v))` (half away from zero) for the small offsets of path extraction

@@ -2,7 +2,7 @@
 
 use super::numeric::{c_float_to_int, hypotf, round_half_away};
 use super::observer::{PathStartView, SearchObserver};
-use super::{NavFn, COST_NEUTRAL, COST_OBS, POT_HIGH};
+use super::{COST_NEUTRAL, COST_OBS, NavFn, POT_HIGH};
 
 impl NavFn {
     /// Potential read that tolerates the out-of-array reads the C++ can make on the border
@@ -10,11 +10,7 @@ impl NavFn {
     /// start cells on the border, which the C++ handles with undefined behaviour.
     #[inline(always)]
     fn pot_at(&self, i: i64) -> f32 {
-        if i < 0 || i as usize >= self.ns {
-            POT_HIGH
-        } else {
-            self.pot[i as usize]
-        }
+        if i < 0 || i as usize >= self.ns { POT_HIGH } else { self.pot[i as usize] }
     }
 
     /// `gradCell(n)`: normalised gradient of the potential at `n`, cached in `gx/gy`.

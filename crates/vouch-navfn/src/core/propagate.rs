@@ -3,7 +3,7 @@
 
 use super::numeric::astar_heuristic;
 use super::observer::{CycleView, PropagationEnd, PropagationEndView, SearchObserver};
-use super::{NavFn, COST_OBS, CUR_T_INIT, POT_HIGH, PRIORITY_BUF_SIZE};
+use super::{COST_OBS, CUR_T_INIT, NavFn, POT_HIGH, PRIORITY_BUF_SIZE};
 use prefetch_index::prefetch_index;
 
 /// `INVSQRT2` of navfn.cpp: a double literal, not exactly 1/√2 (hence not `FRAC_1_SQRT_2`).

@@ -29,11 +29,7 @@ pub fn sample_to_quantum(v: u16, maxval: u16) -> u16 {
 
 /// The 8-bit grey value map_server reads for a sample (`"I"` exported as `CharPixel`).
 pub fn grey8(v: u16, maxval: u16) -> u8 {
-    if maxval == 255 {
-        v as u8
-    } else {
-        quantum_to_char(sample_to_quantum(v, maxval))
-    }
+    if maxval == 255 { v as u8 } else { quantum_to_char(sample_to_quantum(v, maxval)) }
 }
 
 #[cfg(test)]

@@ -12,13 +12,13 @@ pub mod yaml_meta;
 
 pub use error::{MapError, SyntaxError};
 pub use grey::MapImage;
-pub use ros_yaml::{decode_image, load_ros_map, occupancy_grid, static_layer_value, RosMap};
+pub use ros_yaml::{RosMap, decode_image, load_ros_map, occupancy_grid, static_layer_value};
 pub use suite::{
-    find_test_files, parse_suite_text, parse_world_params, read_suite_file, read_world_params,
-    SuiteCase, SuiteFile,
+    SuiteCase, SuiteFile, find_test_files, parse_suite_text, parse_world_params, read_suite_file,
+    read_world_params,
 };
 pub use world::WorldParams;
-pub use yaml_meta::{parse_map_yaml, MapMode, RosMapMeta};
+pub use yaml_meta::{MapMode, RosMapMeta, parse_map_yaml};
 
 /// Largest map we accept (cells). Far above any nav2 map in practice, low enough that a
 /// corrupt header cannot make us allocate gigabytes.

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::{MapError, MAX_CELLS};
+use super::{MAX_CELLS, MapError};
 
 /// A grey image, row 0 = top row of the file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -27,7 +27,7 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
             return Err(MapError::file(
                 path,
                 format!("not a PGM image (magic `{other}`, expected P5 or P2)"),
-            ))
+            ));
         }
     };
     let width = header_number(path, data, &mut pos, "width")?;
@@ -69,7 +69,7 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
                     return Err(MapError::file(
                         path,
                         format!("truncated PGM: {cells} samples expected, found {i}"),
-                    ))
+                    ));
                 }
             };
             let v: usize = v
@@ -80,13 +80,8 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
             )?);
         }
     }
-    if binary {
-        if let Some(&bad) = pixels.iter().find(|&&p| p as usize > maxval) {
-            return Err(MapError::file(
-                path,
-                format!("sample value {bad} exceeds maxval {maxval}"),
-            ));
-        }
+    if binary && let Some(&bad) = pixels.iter().find(|&&p| p as usize > maxval) {
+        return Err(MapError::file(path, format!("sample value {bad} exceeds maxval {maxval}")));
     }
     Ok(GreyImage { width, height, maxval: maxval as u16, pixels })
 }

@@ -4,13 +4,13 @@
 
 use std::path::Path;
 
-use super::grey::{quantum_to_char, sample_to_quantum, MapImage};
+use super::grey::{MapImage, quantum_to_char, sample_to_quantum};
 use super::pgm::GreyImage;
-use super::{MapError, MAX_CELLS};
+use super::{MAX_CELLS, MapError};
 
 pub(crate) fn decode_png(path: &Path, data: &[u8]) -> Result<MapImage, MapError> {
     let bad = |e: png::DecodingError| MapError::file(path, format!("bad PNG: {e}"));
-    let mut decoder = png::Decoder::new(data);
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(data));
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(bad)?;
     let info = reader.info();
@@ -18,18 +18,17 @@ pub(crate) fn decode_png(path: &Path, data: &[u8]) -> Result<MapImage, MapError>
     if w.checked_mul(h).is_none_or(|c| c > MAX_CELLS || c == 0) {
         return Err(MapError::file(path, format!("image size {w}x{h} is empty or too large")));
     }
-    let mut buf = vec![0; reader.output_buffer_size()];
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| MapError::file(path, format!("image size {w}x{h} is too large")))?;
+    let mut buf = vec![0; size];
     let frame = reader.next_frame(&mut buf).map_err(bad)?;
     let bytes = &buf[..frame.buffer_size()];
     let channels = frame.color_type.samples();
     let wide = frame.bit_depth == png::BitDepth::Sixteen;
     let maxval: u16 = if wide { 65535 } else { 255 };
     let sample = |i: usize| -> u16 {
-        if wide {
-            u16::from_be_bytes([bytes[2 * i], bytes[2 * i + 1]])
-        } else {
-            bytes[i] as u16
-        }
+        if wide { u16::from_be_bytes([bytes[2 * i], bytes[2 * i + 1]]) } else { bytes[i] as u16 }
     };
     let colour =
         !matches!(frame.color_type, png::ColorType::Grayscale | png::ColorType::GrayscaleAlpha);

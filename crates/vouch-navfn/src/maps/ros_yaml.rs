@@ -10,11 +10,11 @@
 
 use std::path::Path;
 
-use super::grey::{grey8, MapImage};
+use super::MapError;
+use super::grey::{MapImage, grey8};
 use super::pgm::parse_pgm;
 use super::world::WorldParams;
-pub use super::yaml_meta::{parse_map_yaml, MapMode, RosMapMeta};
-use super::MapError;
+pub use super::yaml_meta::{MapMode, RosMapMeta, parse_map_yaml};
 
 /// A loaded map as a nav2 costmap (static layer, no inflation).
 #[derive(Clone, Debug, PartialEq)]
@@ -85,11 +85,7 @@ pub fn occupancy_grid(meta: &RosMapMeta, image: &MapImage) -> Vec<i8> {
             let i = y * w + x;
             let grey = grey8(img.pixels[i], img.maxval);
             let v = if meta.mode == MapMode::Raw {
-                if grey <= 100 {
-                    grey as i8
-                } else {
-                    -1
-                }
+                if grey <= 100 { grey as i8 } else { -1 }
             } else if image.alpha.as_ref().is_some_and(|a| a[i] < 255) {
                 -1
             } else {

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::world::WorldParams;
-use super::{MapError, MAX_CELLS};
+use super::{MAX_CELLS, MapError};
 
 /// One case: a path *from* (x0, y0) *to* (x1, y1), numbers as read (doubles).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,11 +24,7 @@ impl SuiteCase {
     pub fn cells(&self, width: usize, height: usize) -> Option<([usize; 2], [usize; 2])> {
         let cell = |x: f64, lim: usize| -> Option<usize> {
             let t = x.trunc();
-            if t >= 0.0 && t < lim as f64 {
-                Some(t as usize)
-            } else {
-                None
-            }
+            if t >= 0.0 && t < lim as f64 { Some(t as usize) } else { None }
         };
         let [x0, y0, x1, y1] = self.coords;
         Some(([cell(x0, width)?, cell(y0, height)?], [cell(x1, width)?, cell(y1, height)?]))

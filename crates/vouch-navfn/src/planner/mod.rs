@@ -5,12 +5,12 @@
 mod pose;
 mod validate;
 
-pub use pose::{orientation_around_z, Pose, PosePlan, IDENTITY};
+pub use pose::{IDENTITY, Pose, PosePlan, orientation_around_z};
 
-pub use validate::{End, PlanError, MAX_TOLERANCE_POINTS};
+pub use validate::{End, MAX_TOLERANCE_POINTS, PlanError};
 
 use crate::core::{
-    ros_to_navfn_cost, Cell, NavFn, NoObserver, SearchObserver, FREE_SPACE_ROS, POT_HIGH,
+    Cell, FREE_SPACE_ROS, NavFn, NoObserver, POT_HIGH, SearchObserver, ros_to_navfn_cost,
 };
 pub use crate::maps::WorldParams;
 
@@ -315,13 +315,12 @@ fn squared_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// `smoothApproachToGoal`: replace the last pose by the goal when the goal is nearer to the
 /// second-to-last pose, or when the last pose already (almost) equals it; else append it.
 fn smooth_approach_to_goal(goal: [f64; 2], poses: &mut Vec<[f64; 2]>) {
-    if let [.., second, last] = poses.as_mut_slice() {
-        if squared_distance(*last, *second) > squared_distance(goal, *second)
-            || squared_distance(*last, goal) < 1e-6
-        {
-            *last = goal;
-            return;
-        }
+    if let [.., second, last] = poses.as_mut_slice()
+        && (squared_distance(*last, *second) > squared_distance(goal, *second)
+            || squared_distance(*last, goal) < 1e-6)
+    {
+        *last = goal;
+        return;
     }
     poses.push(goal);
 }

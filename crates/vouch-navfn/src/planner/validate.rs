@@ -5,7 +5,7 @@
 use std::fmt;
 
 use super::{NavfnPlanner, PlannerPlan};
-use crate::core::{Cell, CoreError, COST_OBS};
+use crate::core::{COST_OBS, Cell, CoreError};
 use crate::maps::WorldParams;
 
 /// Largest number of points the goal tolerance search may visit: `(2·tol/res + 1)²`. The search
@@ -47,7 +47,9 @@ pub enum PlanError {
         resolution: f64,
     },
     /// The tolerance is negative, not finite, or too large for the resolution.
-    #[error("tolerance {tolerance} is negative or too large for resolution {resolution} (the search would visit more than {MAX_TOLERANCE_POINTS:e} points)")]
+    #[error(
+        "tolerance {tolerance} is negative or too large for resolution {resolution} (the search would visit more than {MAX_TOLERANCE_POINTS:e} points)"
+    )]
     #[diagnostic(code(navfn::E021))]
     BadTolerance {
         /// Goal tolerance, metres.

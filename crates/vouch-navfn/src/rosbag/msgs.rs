@@ -4,8 +4,8 @@
 //! facts the checker needs.
 
 use byteorder::{BigEndian, LittleEndian};
-use serde::de::DeserializeOwned;
 use serde::Deserialize;
+use serde::de::DeserializeOwned;
 
 use super::{BagError, BagMessage};
 use crate::maps::MAX_CELLS;

@@ -36,11 +36,7 @@ pub fn fmt_g17(v: f64) -> String {
 }
 
 fn strip_zeros(s: String) -> String {
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
+    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
 }
 
 /// Append `printf("%.17g", v)`. Integral values below 10^15 (every cell coordinate) are

@@ -3,7 +3,7 @@
 
 mod golden;
 
-pub use golden::{fmt_g17, push_g17, run_file, write_cell_case, write_planner_case, RunStats};
+pub use golden::{RunStats, fmt_g17, push_g17, run_file, write_cell_case, write_planner_case};
 
 use crate::core::{Algo, Cell, CoreError, NavFn, SearchObserver};
 use crate::maps::{SuiteCase, SuiteFile, WorldParams};

@@ -165,7 +165,7 @@ pub fn format_time_line(t: &TimeLine, reps: usize, sum_ns: f64) -> String {
 /// User + system CPU seconds of the waited-for children of this process, and of theirs.
 #[cfg(unix)]
 fn children_cpu_seconds() -> f64 {
-    use nix::sys::resource::{getrusage, UsageWho};
+    use nix::sys::resource::{UsageWho, getrusage};
     getrusage(UsageWho::RUSAGE_CHILDREN).map_or(0.0, |u| {
         let s = |t: nix::sys::time::TimeVal| t.tv_sec() as f64 + t.tv_usec() as f64 * 1e-6;
         s(u.user_time()) + s(u.system_time())
@@ -181,7 +181,7 @@ fn children_cpu_seconds() -> f64 {
 pub fn peak_rss_kb() -> u64 {
     #[cfg(unix)]
     {
-        use nix::sys::resource::{getrusage, UsageWho};
+        use nix::sys::resource::{UsageWho, getrusage};
         getrusage(UsageWho::RUSAGE_SELF).map_or(0, |u| u.max_rss().max(0) as u64)
     }
     #[cfg(not(unix))]

@@ -7,11 +7,11 @@
 use std::collections::HashMap;
 
 use super::cview::{self, CKey, Vars};
-use super::{state_line, Options, ValidateError};
+use super::{Options, ValidateError, state_line};
 use crate::evidence::cdriver::{CRun, Driver, Second};
 use crate::evidence::wcet::PlanBound;
-use crate::semantics::space::{Companion, Move, Space, Succ};
 use crate::semantics::State;
+use crate::semantics::space::{Companion, Move, Space, Succ};
 
 /// A disagreement, before its path is known: the node it starts from and the move that shows
 /// it (none: the node itself).
@@ -146,7 +146,10 @@ impl CSide<'_> {
             .filter(|c| c.1.is_some())
             .map(|(i, _)| self.vars.names[i].as_str())
             .collect();
-        let what = format!("the C reads state the semantics says it cannot: the same run from the C state with {} changed (dead for the semantics): {how} (first: the run from the state, then: the run from the changed state)", changed.join(", "));
+        let what = format!(
+            "the C reads state the semantics says it cannot: the same run from the C state with {} changed (dead for the semantics): {how} (first: the run from the state, then: the run from the changed state)",
+            changed.join(", ")
+        );
         Some((what, lines))
     }
 
@@ -180,7 +183,10 @@ impl CSide<'_> {
                 return None;
             }
             Some(CRun::Done { hidden, events, .. }) if !hidden.is_empty() => {
-                let what = format!("the C writes static storage the validator does not see (data segment offset {})", hidden[0]);
+                let what = format!(
+                    "the C writes static storage the validator does not see (data segment offset {})",
+                    hidden[0]
+                );
                 let actual = events.clone();
                 self.find(node, mv, what, expected, actual);
                 return None;
@@ -244,7 +250,10 @@ impl<'p> Companion<'p> for CSide<'_> {
         let interp = space.interp();
         let want: Vec<String> = interp.init_events().iter().map(|e| e.line()).collect();
         if !init.hidden.is_empty() {
-            let what = format!("auto_nav_init() writes static storage the validator does not see (data segment offset {})", init.hidden[0]);
+            let what = format!(
+                "auto_nav_init() writes static storage the validator does not see (data segment offset {})",
+                init.hidden[0]
+            );
             self.find(0, None, what, vec![], vec![]);
         }
         if init.events != want {

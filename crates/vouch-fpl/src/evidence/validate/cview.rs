@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use crate::evidence::cdriver::Driver;
 use crate::evidence::cstate::Kind;
 use crate::passes::fp::{BlockIx, Fp, FpStage};
-use crate::semantics::space::{iterations_left, loop_class, LoopClass, Space};
+use crate::semantics::space::{LoopClass, Space, iterations_left, loop_class};
 use crate::semantics::{Interp, Item, State};
 
 /// One variable of the C state view.
@@ -83,15 +83,15 @@ impl Vars {
         let mut counters = HashMap::new();
         let mut pairs: HashMap<(BlockIx, usize), (Option<usize>, Option<usize>)> = HashMap::new();
         for v in vars {
-            if let Kind::Counter { block, var, bound } = &v.kind {
-                if let Some(&stage) = loops.get(&(*block, var.clone())) {
-                    counters.insert(v.id, ((*block, stage), *bound));
-                    let e = pairs.entry((*block, stage)).or_default();
-                    if *bound {
-                        e.1 = Some(v.id);
-                    } else {
-                        e.0 = Some(v.id);
-                    }
+            if let Kind::Counter { block, var, bound } = &v.kind
+                && let Some(&stage) = loops.get(&(*block, var.clone()))
+            {
+                counters.insert(v.id, ((*block, stage), *bound));
+                let e = pairs.entry((*block, stage)).or_default();
+                if *bound {
+                    e.1 = Some(v.id);
+                } else {
+                    e.0 = Some(v.id);
                 }
             }
         }
@@ -149,12 +149,12 @@ pub(super) fn key(
             if vars.dropped(id, &live, space) {
                 return Part::Dropped;
             }
-            if let Some(l) = vars.loop_of(id).filter(|l| space.is_symbolic(*l)) {
-                if let Some((v, t)) = vars.pair(l) {
-                    let v = byte(driver, state, v) as i8;
-                    let t = byte(driver, state, t) as i8;
-                    return Part::Class(loop_class(v, t));
-                }
+            if let Some(l) = vars.loop_of(id).filter(|l| space.is_symbolic(*l))
+                && let Some((v, t)) = vars.pair(l)
+            {
+                let v = byte(driver, state, v) as i8;
+                let t = byte(driver, state, t) as i8;
+                return Part::Class(loop_class(v, t));
             }
             Part::Bytes(driver.var_bytes(state, id).to_vec())
         })

@@ -31,7 +31,7 @@
 
 mod walk;
 
-pub use walk::{explore, Alone, Companion, Edge, Explored, Node};
+pub use walk::{Alone, Companion, Edge, Explored, Node, explore};
 
 use serde::Serialize;
 
@@ -254,10 +254,10 @@ impl<'p> Space<'p> {
         let mut live = Vec::new();
         let mut add = |block: BlockIx, stack: &[Item<'p>]| {
             for item in stack {
-                if let Item::ForTest(f) | Item::LoopBack(f) = item {
-                    if matches!(f, FpStage::For { .. }) {
-                        live.push((block, self.interp.item_number(&Item::Stage(f))));
-                    }
+                if let Item::ForTest(f) | Item::LoopBack(f) = item
+                    && matches!(f, FpStage::For { .. })
+                {
+                    live.push((block, self.interp.item_number(&Item::Stage(f))));
                 }
             }
         };

@@ -4,12 +4,12 @@
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::Duration;
 
+use super::FileEndpoint;
 use super::error::{ConfError, ConfErrorKind};
 use super::ini::{Entry, Section};
 use super::values::Values;
-use super::FileEndpoint;
-use crate::guard::config::{parse_side, EndpointConfig, DEFAULT_TCP_RETRY};
-use crate::guard::endpoint::{Endpoint, DEFAULT_BAUD, SUPPORTED_BAUDS};
+use crate::guard::config::{DEFAULT_TCP_RETRY, EndpointConfig, parse_side};
+use crate::guard::endpoint::{DEFAULT_BAUD, Endpoint, SUPPORTED_BAUDS};
 use crate::guard::filter::Filters;
 use crate::side::Side;
 
@@ -121,11 +121,7 @@ pub(super) fn read(
             match (s.get("Port"), udp_server) {
                 (Some(p), _) => {
                     let a = socket(v, address, v.number(p, 65535)? as u16)?;
-                    if udp_server {
-                        Endpoint::UdpIn(a)
-                    } else {
-                        Endpoint::UdpOut(a)
-                    }
+                    if udp_server { Endpoint::UdpIn(a) } else { Endpoint::UdpOut(a) }
                 }
                 (None, true) => return Err(missing("Port")),
                 (None, false) => {

@@ -3,10 +3,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use super::RouterFile;
 use super::error::{ConfError, ConfErrorKind};
 use super::ini::{Entry, Section};
 use super::values::Values;
-use super::RouterFile;
 use crate::signing::SigningKey;
 
 /// mavlink-router's `DebugLogLevel`.
@@ -115,7 +115,12 @@ pub(super) fn read_general(
             }
             "log" => {
                 out.log_dir = Some(PathBuf::from(&e.value));
-                warn(v, e, out, "vouch writes its violations log here (and the traffic as a tlog with LogTelemetry = true), not the autopilot's .bin/.ulg flight logs");
+                warn(
+                    v,
+                    e,
+                    out,
+                    "vouch writes its violations log here (and the traffic as a tlog with LogTelemetry = true), not the autopilot's .bin/.ulg flight logs",
+                );
             }
             "logmode" => {
                 if v.choice(e, &["always", "while-armed"])? == 1 {

@@ -151,7 +151,9 @@ pub fn parse_sources(sources: Vec<Source>) -> Result<RouterFile, ConfError> {
         };
         let clash = out.endpoints.iter().any(|e| e.config.name.eq_ignore_ascii_case(name));
         if clash || name.eq_ignore_ascii_case(TCP_SERVER_NAME) {
-            let msg = format!("a second endpoint named `{name}` (endpoint names are its identity in logs and statistics)");
+            let msg = format!(
+                "a second endpoint named `{name}` (endpoint names are its identity in logs and statistics)"
+            );
             return Err(ini.err(ConfErrorKind::Conflict, s.at, msg));
         }
         let read = endpoints::read(&v, kind, s, name, &mut out.warnings)?;

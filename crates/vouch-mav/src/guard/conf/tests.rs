@@ -108,18 +108,66 @@ fn side_keys_and_no_vehicle() {
 #[test]
 fn unknown_keys_and_sections_are_located_errors() {
     for (text, kind, line, col, what) in [
-        ("[General]\nTcpServerPort = 5760\nReportStat = true\n", ConfErrorKind::UnknownKey, 3, 1, "ReportStat"),
-        ("[UdpEndpoint x]\nMode = Normal\nAdress = 1.2.3.4\n", ConfErrorKind::UnknownKey, 3, 1, "Adress"),
-        ("[UartEndpoint x]\nDevice = /dev/ttyS0\nRetryTimeout = 5\n", ConfErrorKind::UnknownKey, 3, 1, "RetryTimeout"),
+        (
+            "[General]\nTcpServerPort = 5760\nReportStat = true\n",
+            ConfErrorKind::UnknownKey,
+            3,
+            1,
+            "ReportStat",
+        ),
+        (
+            "[UdpEndpoint x]\nMode = Normal\nAdress = 1.2.3.4\n",
+            ConfErrorKind::UnknownKey,
+            3,
+            1,
+            "Adress",
+        ),
+        (
+            "[UartEndpoint x]\nDevice = /dev/ttyS0\nRetryTimeout = 5\n",
+            ConfErrorKind::UnknownKey,
+            3,
+            1,
+            "RetryTimeout",
+        ),
         ("\n[SerialEndpoint x]\n", ConfErrorKind::UnknownSection, 2, 1, "SerialEndpoint"),
         ("[Guard]\nEnforce = yes\n", ConfErrorKind::BadValue, 2, 11, "true, false"),
-        ("[UdpEndpoint x]\nMode = Client\nAddress = 1.2.3.4\n", ConfErrorKind::BadValue, 2, 8, "normal, server"),
-        ("[UdpEndpoint x]\nMode = Server\nAddress = 0.0.0.0\n", ConfErrorKind::MissingKey, 1, 1, "needs `Port`"),
+        (
+            "[UdpEndpoint x]\nMode = Client\nAddress = 1.2.3.4\n",
+            ConfErrorKind::BadValue,
+            2,
+            8,
+            "normal, server",
+        ),
+        (
+            "[UdpEndpoint x]\nMode = Server\nAddress = 0.0.0.0\n",
+            ConfErrorKind::MissingKey,
+            1,
+            1,
+            "needs `Port`",
+        ),
         ("[TcpEndpoint x]\nAddress = 1.2.3.4\n", ConfErrorKind::MissingKey, 1, 1, "needs `Port`"),
-        ("[UartEndpoint x]\nDevice = /dev/ttyS0\nBaud = 52000\n", ConfErrorKind::BadValue, 3, 8, "baud rates"),
-        ("[UdpEndpoint x]\nMode = Normal\nAddress = 1.2.3.4\nSide = air\n", ConfErrorKind::BadValue, 4, 8, "vehicle or ground"),
+        (
+            "[UartEndpoint x]\nDevice = /dev/ttyS0\nBaud = 52000\n",
+            ConfErrorKind::BadValue,
+            3,
+            8,
+            "baud rates",
+        ),
+        (
+            "[UdpEndpoint x]\nMode = Normal\nAddress = 1.2.3.4\nSide = air\n",
+            ConfErrorKind::BadValue,
+            4,
+            8,
+            "vehicle or ground",
+        ),
         ("[UdpEndpoint]\nMode = Normal\n", ConfErrorKind::Syntax, 1, 1, "needs a name"),
-        ("[UdpEndpoint x]\nMode=Normal\nAddress=1.2.3.4\n[TcpEndpoint X]\nAddress=1.2.3.4\nPort=1\n", ConfErrorKind::Conflict, 4, 1, "second endpoint"),
+        (
+            "[UdpEndpoint x]\nMode=Normal\nAddress=1.2.3.4\n[TcpEndpoint X]\nAddress=1.2.3.4\nPort=1\n",
+            ConfErrorKind::Conflict,
+            4,
+            1,
+            "second endpoint",
+        ),
     ] {
         let e = parse(&[("main.conf", text)]).unwrap_err();
         assert_eq!((e.kind, e.line_col()), (kind, (line, col)), "{text:?}: {e}");

@@ -11,8 +11,8 @@ use std::time::{Duration, Instant};
 
 use super::writer::Writer;
 use super::{
-    is_transient, Egress, EgressKind, LinkEvent, OpenedLink, Peer, ReaderCtx, Received,
-    FIXED_STREAM, MAX_TCP_CLIENTS, POLL_INTERVAL,
+    Egress, EgressKind, FIXED_STREAM, LinkEvent, MAX_TCP_CLIENTS, OpenedLink, POLL_INTERVAL, Peer,
+    ReaderCtx, Received, is_transient,
 };
 use crate::codec::split::StreamSplitter;
 use crate::guard::sys::serial;
@@ -85,39 +85,41 @@ pub(super) fn open_tcp_client(
 ) -> OpenedLink {
     let egress = streams();
     let eg = egress.clone();
-    let t = thread::Builder::new().name(format!("{}-tcp", rc.name)).spawn(move || loop {
-        let why = match TcpStream::connect_timeout(&peer_addr, CONNECT_TIMEOUT) {
-            Ok(s) => match prepare(&s)
-                .and_then(|r| eg.add_stream(FIXED_STREAM, s, &rc.name).map(|()| r))
-            {
-                Ok(reader) => {
-                    let what = peer_addr.to_string();
-                    rc.sink.link(rc.ep, Peer::Fixed, LinkEvent::Opened { what });
-                    let why = read_stream(&rc, reader, Peer::Fixed, true);
-                    eg.remove_stream(FIXED_STREAM);
-                    let again = retry.filter(|_| !rc.stop.load(Ordering::Relaxed));
-                    let ev = LinkEvent::Closed { reason: why, reconnect_in: again };
-                    rc.sink.link(rc.ep, Peer::Fixed, ev);
-                    None
-                }
+    let t = thread::Builder::new().name(format!("{}-tcp", rc.name)).spawn(move || {
+        loop {
+            let why = match TcpStream::connect_timeout(&peer_addr, CONNECT_TIMEOUT) {
+                Ok(s) => match prepare(&s)
+                    .and_then(|r| eg.add_stream(FIXED_STREAM, s, &rc.name).map(|()| r))
+                {
+                    Ok(reader) => {
+                        let what = peer_addr.to_string();
+                        rc.sink.link(rc.ep, Peer::Fixed, LinkEvent::Opened { what });
+                        let why = read_stream(&rc, reader, Peer::Fixed, true);
+                        eg.remove_stream(FIXED_STREAM);
+                        let again = retry.filter(|_| !rc.stop.load(Ordering::Relaxed));
+                        let ev = LinkEvent::Closed { reason: why, reconnect_in: again };
+                        rc.sink.link(rc.ep, Peer::Fixed, ev);
+                        None
+                    }
+                    Err(e) => Some(e.to_string()),
+                },
                 Err(e) => Some(e.to_string()),
-            },
-            Err(e) => Some(e.to_string()),
-        };
-        if let Some(reason) = why {
-            let ev = LinkEvent::ConnectFailed { reason, reconnect_in: retry };
-            rc.sink.link(rc.ep, Peer::Fixed, ev);
-        }
-        let Some(wait) = retry else { return };
-        let until = Instant::now() + wait;
-        while Instant::now() < until {
+            };
+            if let Some(reason) = why {
+                let ev = LinkEvent::ConnectFailed { reason, reconnect_in: retry };
+                rc.sink.link(rc.ep, Peer::Fixed, ev);
+            }
+            let Some(wait) = retry else { return };
+            let until = Instant::now() + wait;
+            while Instant::now() < until {
+                if rc.stop.load(Ordering::Relaxed) {
+                    return;
+                }
+                thread::sleep(POLL_INTERVAL.min(until.saturating_duration_since(Instant::now())));
+            }
             if rc.stop.load(Ordering::Relaxed) {
                 return;
             }
-            thread::sleep(POLL_INTERVAL.min(until.saturating_duration_since(Instant::now())));
-        }
-        if rc.stop.load(Ordering::Relaxed) {
-            return;
         }
     });
     let threads = t.into_iter().collect();

@@ -10,8 +10,8 @@ use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
 use super::{
-    is_transient, Egress, EgressKind, LinkEvent, OpenedLink, Peer, ReaderCtx, Received, UdpTarget,
-    MAX_UDP_PEERS, POLL_INTERVAL, UDP_PEER_IDLE,
+    Egress, EgressKind, LinkEvent, MAX_UDP_PEERS, OpenedLink, POLL_INTERVAL, Peer, ReaderCtx,
+    Received, UDP_PEER_IDLE, UdpTarget, is_transient,
 };
 use crate::guard::sys::udp_batch::RecvBatch;
 
@@ -28,10 +28,10 @@ impl PeerSet {
             return (false, None);
         }
         let mut evicted = None;
-        if self.peers.len() >= MAX_UDP_PEERS {
-            if let Some(oldest) = (0..self.peers.len()).min_by_key(|&i| self.peers[i].1) {
-                evicted = Some(self.peers.swap_remove(oldest).0);
-            }
+        if self.peers.len() >= MAX_UDP_PEERS
+            && let Some(oldest) = (0..self.peers.len()).min_by_key(|&i| self.peers[i].1)
+        {
+            evicted = Some(self.peers.swap_remove(oldest).0);
         }
         self.peers.push((a, now));
         (true, evicted)

@@ -1,7 +1,7 @@
 //! One builder per category of the paper's suite (§4 of the paper, SEMANTICS.md §9).
 //! Each builder gets its own random stream and a size, and returns a bordered map.
 
-use crate::campaign::grid::{SuiteMap, FREE, MAX_TRAVERSABLE, OBSTACLE};
+use crate::campaign::grid::{FREE, MAX_TRAVERSABLE, OBSTACLE, SuiteMap};
 use crate::campaign::rng::SplitMix64;
 
 /// The nine generated categories, in the paper's order (ROS maps are imported, not generated).

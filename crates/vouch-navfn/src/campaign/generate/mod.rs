@@ -15,11 +15,11 @@ use std::path::{Path, PathBuf};
 
 use crate::campaign::error::{CampaignError, GenError};
 use crate::campaign::grid::{Case, SuiteMap};
-use crate::campaign::identity::{costs_digest, SuiteManifest, MANIFEST};
+use crate::campaign::identity::{MANIFEST, SuiteManifest, costs_digest};
 use crate::campaign::rng::SplitMix64;
 use crate::campaign::ros_import::import_ros_map;
 use crate::campaign::shard::Shard;
-use crate::campaign::suite_io::{write_map, SuiteIoError};
+use crate::campaign::suite_io::{SuiteIoError, write_map};
 
 /// What to generate.
 #[derive(Clone, Debug)]
