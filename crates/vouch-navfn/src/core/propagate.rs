@@ -64,30 +64,31 @@ impl PriorityBuf {
 }
 
 /// The push macros of navfn.cpp (`push_next`/`push_over`) for the four candidates of one
-/// update, `n-1, n+1, n-nx, n+nx` in that order, bit `k` of `tests` being the update's own
-/// test for candidate `k`: a candidate is appended iff its test holds, it is not blocked
-/// (queued or an obstacle) and the buffer has room; a push into a full buffer is dropped, as
-/// upstream. The caller guarantees the candidates are inside the
-/// arrays (upstream tests `0 ≤ n < ns`; only the goal's neighbours at set-up can fall outside,
-/// and set-up tests that itself).
+/// update, `n-1, n+1, n-nx, n+nx` in that order: candidate `k` is appended iff the update's
+/// own test `neighbour[k] > priority + edge[k]` holds, it is not blocked (queued or an
+/// obstacle) and the buffer has room; a push into a full buffer is dropped, as upstream. Each
+/// test is made just before its push, so that only floats wait in registers. The caller
+/// guarantees the candidates are inside the arrays (upstream tests `0 ≤ n < ns`; only the
+/// goal's neighbours at set-up can fall outside, and set-up tests that itself).
 #[inline(always)]
 fn push4(
     cells: &mut [i32; SLOTS],
     len: &mut usize,
     blocked: &mut [u8],
-    n: usize,
-    nx: usize,
-    tests: u32,
+    candidates: [usize; 4],
+    priority: f32,
+    neighbour: [f32; 4],
+    edge: [f32; 4],
 ) {
     let base = *len;
-    let candidates = [n - 1, n + 1, n - nx, n + nx];
     if base <= CAP - 4 {
         // room for all four: the capacity test cannot fail
         let slots = &mut cells[base..base + 4];
         let mut pushed = 0usize;
-        for (k, &m) in candidates.iter().enumerate() {
+        for k in 0..4 {
+            let m = candidates[k];
             let b = blocked[m];
-            let ok = ((tests >> k) & 1 != 0) & (b == 0);
+            let ok = (neighbour[k] > priority + edge[k]) & (b == 0);
             slots[pushed & 3] = m as i32;
             pushed += ok as usize;
             blocked[m] = b | ok as u8;
@@ -95,9 +96,10 @@ fn push4(
         *len = base + pushed;
     } else {
         let mut end = base;
-        for (k, &m) in candidates.iter().enumerate() {
+        for k in 0..4 {
+            let m = candidates[k];
             let b = blocked[m];
-            let ok = ((tests >> k) & 1 != 0) & (b == 0) & (end < CAP);
+            let ok = (neighbour[k] > priority + edge[k]) & (b == 0) & (end < CAP);
             cells[end.min(CAP)] = m as i32;
             end += ok as usize;
             blocked[m] = b | ok as u8;
@@ -214,14 +216,12 @@ fn sweep<const ASTAR: bool>(
                 let (x, y) = heuristic.width.col_row(n);
                 p = p + astar_heuristic(x as i64 - heuristic.start_x, y as i64 - heuristic.start_y);
             }
-            let tests = (l > p + le) as u32
-                | ((r > p + re) as u32) << 1
-                | ((u > p + ue) as u32) << 2
-                | ((d > p + de) as u32) << 3;
+            let (cand, near, edge) =
+                ([n - 1, n + 1, n - nx, n + nx], [l, r, u, d], [le, re, ue, de]);
             if p < cur_t {
-                push4(out.next, &mut out.next_len, blocked, n, nx, tests);
+                push4(out.next, &mut out.next_len, blocked, cand, p, near, edge);
             } else {
-                push4(out.over, &mut out.over_len, blocked, n, nx, tests);
+                push4(out.over, &mut out.over_len, blocked, cand, p, near, edge);
             }
         }
     }
