@@ -247,15 +247,19 @@ mod tests {
 
     /// The run-skipping hash equals byte-wise FNV-1a on arrays mixing runs of every length
     /// with other values (including 1e10's neighbours in float order).
-    #[test]
-    fn run_skipping_fnv_equals_bytewise() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
+    /// Marsaglia's xorshift64: test inputs, fixed by the seed.
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             state
-        };
+        }
+    }
+
+    #[test]
+    fn run_skipping_fnv_equals_bytewise() {
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
         let high = f32::from_bits(POT_HIGH_BITS);
         for _ in 0..300 {
             let mut pot = Vec::new();
@@ -289,13 +293,7 @@ mod tests {
     /// ends of their ranges, and a sample in between).
     #[test]
     fn width_division_is_exact() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rnd = xorshift(0x2545_f491_4f6c_dd1d);
         let mut widths: Vec<usize> = (1..=70).chain([4095, 4096, 4097, 46_340, 65_535]).collect();
         widths.extend((0..200).map(|_| 1 + (rnd() % (i32::MAX as u64)) as usize));
         for d in widths {
