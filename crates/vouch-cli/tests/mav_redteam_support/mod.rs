@@ -73,11 +73,16 @@ pub struct Vehicle {
 impl Vehicle {
     /// Starts `vehicle.py` with extra arguments (state, parameters).
     pub fn start(py: &Path, dir: &Path, args: &[&str]) -> Vehicle {
+        Self::start_script(py, dir, "vehicle.py", args)
+    }
+
+    /// Starts the vehicle script `name` (`vehicle.py`, `chute_vehicle.py`) with extra arguments.
+    pub fn start_script(py: &Path, dir: &Path, name: &str, args: &[&str]) -> Vehicle {
         let port = free_udp_port();
         let summary = dir.join("vehicle.json");
         let stop = dir.join("vehicle.stop");
         let child = Command::new(py)
-            .arg(script("vehicle.py"))
+            .arg(script(name))
             .args(["--port", &port.to_string()])
             .arg("--summary")
             .arg(&summary)
@@ -203,18 +208,31 @@ impl Guard {
 
 /// Runs `gcs.py --scenario NAME ARGS` against the guard and returns its summary.
 pub fn gcs(py: &Path, dir: &Path, guard: &Guard, scenario: &str, args: &[&str]) -> Value {
+    gcs_at(py, dir, &guard.gcs_url, scenario, args, &guard.log())
+}
+
+/// Runs `gcs.py --scenario NAME ARGS` against `url` (the guard, or a vehicle directly) and
+/// returns its summary; `context` goes into the failure message.
+pub fn gcs_at(
+    py: &Path,
+    dir: &Path,
+    url: &str,
+    scenario: &str,
+    args: &[&str],
+    context: &str,
+) -> Value {
     let summary = dir.join(format!("gcs-{scenario}.json"));
     let _ = std::fs::remove_file(&summary);
     let status = Command::new(py)
         .arg(script("gcs.py"))
-        .args(["--guard", &guard.gcs_url, "--scenario", scenario])
+        .args(["--guard", url, "--scenario", scenario])
         .arg("--summary")
         .arg(&summary)
         .args(args)
         .stdin(Stdio::null())
         .status()
         .expect("gcs.py runs");
-    assert!(status.success(), "gcs.py {scenario} failed ({status}); guard: {}", guard.log());
+    assert!(status.success(), "gcs.py {scenario} failed ({status}); {context}");
     read_json(&summary, "gcs.py")
 }
 

@@ -19,13 +19,19 @@ pub struct Token {
 }
 
 const SYMS: &[&str] = &[
-    "->", "==", "!=", "<=", ">=", "&&", "||", "=>", "{", "}", "(", ")", "[", "]", ",", ";", ":",
-    "|", "=", "<", ">", "!", "+", "-", "*", "/", ".",
+    "->", "==", "!=", "<=", ">=", "&&", "||", "=>", "..", "{", "}", "(", ")", "[", "]", ",", ";",
+    ":", "|", "=", "<", ">", "!", "+", "-", "*", "/", ".",
 ];
 
 pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
-    let b = src.as_bytes();
-    let mut i = 0;
+    lex_range(src, 0, src.len())
+}
+
+/// Tokens of `src[start..end]` (e.g. the expression between the braces of an interpolated text),
+/// with spans into the whole of `src`.
+pub fn lex_range(src: &str, start: usize, end: usize) -> Result<Vec<Token>, ProtocolError> {
+    let b = &src.as_bytes()[..end];
+    let mut i = start;
     let mut out = Vec::new();
     while i < b.len() {
         let c = b[i];
@@ -107,7 +113,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             });
             continue;
         }
-        let rest = &src[i..];
+        let rest = &src[i..end];
         match SYMS.iter().find(|s| rest.starts_with(**s)) {
             Some(s) => {
                 i += s.len();
@@ -124,6 +130,6 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             }
         }
     }
-    out.push(Token { tok: Tok::Eof, span: Span::new(src.len(), 0) });
+    out.push(Token { tok: Tok::Eof, span: Span::new(end, 0) });
     Ok(out)
 }

@@ -2,7 +2,7 @@
 
 use super::ast::*;
 use super::error::{ErrorKind, ProtocolError, Span};
-use super::lexer::{Tok, Token, lex};
+use super::lexer::{Tok, Token, lex, lex_range};
 
 pub fn parse(src: &str) -> Result<FileAst, ProtocolError> {
     let toks = lex(src)?;
@@ -119,9 +119,13 @@ impl<'s> Parser<'s> {
                 f.consts.push(self.const_decl()?);
             } else if self.is_kw("protocol") {
                 f.protocols.push(self.protocol()?);
+            } else if self.is_kw("effect") {
+                f.effects.push(self.effect()?);
             } else {
-                return self
-                    .err(format!("expected `protocol` or `const`, found {}", self.describe()));
+                return self.err(format!(
+                    "expected `protocol`, `effect` or `const`, found {}",
+                    self.describe()
+                ));
             }
         }
     }
@@ -148,88 +152,198 @@ impl<'s> Parser<'s> {
             replies: vec![],
             unverifiable: None,
             consts: vec![],
+            guards: vec![],
             body: vec![],
             span: start,
         };
         // Header clauses come first, in any order.
-        loop {
-            if self.eat_kw("roles") {
-                d.roles = self.ident_list("role name")?;
-                self.expect_sym(";")?;
-            } else if self.eat_kw("key") {
-                d.keys = self.ident_list("field name")?;
-                self.expect_sym(";")?;
-            } else if self.is_kw("timeout") {
-                self.bump();
-                let sp = self.span();
-                let n = match self.peek().clone() {
-                    Tok::Num(n) if n >= 0.0 => {
-                        self.bump();
-                        n
-                    }
-                    _ => return self.err("expected a duration such as `8 s` or `500 ms`"),
-                };
-                let unit = self.ident("time unit `s` or `ms`")?;
-                let ms = match unit.name.as_str() {
-                    "s" => n * 1000.0,
-                    "ms" => n,
-                    _ => {
-                        return Err(ProtocolError::at(
-                            ErrorKind::Syntax,
-                            self.src,
-                            unit.span,
-                            "time unit must be `s` or `ms`",
-                        ));
-                    }
-                };
-                d.timeout_ms = Some((ms as u64, sp.to(unit.span)));
-                self.expect_sym(";")?;
-            } else if self.eat_kw("strict") {
-                let from = self.ident("role")?;
-                self.expect_sym("->")?;
-                let to = self.ident("role")?;
-                self.expect_sym(":")?;
-                let labels = self.labels()?;
-                self.expect_sym(";")?;
-                d.strict.push(StrictDecl { from, to, labels });
-            } else if self.is_kw("on") {
-                self.bump();
-                self.expect_kw("violation")?;
-                let by = if self.eat_kw("by") { Some(self.ident("role")?) } else { None };
-                self.expect_kw("reply")?;
-                let to = self.ident("role")?;
-                self.expect_sym(":")?;
-                let message = self.ident("message name")?;
-                self.expect_sym("(")?;
-                let mut fields = vec![];
-                if !self.is_sym(")") {
-                    loop {
-                        let f = self.ident("field name")?;
-                        self.expect_sym("=")?;
-                        fields.push((f, self.expr()?));
-                        if !self.eat_sym(",") {
-                            break;
-                        }
-                    }
-                }
-                self.expect_sym(")")?;
-                self.expect_sym(";")?;
-                d.replies.push(ReplyDecl { by, to, message, fields });
-            } else if self.is_kw("unverifiable") {
-                let sp = self.bump().span;
-                let policy = self.ident("`pass` or `drop`")?;
-                d.unverifiable = Some((policy, sp));
-                self.expect_sym(";")?;
-            } else if self.is_kw("const") {
-                d.consts.push(self.const_decl()?);
-            } else {
-                break;
-            }
-        }
+        while self.header_clause(&mut d)? {}
         d.body = self.stmts()?;
         let end = self.expect_sym("}")?;
         d.span = d.span.to(end);
         Ok(d)
+    }
+
+    /// One header clause of a protocol into `d`; `false` when the next token starts no clause.
+    fn header_clause(&mut self, d: &mut ProtocolDecl) -> PResult<bool> {
+        if self.eat_kw("roles") {
+            d.roles = self.ident_list("role name")?;
+        } else if self.eat_kw("key") {
+            d.keys = self.ident_list("field name")?;
+        } else if self.is_kw("timeout") {
+            d.timeout_ms = Some(self.timeout()?);
+        } else if self.eat_kw("strict") {
+            let from = self.ident("role")?;
+            self.expect_sym("->")?;
+            let to = self.ident("role")?;
+            self.expect_sym(":")?;
+            let labels = self.labels()?;
+            d.strict.push(StrictDecl { from, to, labels });
+        } else if self.is_kw("on") {
+            d.replies.push(self.reply_decl()?);
+            return Ok(true);
+        } else if self.is_kw("unverifiable") {
+            let sp = self.bump().span;
+            let policy = self.ident("`pass` or `drop`")?;
+            d.unverifiable = Some((policy, sp));
+        } else if self.is_kw("const") {
+            d.consts.push(self.const_decl()?);
+            return Ok(true);
+        } else if self.is_kw("guard") {
+            d.guards.push(self.guard_decl()?);
+        } else {
+            return Ok(false);
+        }
+        self.expect_sym(";")?;
+        Ok(true)
+    }
+
+    /// `timeout N (s|ms)` (without the `;`), in milliseconds with its span.
+    fn timeout(&mut self) -> PResult<(u64, Span)> {
+        self.expect_kw("timeout")?;
+        let sp = self.span();
+        let n = match self.peek().clone() {
+            Tok::Num(n) if n >= 0.0 => {
+                self.bump();
+                n
+            }
+            _ => return self.err("expected a duration such as `8 s` or `500 ms`"),
+        };
+        let unit = self.ident("time unit `s` or `ms`")?;
+        let ms = match unit.name.as_str() {
+            "s" => n * 1000.0,
+            "ms" => n,
+            _ => {
+                return Err(ProtocolError::at(
+                    ErrorKind::Syntax,
+                    self.src,
+                    unit.span,
+                    "time unit must be `s` or `ms`",
+                ));
+            }
+        };
+        Ok((ms as u64, sp.to(unit.span)))
+    }
+
+    /// `on violation [by ROLE] reply ROLE : MSG(f = e, …), MSG(…);`
+    fn reply_decl(&mut self) -> PResult<ReplyDecl> {
+        self.expect_kw("on")?;
+        self.expect_kw("violation")?;
+        let by = if self.eat_kw("by") { Some(self.ident("role")?) } else { None };
+        self.expect_kw("reply")?;
+        let to = self.ident("role")?;
+        self.expect_sym(":")?;
+        let mut messages = vec![];
+        loop {
+            let message = self.ident("message name")?;
+            self.expect_sym("(")?;
+            let mut fields = vec![];
+            if !self.is_sym(")") {
+                loop {
+                    let f = self.ident("field name")?;
+                    self.expect_sym("=")?;
+                    fields.push((f, self.expr()?));
+                    if !self.eat_sym(",") {
+                        break;
+                    }
+                }
+            }
+            self.expect_sym(")")?;
+            messages.push(ReplyMessage { message, fields });
+            if !self.eat_sym(",") {
+                break;
+            }
+        }
+        self.expect_sym(";")?;
+        Ok(ReplyDecl { by, to, messages })
+    }
+
+    /// `guard EFFECT by ROUTE, … (where EXPR | refuse)` (without the `;`).
+    fn guard_decl(&mut self) -> PResult<GuardDecl> {
+        let start = self.expect_kw("guard")?;
+        let effect = self.ident("effect name")?;
+        self.expect_kw("by")?;
+        let routes = self.ident_list("route (`command`, `mission` or `rc`)")?;
+        let where_ = if self.eat_kw("where") {
+            Some(self.expr()?)
+        } else if self.eat_kw("refuse") {
+            None
+        } else {
+            return self
+                .err(format!("expected `where CONDITION` or `refuse`, found {}", self.describe()));
+        };
+        Ok(GuardDecl { effect, routes, where_, span: start.to(self.prev_span()) })
+    }
+
+    /// `effect NAME { (command … | servo … | relay … | rc …)* }`
+    fn effect(&mut self) -> PResult<EffectDecl> {
+        let start = self.expect_kw("effect")?;
+        let name = self.ident("effect name")?;
+        self.expect_sym("{")?;
+        let mut d = EffectDecl { name, commands: vec![], outputs: vec![], span: start };
+        while !self.is_sym("}") {
+            let sp = self.span();
+            if self.eat_kw("command") {
+                let command = self.ident("MAV_CMD entry")?;
+                let when = if self.eat_kw("when") { Some(self.expr()?) } else { None };
+                d.commands.push(EffectCommand { command, when, span: sp.to(self.prev_span()) });
+            } else {
+                d.outputs.push(self.effect_output()?);
+            }
+            self.expect_sym(";")?;
+        }
+        let end = self.expect_sym("}")?;
+        d.span = d.span.to(end);
+        Ok(d)
+    }
+
+    /// `servo N when EXPR [driven when EXPR]`, `relay …`, `rc N in A..B when …`.
+    fn effect_output(&mut self) -> PResult<EffectOutput> {
+        let sp = self.span();
+        let kind = match self.peek() {
+            Tok::Ident(k) if k == "servo" => OutputKind::Servo,
+            Tok::Ident(k) if k == "relay" => OutputKind::Relay,
+            Tok::Ident(k) if k == "rc" => OutputKind::Rc,
+            _ => {
+                return self.err(format!(
+                    "expected `command`, `servo`, `relay` or `rc`, found {}",
+                    self.describe()
+                ));
+            }
+        };
+        self.bump();
+        let var = self.ident("name of the output number")?;
+        let range = if kind == OutputKind::Rc {
+            self.expect_kw("in")?;
+            let lo = self.whole_number("first channel")?;
+            self.expect_sym("..")?;
+            let hi = self.whole_number("last channel")?;
+            Some((lo, hi))
+        } else {
+            None
+        };
+        self.expect_kw("when")?;
+        let when = self.expr()?;
+        let driven = if self.eat_kw("driven") {
+            self.expect_kw("when")?;
+            Some(self.expr()?)
+        } else {
+            None
+        };
+        Ok(EffectOutput { kind, var, range, when, driven, span: sp.to(self.prev_span()) })
+    }
+
+    fn whole_number(&mut self, what: &str) -> PResult<u32> {
+        match self.peek().clone() {
+            Tok::Num(n) if n.fract() == 0.0 && (0.0..=255.0).contains(&n) => {
+                self.bump();
+                Ok(n as u32)
+            }
+            _ => self.err(format!(
+                "expected {what} (a whole number up to 255), found {}",
+                self.describe()
+            )),
+        }
     }
 
     fn ident_list(&mut self, what: &str) -> PResult<Vec<Ident>> {
@@ -443,6 +557,55 @@ impl<'s> Parser<'s> {
         }
     }
 
+    /// The text of the string token at `sp` with its `{EXPR}` parts parsed.
+    fn interpolated(&mut self, sp: Span) -> PResult<Expr> {
+        let (first, end) = (sp.start + 1, sp.start + sp.len - 1);
+        let text = &self.src[first..end];
+        let mut parts = vec![];
+        let mut lit = String::new();
+        let mut i = 0;
+        while i < text.len() {
+            let c = text.as_bytes()[i];
+            if c == b'}' {
+                return Err(ProtocolError::at(
+                    ErrorKind::Syntax,
+                    self.src,
+                    Span::new(first + i, 1),
+                    "`}` without `{` in a text",
+                ));
+            }
+            if c != b'{' {
+                let ch = text[i..].chars().next().unwrap_or('?');
+                lit.push(ch);
+                i += ch.len_utf8();
+                continue;
+            }
+            let Some(close) = text[i..].find('}').map(|k| i + k) else {
+                return Err(ProtocolError::at(
+                    ErrorKind::Syntax,
+                    self.src,
+                    Span::new(first + i, 1),
+                    "`{` without `}` in a text",
+                ));
+            };
+            if !lit.is_empty() {
+                parts.push(InterpPart::Text(std::mem::take(&mut lit)));
+            }
+            let toks = lex_range(self.src, first + i + 1, first + close)?;
+            let mut sub = Parser { src: self.src, toks, i: 0 };
+            let e = sub.expr()?;
+            if !matches!(sub.peek(), Tok::Eof) {
+                return sub.err(format!("expected `}}`, found {}", sub.describe()));
+            }
+            parts.push(InterpPart::Expr(e));
+            i = close + 1;
+        }
+        if !lit.is_empty() {
+            parts.push(InterpPart::Text(lit));
+        }
+        Ok(Expr { kind: ExprKind::Interp(parts), span: sp })
+    }
+
     fn unary(&mut self) -> PResult<Expr> {
         let sp = self.span();
         if self.eat_sym("!") {
@@ -467,6 +630,9 @@ impl<'s> Parser<'s> {
             }
             Tok::Str(s) => {
                 self.bump();
+                if s.contains('{') || s.contains('}') {
+                    return self.interpolated(sp);
+                }
                 Ok(Expr { kind: ExprKind::Str(s), span: sp })
             }
             Tok::Sym("(") => {
