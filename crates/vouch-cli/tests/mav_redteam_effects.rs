@@ -259,3 +259,31 @@ fn refusals_of_broadcast_commands_come_from_the_vehicle() {
     assert_eq!(released(&r.vehicle), Vec::<String>::new());
     assert_eq!(r.gcs["acks_from"], json!([[208, 2, 1, 1], [208, 2, 1, 1]]), "{}", r.gcs);
 }
+
+/// MAVProxy as the ground station (target 1/1) relays a client's release sent to system 0: the
+/// guard's refusal reaches MAVProxy from the vehicle's ids, so MAVProxy shows it as the
+/// vehicle's answer (an answer from system 0 is no message of its vehicle: MAVProxy ignores it).
+#[test]
+fn mavproxy_shows_the_refusal_of_a_broadcast_as_the_vehicles() {
+    let Some(py) =
+        vouch_testkit::python_with(&["pymavlink", "MAVProxy"]).map(std::path::PathBuf::from)
+    else {
+        return;
+    };
+    let dir = scratch("fx-mavproxy");
+    let v = Vehicle::start_script(&py, &dir, "chute_vehicle.py", CHUTE_VEHICLE);
+    let guard = Guard::start(&dir, v.port, &["--enforce"]);
+    let port = free_udp_port();
+    let Some(mut mp) = MavProxyRelay::start(&py, &dir, &guard, &format!("udpout:127.0.0.1:{port}"))
+    else {
+        panic!("MAVProxy did not detect the vehicle through the guard: {}", guard.log());
+    };
+    let client = format!("udpin:127.0.0.1:{port}");
+    let g = gcs_at(&py, &dir, &client, "broadcast_release", &[], &guard.log());
+    let shown = mp.wait_for("Got COMMAND_ACK: DO_PARACHUTE: DENIED", std::time::Duration::from_secs(5));
+    guard.stop();
+    let vehicle = v.finish();
+    assert_eq!(released(&vehicle), Vec::<String>::new());
+    assert!(shown, "MAVProxy did not show the refusal as its vehicle's:\n{}", mp.text());
+    assert!(g["acks_from"].as_array().unwrap().iter().all(|a| a[2] == 1 && a[3] == 1), "{g}");
+}

@@ -375,3 +375,59 @@ pub fn mavproxy(
     let _ = writeln!(stdin, "exit");
     text
 }
+
+/// MAVProxy (a real ground station) connected to the guard as its master and relaying to a
+/// client on `out` (`udpout:…`), running until dropped. Its console lines arrive on the channel.
+pub struct MavProxyRelay {
+    _proc: Proc,
+    lines: std::sync::mpsc::Receiver<String>,
+    text: String,
+}
+
+impl MavProxyRelay {
+    pub fn start(py: &Path, dir: &Path, guard: &Guard, out: &str) -> Option<MavProxyRelay> {
+        let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
+        let mut child = Command::new(py)
+            .arg(mavproxy)
+            .arg(format!("--master={}", guard.gcs_url))
+            .arg(format!("--out={out}"))
+            .args(["--target-system=1", "--target-component=1"])
+            .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("MAVProxy starts");
+        let (tx, rx) = std::sync::mpsc::channel::<String>();
+        let stdout = child.stdout.take().expect("stdout");
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut relay = MavProxyRelay { _proc: Proc(child), lines: rx, text: String::new() };
+        relay.wait_for("Detected vehicle", Duration::from_secs(30)).then_some(relay)
+    }
+
+    /// Reads console lines until one contains `what` (true) or `timeout` passes (false).
+    pub fn wait_for(&mut self, what: &str, timeout: Duration) -> bool {
+        let end = Instant::now() + timeout;
+        while Instant::now() < end {
+            if self.text.contains(what) {
+                return true;
+            }
+            if let Ok(line) = self.lines.recv_timeout(Duration::from_millis(50)) {
+                self.text += &line;
+                self.text.push('\n');
+            }
+        }
+        self.text.contains(what)
+    }
+
+    /// Everything MAVProxy printed so far.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+}

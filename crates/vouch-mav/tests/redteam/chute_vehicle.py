@@ -290,6 +290,8 @@ def handle(msg):
 
 
 peer_ids = (255, 190)
+if mode == AUTO:
+    current = 1  # already flying a mission: new items are reached from item 1 on
 deadline = time.time() + a.duration
 last_state = 0.0
 announced = False

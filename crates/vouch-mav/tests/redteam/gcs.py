@@ -492,9 +492,12 @@ def mission_aux():
 
 
 def plan_types():
-    """The release as a fence item and as a rally item (mission_type 1 and 2)."""
-    for mtype in (1, 2):
-        out["notes"].append(upload([HOME, CHUTE], mtype=mtype))
+    """The release as item 1 of a fence plan and of a rally plan (mission_type 1 and 2), after a
+    genuine fence vertex / rally point."""
+    fence_vertex = (C.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, 3, 0)
+    rally_point = (C.MAV_CMD_NAV_RALLY_POINT, 0, 0)
+    for mtype, first in ((1, fence_vertex), (2, rally_point)):
+        out["notes"].append(upload([first, CHUTE], mtype=mtype))
     collect(0.5)
 
 
