@@ -280,7 +280,8 @@ fn mavproxy_shows_the_refusal_of_a_broadcast_as_the_vehicles() {
     };
     let client = format!("udpin:127.0.0.1:{port}");
     let g = gcs_at(&py, &dir, &client, "broadcast_release", &[], &guard.log());
-    let shown = mp.wait_for("Got COMMAND_ACK: DO_PARACHUTE: DENIED", std::time::Duration::from_secs(5));
+    let shown =
+        mp.wait_for("Got COMMAND_ACK: DO_PARACHUTE: DENIED", std::time::Duration::from_secs(5));
     guard.stop();
     let vehicle = v.finish();
     assert_eq!(released(&vehicle), Vec::<String>::new());
