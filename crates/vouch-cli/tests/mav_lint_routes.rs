@@ -45,7 +45,7 @@ fn lint_warns_about_each_carrier_left_open_located_in_the_protocol() {
     assert_eq!(lines.len(), 3, "{err}");
     for (line, carrier) in lines.iter().zip(["COMMAND_INT", "MISSION_ITEM", "MISSION_ITEM_INT"]) {
         assert!(
-            line.starts_with(&format!("{file}:3:3: warning[mav::R001]: MAV_CMD_DO_PARACHUTE")),
+            line.starts_with(&format!("{file}:4:3: warning[mav::R001]: MAV_CMD_DO_PARACHUTE")),
             "{line}"
         );
         assert!(

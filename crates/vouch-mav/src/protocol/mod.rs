@@ -13,6 +13,7 @@ pub mod error;
 mod flow;
 pub mod ir;
 pub mod lexer;
+mod parse_expr;
 pub mod parser;
 pub mod routes;
 pub mod stdlib;

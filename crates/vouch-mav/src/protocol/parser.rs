@@ -1,8 +1,9 @@
-//! Recursive-descent parser of the protocol language (grammar in docs/mav-monitor.md).
+//! Recursive-descent parser of the protocol language (grammar in docs/mav-monitor.md):
+//! declarations and statements here, expressions in [`parse_expr`](super::parse_expr).
 
 use super::ast::*;
 use super::error::{ErrorKind, ProtocolError, Span};
-use super::lexer::{Tok, Token, lex, lex_range};
+use super::lexer::{Tok, Token, lex};
 
 pub fn parse(src: &str) -> Result<FileAst, ProtocolError> {
     let toks = lex(src)?;
@@ -10,32 +11,32 @@ pub fn parse(src: &str) -> Result<FileAst, ProtocolError> {
     p.file()
 }
 
-struct Parser<'s> {
-    src: &'s str,
-    toks: Vec<Token>,
-    i: usize,
+pub(super) struct Parser<'s> {
+    pub(super) src: &'s str,
+    pub(super) toks: Vec<Token>,
+    pub(super) i: usize,
 }
 
-type PResult<T> = Result<T, ProtocolError>;
+pub(super) type PResult<T> = Result<T, ProtocolError>;
 
 impl<'s> Parser<'s> {
-    fn peek(&self) -> &Tok {
+    pub(super) fn peek(&self) -> &Tok {
         &self.toks[self.i].tok
     }
 
-    fn peek_at(&self, n: usize) -> &Tok {
+    pub(super) fn peek_at(&self, n: usize) -> &Tok {
         &self.toks[(self.i + n).min(self.toks.len() - 1)].tok
     }
 
-    fn span(&self) -> Span {
+    pub(super) fn span(&self) -> Span {
         self.toks[self.i].span
     }
 
-    fn prev_span(&self) -> Span {
+    pub(super) fn prev_span(&self) -> Span {
         self.toks[self.i.saturating_sub(1)].span
     }
 
-    fn bump(&mut self) -> Token {
+    pub(super) fn bump(&mut self) -> Token {
         let t = self.toks[self.i].clone();
         if self.i + 1 < self.toks.len() {
             self.i += 1;
@@ -43,11 +44,11 @@ impl<'s> Parser<'s> {
         t
     }
 
-    fn err<T>(&self, msg: impl Into<String>) -> PResult<T> {
+    pub(super) fn err<T>(&self, msg: impl Into<String>) -> PResult<T> {
         Err(ProtocolError::at(ErrorKind::Syntax, self.src, self.span(), msg))
     }
 
-    fn describe(&self) -> String {
+    pub(super) fn describe(&self) -> String {
         match self.peek() {
             Tok::Ident(s) => format!("`{s}`"),
             Tok::Num(n) => format!("number {n}"),
@@ -57,15 +58,15 @@ impl<'s> Parser<'s> {
         }
     }
 
-    fn is_sym(&self, s: &str) -> bool {
+    pub(super) fn is_sym(&self, s: &str) -> bool {
         matches!(self.peek(), Tok::Sym(x) if *x == s)
     }
 
-    fn is_kw(&self, k: &str) -> bool {
+    pub(super) fn is_kw(&self, k: &str) -> bool {
         matches!(self.peek(), Tok::Ident(x) if x == k)
     }
 
-    fn eat_sym(&mut self, s: &str) -> bool {
+    pub(super) fn eat_sym(&mut self, s: &str) -> bool {
         if self.is_sym(s) {
             self.bump();
             true
@@ -74,7 +75,7 @@ impl<'s> Parser<'s> {
         }
     }
 
-    fn eat_kw(&mut self, k: &str) -> bool {
+    pub(super) fn eat_kw(&mut self, k: &str) -> bool {
         if self.is_kw(k) {
             self.bump();
             true
@@ -83,7 +84,7 @@ impl<'s> Parser<'s> {
         }
     }
 
-    fn expect_sym(&mut self, s: &str) -> PResult<Span> {
+    pub(super) fn expect_sym(&mut self, s: &str) -> PResult<Span> {
         if self.is_sym(s) {
             Ok(self.bump().span)
         } else {
@@ -91,7 +92,7 @@ impl<'s> Parser<'s> {
         }
     }
 
-    fn expect_kw(&mut self, k: &str) -> PResult<Span> {
+    pub(super) fn expect_kw(&mut self, k: &str) -> PResult<Span> {
         if self.is_kw(k) {
             Ok(self.bump().span)
         } else {
@@ -99,7 +100,7 @@ impl<'s> Parser<'s> {
         }
     }
 
-    fn ident(&mut self, what: &str) -> PResult<Ident> {
+    pub(super) fn ident(&mut self, what: &str) -> PResult<Ident> {
         match self.peek().clone() {
             Tok::Ident(name) => {
                 let span = self.bump().span;
@@ -517,171 +518,5 @@ impl<'s> Parser<'s> {
         let where_ = if self.eat_kw("where") { Some(self.expr()?) } else { None };
         let span = from.span.to(self.prev_span());
         Ok(StepHead { from, to, labels, binds, when, where_, span })
-    }
-
-    // Expressions, loosest first: || && comparison additive multiplicative unary atom.
-    pub fn expr(&mut self) -> PResult<Expr> {
-        self.binary_level(0)
-    }
-
-    fn binary_level(&mut self, level: usize) -> PResult<Expr> {
-        const LEVELS: &[&[(&str, BinOp)]] = &[
-            &[("||", BinOp::Or)],
-            &[("&&", BinOp::And)],
-            &[
-                ("==", BinOp::Eq),
-                ("!=", BinOp::Ne),
-                ("<=", BinOp::Le),
-                (">=", BinOp::Ge),
-                ("<", BinOp::Lt),
-                (">", BinOp::Gt),
-            ],
-            &[("+", BinOp::Add), ("-", BinOp::Sub)],
-            &[("*", BinOp::Mul), ("/", BinOp::Div)],
-        ];
-        if level == LEVELS.len() {
-            return self.unary();
-        }
-        let mut lhs = self.binary_level(level + 1)?;
-        loop {
-            let op = LEVELS[level].iter().find(|(s, _)| self.is_sym(s)).map(|(_, op)| *op);
-            let Some(op) = op else { return Ok(lhs) };
-            self.bump();
-            let rhs = self.binary_level(level + 1)?;
-            // Comparisons do not chain: `a < b < c` is almost always a mistake.
-            if level == 2 && LEVELS[2].iter().any(|(s, _)| self.is_sym(s)) {
-                return self.err("comparisons cannot be chained; use `&&`");
-            }
-            let span = lhs.span.to(rhs.span);
-            lhs = Expr { kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)), span };
-        }
-    }
-
-    /// The text of the string token at `sp` with its `{EXPR}` parts parsed.
-    fn interpolated(&mut self, sp: Span) -> PResult<Expr> {
-        let (first, end) = (sp.start + 1, sp.start + sp.len - 1);
-        let text = &self.src[first..end];
-        let mut parts = vec![];
-        let mut lit = String::new();
-        let mut i = 0;
-        while i < text.len() {
-            let c = text.as_bytes()[i];
-            if c == b'}' {
-                return Err(ProtocolError::at(
-                    ErrorKind::Syntax,
-                    self.src,
-                    Span::new(first + i, 1),
-                    "`}` without `{` in a text",
-                ));
-            }
-            if c != b'{' {
-                let ch = text[i..].chars().next().unwrap_or('?');
-                lit.push(ch);
-                i += ch.len_utf8();
-                continue;
-            }
-            let Some(close) = text[i..].find('}').map(|k| i + k) else {
-                return Err(ProtocolError::at(
-                    ErrorKind::Syntax,
-                    self.src,
-                    Span::new(first + i, 1),
-                    "`{` without `}` in a text",
-                ));
-            };
-            if !lit.is_empty() {
-                parts.push(InterpPart::Text(std::mem::take(&mut lit)));
-            }
-            let toks = lex_range(self.src, first + i + 1, first + close)?;
-            let mut sub = Parser { src: self.src, toks, i: 0 };
-            let e = sub.expr()?;
-            if !matches!(sub.peek(), Tok::Eof) {
-                return sub.err(format!("expected `}}`, found {}", sub.describe()));
-            }
-            parts.push(InterpPart::Expr(e));
-            i = close + 1;
-        }
-        if !lit.is_empty() {
-            parts.push(InterpPart::Text(lit));
-        }
-        Ok(Expr { kind: ExprKind::Interp(parts), span: sp })
-    }
-
-    fn unary(&mut self) -> PResult<Expr> {
-        let sp = self.span();
-        if self.eat_sym("!") {
-            let e = self.unary()?;
-            let span = sp.to(e.span);
-            return Ok(Expr { kind: ExprKind::Unary(UnOp::Not, Box::new(e)), span });
-        }
-        if self.eat_sym("-") {
-            let e = self.unary()?;
-            let span = sp.to(e.span);
-            return Ok(Expr { kind: ExprKind::Unary(UnOp::Neg, Box::new(e)), span });
-        }
-        self.atom()
-    }
-
-    fn atom(&mut self) -> PResult<Expr> {
-        let sp = self.span();
-        match self.peek().clone() {
-            Tok::Num(n) => {
-                self.bump();
-                Ok(Expr { kind: ExprKind::Num(n), span: sp })
-            }
-            Tok::Str(s) => {
-                self.bump();
-                if s.contains('{') || s.contains('}') {
-                    return self.interpolated(sp);
-                }
-                Ok(Expr { kind: ExprKind::Str(s), span: sp })
-            }
-            Tok::Sym("(") => {
-                self.bump();
-                let e = self.expr()?;
-                self.expect_sym(")")?;
-                Ok(e)
-            }
-            Tok::Ident(name) => {
-                self.bump();
-                match name.as_str() {
-                    "true" => return Ok(Expr { kind: ExprKind::Bool(true), span: sp }),
-                    "false" => return Ok(Expr { kind: ExprKind::Bool(false), span: sp }),
-                    "param" if self.is_sym("[") => {
-                        self.bump();
-                        let e = self.expr()?;
-                        let end = self.expect_sym("]")?;
-                        return Ok(Expr { kind: ExprKind::ParamOf(Box::new(e)), span: sp.to(end) });
-                    }
-                    _ if self.is_sym("(") => {
-                        self.bump();
-                        let arg = self.expr()?;
-                        let end = self.expect_sym(")")?;
-                        let f = Ident { name, span: sp };
-                        return Ok(Expr {
-                            kind: ExprKind::Call(f, Box::new(arg)),
-                            span: sp.to(end),
-                        });
-                    }
-                    "vehicle" | "param" if self.is_sym(".") => {
-                        self.bump();
-                        let member = self.ident(if name == "vehicle" {
-                            "vehicle attribute"
-                        } else {
-                            "parameter name"
-                        })?;
-                        let span = sp.to(member.span);
-                        let kind = if name == "vehicle" {
-                            ExprKind::Vehicle(member)
-                        } else {
-                            ExprKind::Param(member)
-                        };
-                        return Ok(Expr { kind, span });
-                    }
-                    _ => {}
-                }
-                Ok(Expr { kind: ExprKind::Name(name), span: sp })
-            }
-            _ => self.err(format!("expected an expression, found {}", self.describe())),
-        }
     }
 }
