@@ -128,11 +128,20 @@ fn upload_refused(r: &Run) {
     assert!(counters["dropped_violations"].as_u64().unwrap_or(0) >= 1, "{counters}");
 }
 
+/// A mission attack: the release is stored and reached without the guard, the upload refused
+/// with it.
+fn mission_attack(tag: &str, vehicle: &[&str], scenario: &str) -> Option<Run> {
+    let r = attack(tag, vehicle, scenario, &[])?;
+    upload_refused(&r);
+    Some(r)
+}
+
 /// The two-item mission whose item 2 is DO_PARACHUTE RELEASE, then MAV_CMD_MISSION_START.
 #[test]
 fn mission_item_reached_by_mission_start() {
-    let Some(r) = attack("fx-mission-start", CHUTE_VEHICLE, "mission_start", &[]) else { return };
-    upload_refused(&r);
+    let Some(r) = mission_attack("fx-mission-start", CHUTE_VEHICLE, "mission_start") else {
+        return;
+    };
     assert_eq!(r.gcs["mission_acks"], json!([14]), "DENIED, from the parachute rule: {}", r.gcs);
     let text: Vec<&str> =
         r.gcs["statustext"].as_array().unwrap().iter().filter_map(Value::as_str).collect();
@@ -142,42 +151,33 @@ fn mission_item_reached_by_mission_start() {
 /// The same mission as MISSION_ITEM (float coordinates), started by SET_MODE AUTO.
 #[test]
 fn mission_item_float_reached_by_mode_auto() {
-    let Some(r) = attack("fx-item-auto", CHUTE_VEHICLE, "mission_item_auto", &[]) else { return };
-    upload_refused(&r);
+    mission_attack("fx-item-auto", CHUTE_VEHICLE, "mission_item_auto");
 }
 
 /// A harmless mission, then a partial write (MISSION_WRITE_PARTIAL_LIST) of the release into
 /// item 2, then mission start.
 #[test]
 fn partial_write_of_the_release() {
-    let Some(r) = attack("fx-partial", CHUTE_VEHICLE, "mission_partial", &[]) else { return };
-    upload_refused(&r);
+    let Some(r) = mission_attack("fx-partial", CHUTE_VEHICLE, "mission_partial") else { return };
     assert_eq!(r.gcs["notes"][0], json!(0), "the harmless mission passes: {}", r.gcs);
 }
 
 /// Loiter at item 1, then MISSION_SET_CURRENT to the release at item 2.
 #[test]
 fn mission_set_current_into_the_release() {
-    let Some(r) = attack("fx-set-current", CHUTE_VEHICLE, "mission_set_current", &[]) else {
-        return;
-    };
-    upload_refused(&r);
+    mission_attack("fx-set-current", CHUTE_VEHICLE, "mission_set_current");
 }
 
 /// Loiter at item 1, then MAV_CMD_DO_SET_MISSION_CURRENT to the release at item 2.
 #[test]
 fn do_set_mission_current_into_the_release() {
-    let Some(r) = attack("fx-do-set-current", CHUTE_VEHICLE, "mission_do_set_current", &[]) else {
-        return;
-    };
-    upload_refused(&r);
+    mission_attack("fx-do-set-current", CHUTE_VEHICLE, "mission_do_set_current");
 }
 
 /// Item 1 is DO_JUMP to item 3, the release.
 #[test]
 fn do_jump_into_the_release() {
-    let Some(r) = attack("fx-do-jump", CHUTE_VEHICLE, "mission_do_jump", &[]) else { return };
-    upload_refused(&r);
+    mission_attack("fx-do-jump", CHUTE_VEHICLE, "mission_do_jump");
 }
 
 /// The vehicle already flies AUTO: a new mission is uploaded and the vehicle reaches the release
@@ -185,15 +185,13 @@ fn do_jump_into_the_release() {
 #[test]
 fn release_reached_by_the_vehicles_progress() {
     let vehicle: Vec<&str> = CHUTE_VEHICLE.iter().copied().chain(["--mode", "3"]).collect();
-    let Some(r) = attack("fx-progress", &vehicle, "mission_progress", &[]) else { return };
-    upload_refused(&r);
+    mission_attack("fx-progress", &vehicle, "mission_progress");
 }
 
 /// A mission item MAV_CMD_DO_AUX_FUNCTION 22 (parachute release) in the high position.
 #[test]
 fn aux_function_release_as_a_mission_item() {
-    let Some(r) = attack("fx-mission-aux", CHUTE_VEHICLE, "mission_aux", &[]) else { return };
-    upload_refused(&r);
+    mission_attack("fx-mission-aux", CHUTE_VEHICLE, "mission_aux");
 }
 
 /// MAV_CMD_DO_AUX_FUNCTION 22 high as a command: ArduPilot runs the auxiliary function whatever

@@ -12,22 +12,13 @@ use vouch_mav::protocol::{ErrorKind, load_protocols, stdlib};
 
 const LOITER: u32 = 5;
 
-fn param_value(c: &mut Craft, id: &str, v: f64) {
-    c.send_full(
-        UAV,
-        "PARAM_VALUE",
-        &[("param_value", v), ("param_type", 9.0)],
-        &[("param_id", id)],
-    );
-}
-
 /// Armed copter in LOITER, 50 m above home, climbing at 2 m/s (a release is unsafe), reporting
 /// the parameters `params`.
 fn climbing(params: &[(&str, f64)]) -> Option<Craft> {
     let mut c = Craft::with_heartbeats(true, LOITER)?;
-    param_value(&mut c, "CHUTE_ALT_MIN", 10.0);
+    c.param_value("CHUTE_ALT_MIN", 10.0);
     for (id, v) in params {
-        param_value(&mut c, id, *v);
+        c.param_value(id, *v);
     }
     c.send(UAV, "GLOBAL_POSITION_INT", &[("relative_alt", 50_000.0), ("vz", -200.0)]);
     Some(c)
@@ -369,17 +360,7 @@ protocol p {
 ";
     let Some(mut c) = climbing(&[("SERVO4_FUNCTION", 0.0)]) else { return };
     for v in [4.0, 5.0] {
-        c.send_full(
-            GCS,
-            "PARAM_SET",
-            &[
-                ("target_system", 1.0),
-                ("target_component", 1.0),
-                ("param_value", v),
-                ("param_type", 9.0),
-            ],
-            &[("param_id", "X")],
-        );
+        c.param_set("X", v);
     }
     let r = c.check_sources(&[("p.vproto".into(), src.into())]);
     let v = only_violation(&r);

@@ -331,28 +331,7 @@ pub fn mavproxy(
     expect: &[&str],
     timeout: Duration,
 ) -> String {
-    let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
-    let mut child = Command::new(py)
-        .arg(mavproxy)
-        .arg(format!("--master={}", guard.gcs_url))
-        .args(["--target-system=1", "--target-component=1"])
-        .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("MAVProxy starts");
-    let (tx, rx) = std::sync::mpsc::channel::<String>();
-    let out = child.stdout.take().expect("stdout");
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    let mut stdin = child.stdin.take().expect("stdin");
-    let _mp = Proc(child);
+    let (_mp, mut stdin, rx) = spawn_mavproxy(py, dir, guard, &[]);
     let end = Instant::now() + timeout;
     let mut text = String::new();
     let mut pending: Vec<&str> = commands.to_vec();
@@ -376,38 +355,53 @@ pub fn mavproxy(
     text
 }
 
+/// MAVProxy (target 1/1) with the guard as its master and `extra` arguments: the process, its
+/// standard input and its console lines as they come.
+fn spawn_mavproxy(
+    py: &Path,
+    dir: &Path,
+    guard: &Guard,
+    extra: &[String],
+) -> (Proc, std::process::ChildStdin, std::sync::mpsc::Receiver<String>) {
+    let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
+    let mut child = Command::new(py)
+        .arg(mavproxy)
+        .arg(format!("--master={}", guard.gcs_url))
+        .args(extra)
+        .args(["--target-system=1", "--target-component=1"])
+        .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("MAVProxy starts");
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    let out = child.stdout.take().expect("stdout");
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let stdin = child.stdin.take().expect("stdin");
+    (Proc(child), stdin, rx)
+}
+
 /// MAVProxy (a real ground station) connected to the guard as its master and relaying to a
 /// client on `out` (`udpout:…`), running until dropped. Its console lines arrive on the channel.
 pub struct MavProxyRelay {
     _proc: Proc,
+    /// Kept open: MAVProxy ends at the end of its input.
+    _stdin: std::process::ChildStdin,
     lines: std::sync::mpsc::Receiver<String>,
     text: String,
 }
 
 impl MavProxyRelay {
     pub fn start(py: &Path, dir: &Path, guard: &Guard, out: &str) -> Option<MavProxyRelay> {
-        let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
-        let mut child = Command::new(py)
-            .arg(mavproxy)
-            .arg(format!("--master={}", guard.gcs_url))
-            .arg(format!("--out={out}"))
-            .args(["--target-system=1", "--target-component=1"])
-            .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("MAVProxy starts");
-        let (tx, rx) = std::sync::mpsc::channel::<String>();
-        let stdout = child.stdout.take().expect("stdout");
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        let mut relay = MavProxyRelay { _proc: Proc(child), lines: rx, text: String::new() };
+        let (proc, stdin, lines) = spawn_mavproxy(py, dir, guard, &[format!("--out={out}")]);
+        let mut relay = MavProxyRelay { _proc: proc, _stdin: stdin, lines, text: String::new() };
         relay.wait_for("Detected vehicle", Duration::from_secs(30)).then_some(relay)
     }
 

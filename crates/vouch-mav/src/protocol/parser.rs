@@ -1,5 +1,5 @@
 //! Recursive-descent parser of the protocol language (grammar in docs/mav-monitor.md):
-//! declarations and statements here, expressions in [`parse_expr`](super::parse_expr).
+//! declarations and statements here, expressions in `parse_expr.rs`.
 
 use super::ast::*;
 use super::error::{ErrorKind, ProtocolError, Span};

@@ -26,69 +26,39 @@ ArduPilot sources (docs/mav-monitor.md, "Effects and their routes", cites them):
 A released parachute is what the tests look at: `released` in the summary lists each release
 with the route that caused it. Every datagram received is logged too.
 """
-import argparse
 import json
 import math
-import os
-import socket
 import time
 
-os.environ["MAVLINK20"] = "1"
-from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
+from peer import C, Link, arguments, finite, parameters
 
-C = mavlink
-p = argparse.ArgumentParser()
-p.add_argument("--port", type=int, required=True, help="UDP port on 127.0.0.1 the GCS or guard sends to")
-p.add_argument("--summary", required=True)
-p.add_argument("--stop-file", required=True, help="stop as soon as this file exists")
-p.add_argument("--duration", type=float, default=60.0)
-p.add_argument("--armed", type=int, default=1)
-p.add_argument("--mode", type=int, default=5, help="custom_mode (ArduCopter 5 = LOITER, 3 = AUTO)")
-p.add_argument("--alt", type=float, default=50.0, help="metres above home")
-p.add_argument("--climb", type=float, default=2.0, help="m/s, positive up")
+p = arguments("a scripted ArduCopter with a parachute for the red-team tests of its routes")
 p.add_argument("--version", choices=["4.4", "4.5"], default="4.5", help="relay semantics")
-p.add_argument("--param", action="append", default=[], help="NAME=VALUE (repeatable), reported on connect")
 a = p.parse_args()
-
-params = {}
-for kv in a.param:
-    k, v = kv.split("=", 1)
-    params[k] = float(v)
+params = parameters(a)
 
 AUTO = 3
 NAV_TIME = 0.3
 FENCE_CMDS = (5000, 5001, 5002, 5003, 5004)
 RALLY_CMDS = (5100,)
 
-sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-sock.bind(("127.0.0.1", a.port))
-sock.settimeout(0.02)
-mav = mavlink.MAVLink(None, srcSystem=1, srcComponent=1)
-mav.robust_parsing = True
-peer = None
+link = Link(a)
+mav = link.mav
+send = link.send
 mode = a.mode
 missions = {0: [], 1: [], 2: []}
-upload = None  # {"type", "next", "end", "items"}
+upload = None  # {"type", "next", "end"}
 current = 0
 nav_started = None
 jumps = {}
 rc_high = {}
-summary = {"datagrams": [], "messages": [], "bad_data": 0, "released": [], "not_released": [],
-           "servo_set": [], "relay_set": [], "mission": {}, "modes": [], "current": []}
-
-
-def send(msg):
-    if peer is not None:
-        sock.sendto(msg.pack(mav), peer)
-        mav.seq = (mav.seq + 1) % 256
+summary = link.summary
+summary.update({"released": [], "not_released": [], "servo_set": [], "relay_set": [], "mission": {},
+                "modes": [], "current": []})
 
 
 def param(name, default=0.0):
     return params.get(name, default)
-
-
-def finite(x):
-    return x if not isinstance(x, float) or math.isfinite(x) else repr(x)
 
 
 def u16(x):
@@ -292,37 +262,18 @@ def handle(msg):
 peer_ids = (255, 190)
 if mode == AUTO:
     current = 1  # already flying a mission: new items are reached from item 1 on
-deadline = time.time() + a.duration
-last_state = 0.0
 announced = False
-while time.time() < deadline and not os.path.exists(a.stop_file):
+while link.running():
     now = time.time()
-    if now - last_state > 0.1:
-        base_mode = C.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | (C.MAV_MODE_FLAG_SAFETY_ARMED if a.armed else 0)
-        send(mav.heartbeat_encode(C.MAV_TYPE_QUADROTOR, C.MAV_AUTOPILOT_ARDUPILOTMEGA, base_mode, mode,
-                                  C.MAV_STATE_ACTIVE))
-        send(mav.global_position_int_encode(int(now * 1000) & 0xFFFFFFFF, 0, 0, int(a.alt * 1000),
-                                            int(a.alt * 1000), 0, 0, int(-a.climb * 100), 0))
-        send(mav.vfr_hud_encode(0.0, 0.0, 0, 50, a.alt, a.climb))
-        if peer is not None and not announced:
-            names = list(params)
-            for i, name in enumerate(names):
-                send(mav.param_value_encode(name.encode(), params[name], C.MAV_PARAM_TYPE_REAL32, len(names), i))
+    if link.state_due(now):
+        link.heartbeat(mode)
+        link.position(now)
+        if link.peer is not None and not announced:
+            for name in params:
+                link.param_value(params, name)
             announced = True
-        last_state = now
     run_mission(now)
-    try:
-        data, frm = sock.recvfrom(65535)
-    except socket.timeout:
-        continue
-    peer = frm
-    summary["datagrams"].append(data.hex())
-    for msg in mav.parse_buffer(data) or []:
-        t = msg.get_type()
-        if t == "BAD_DATA":
-            summary["bad_data"] += 1
-            continue
-        summary["messages"].append({"type": t, "src": [msg.get_srcSystem(), msg.get_srcComponent()]})
+    for msg in link.receive():
         handle(msg)
 
 summary["mission"] = {str(k): [[i["seq"], i["command"], finite(i["param1"])] for i in v] for k, v in missions.items()}
