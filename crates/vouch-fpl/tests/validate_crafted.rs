@@ -144,7 +144,7 @@ fn array_and_pointer_variables_validate_to_the_fixpoint() {
     }
 }
 
-/// A call with 65,537 paths (two nested loops bounded by plan variables, entered in one call):
+/// A call with 33,151 paths (two loops in a row bounded by plan variables, see the plan):
 /// the former fixed cap of 20,000 paths cut it, and the report says exactly which state was
 /// cut; the default budget now covers it and the walk reaches its fixpoint.
 #[test]

@@ -182,7 +182,7 @@ fn oracle_texts(header: &str) -> Vec<String> {
 }
 
 /// The decimal constants of the plan's comparisons (conditions and values of the header), as
-/// written: the driver reads each back as its compiler made it, so that a build that rounds
+/// the generated C writes them: the driver reads each back as its compiler made it, so that a build that rounds
 /// them differently (e.g. `-fsingle-precision-constant`) shows.
 pub fn comparison_constants(header: &str) -> Vec<String> {
     use crate::expr::{TokenKind, lex};

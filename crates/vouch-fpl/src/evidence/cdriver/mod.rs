@@ -190,6 +190,7 @@ impl Driver {
         let cflags = cflags.map_or_else(|| target.default_cflags(), <[String]>::to_vec);
         let dir = tempfile::Builder::new()
             .prefix("vouch-fpl-validate-")
+            .permissions(private())
             .tempdir()
             .map_err(io_err("cannot create a private build directory"))?;
         let discovery = cstate::discover(header, RUNTIME_H);
@@ -430,6 +431,12 @@ impl Driver {
             out.push('\n');
         }
     }
+}
+
+/// Owner only (0700): no other user can add to or change the programs built there.
+fn private() -> std::fs::Permissions {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::Permissions::from_mode(0o700)
 }
 
 impl Drop for Driver {
