@@ -126,3 +126,23 @@ fn a_fault_on_the_target_is_reported_on_its_path() {
     assert_eq!((cx.calls, cx.target.as_str()), (1, "cortex-m4"));
     assert!(r.abstracted.restarts >= 1);
 }
+
+/// A call that never returns and asks nothing (a loop the question limit cannot stop) is ended
+/// by the core's SysTick time limit, like `alarm` on the host: a crash with status 142 on its
+/// path. The limit is shortened to 2 s through `--cflags` (`-DVOUCH_ALARM_SECONDS=2`).
+#[test]
+fn a_hang_on_the_target_is_ended_by_the_time_limit() {
+    let Some(()) = peers() else { return };
+    let p = plan("mutation.xml");
+    let fp = vouch_fpl::passes::lower::lower(&p).expect("lowers");
+    let h = header(&p);
+    let mutated = h.replacen("FP_X(\"mode = 1\");", "for (;;) { __asm volatile (\"\"); }", 1);
+    assert_ne!(mutated, h);
+    let mut flags = Target::CortexM4.default_cflags();
+    flags.push("-DVOUCH_ALARM_SECONDS=2".into());
+    let o = Options { cflags: Some(flags), random_runs: 0, ..on(Target::CortexM4) };
+    let r = validate_header(&fp, &mutated, &o).expect("builds");
+    let cx = r.counterexample.expect("caught");
+    assert!(cx.what.contains("died (status 142)"), "{}", cx.what);
+    assert_eq!(cx.calls, 1);
+}
