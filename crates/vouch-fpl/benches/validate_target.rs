@@ -11,17 +11,15 @@ use std::time::Instant;
 
 use vouch_fpl::evidence::validate::{Options, Target, validate};
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+/// The 104 corpus plans upstream compiles, with their corpus-relative names.
 fn corpus_plans() -> Vec<(String, PathBuf)> {
-    let Some(dir) = vouch_testkit::shared("fpl/corpus", "INDEX.tsv") else { return Vec::new() };
-    let Ok(index) = std::fs::read_to_string(dir.join("INDEX.tsv")) else { return Vec::new() };
-    index
-        .lines()
-        .skip(1)
-        .filter_map(|l| {
-            let cols: Vec<&str> = l.split('\t').collect();
-            (cols.len() >= 7 && cols[1] == "flight_plan" && cols[6] == "yes")
-                .then(|| (cols[0].to_string(), dir.join(cols[0])))
-        })
+    let Some(dir) = common::corpus_dir() else { return Vec::new() };
+    common::corpus_plans(&dir)
+        .into_iter()
+        .map(|p| (p.strip_prefix(&dir).unwrap_or(&p).display().to_string(), p))
         .collect()
 }
 

@@ -5,8 +5,7 @@
 
 mod common;
 
-use rayon::prelude::*;
-use vouch_fpl::evidence::validate::{Options, Target, validate};
+use vouch_fpl::evidence::validate::{Options, Target};
 
 #[test]
 fn every_corpus_plan_validates_to_the_fixpoint_on_cortex_m4() {
@@ -15,26 +14,13 @@ fn every_corpus_plan_validates_to_the_fixpoint_on_cortex_m4() {
     {
         return;
     }
-    let Some(dir) = common::corpus_dir() else { return };
-    let plans = common::corpus_plans(&dir);
-    assert_eq!(plans.len(), 104);
-    // the walk is the host's; the random runs are not repeated here (validate_corpus.rs)
     let opts = Options {
         target: Target::CortexM4,
         random_runs: 1,
         random_steps: 100,
         ..Options::default()
     };
-    let results: Vec<(String, Result<_, String>)> = plans
-        .par_iter()
-        .map(|p| {
-            let name = p.strip_prefix(&dir).unwrap_or(p).display().to_string();
-            let r = vouch_fpl::front::parse_file(p)
-                .map_err(|d| d.listing())
-                .and_then(|plan| validate(&plan, &opts).map_err(|e| e.to_string()));
-            (name, r)
-        })
-        .collect();
+    let Some(results) = common::validate_corpus(&opts) else { return };
     let mut failures = Vec::new();
     let (mut states, mut transitions, mut constants) = (0, 0, 0);
     for (name, r) in &results {

@@ -33,6 +33,17 @@ fn header(p: &vouch_fpl::ast::FlightPlan) -> String {
         .expect("compiles")
 }
 
+/// `mutation.xml` lowered, and its instrumented header with the code of its `set` stage
+/// (`mode = 1`, run in call 1) replaced by `code`.
+fn mutation_with(code: &str) -> (vouch_fpl::passes::fp::Fp, String) {
+    let p = plan("mutation.xml");
+    let fp = vouch_fpl::passes::lower::lower(&p).expect("lowers");
+    let h = header(&p);
+    let mutated = h.replacen("FP_X(\"mode = 1\");", code, 1);
+    assert_ne!(mutated, h);
+    (fp, mutated)
+}
+
 /// Every crafted plan, the array forms included, reaches the fixpoint on both cores, over
 /// exactly the host's states and transitions.
 #[test]
@@ -115,11 +126,7 @@ fn a_build_that_rounds_constants_to_float_is_reported() {
 #[test]
 fn a_fault_on_the_target_is_reported_on_its_path() {
     let Some(()) = peers() else { return };
-    let p = plan("mutation.xml");
-    let fp = vouch_fpl::passes::lower::lower(&p).expect("lowers");
-    let h = header(&p);
-    let mutated = h.replacen("FP_X(\"mode = 1\");", "*(volatile int *)0xF0000000u = 0;", 1);
-    assert_ne!(mutated, h);
+    let (fp, mutated) = mutation_with("*(volatile int *)0xF0000000u = 0;");
     let r = validate_header(&fp, &mutated, &on(Target::CortexM4)).expect("builds");
     let cx = r.counterexample.expect("caught");
     assert!(cx.what.contains("died (status 139)"), "{}", cx.what);
@@ -133,11 +140,7 @@ fn a_fault_on_the_target_is_reported_on_its_path() {
 #[test]
 fn a_hang_on_the_target_is_ended_by_the_time_limit() {
     let Some(()) = peers() else { return };
-    let p = plan("mutation.xml");
-    let fp = vouch_fpl::passes::lower::lower(&p).expect("lowers");
-    let h = header(&p);
-    let mutated = h.replacen("FP_X(\"mode = 1\");", "for (;;) { __asm volatile (\"\"); }", 1);
-    assert_ne!(mutated, h);
+    let (fp, mutated) = mutation_with("for (;;) { __asm volatile (\"\"); }");
     let mut flags = Target::CortexM4.default_cflags();
     flags.push("-DVOUCH_ALARM_SECONDS=2".into());
     let o = Options { cflags: Some(flags), random_runs: 0, ..on(Target::CortexM4) };

@@ -59,28 +59,12 @@ pub enum Target {
     CortexM7,
 }
 
-/// The flags of a Paparazzi ChibiOS build for an STM32F4 board (every flag that changes the
-/// generated code; the warning flags are left out). Where each comes from, file and line at a
-/// given commit of Paparazzi, is in `docs/fpl-evidence.md`.
-const PAPARAZZI_M4: &[&str] = &[
-    "-mcpu=cortex-m4",
-    "-O2",
-    "-falign-functions=16",
-    "-fomit-frame-pointer",
-    "-ffunction-sections",
-    "-fdata-sections",
-    "-fno-common",
-    "-mfloat-abi=hard",
-    "-mfpu=fpv4-sp-d16",
-    "-std=gnu99",
-    "-mno-thumb-interwork",
-    "-mthumb",
-];
-
-/// The same for an STM32F7 board: the processor differs; the FPU options are ChibiOS's
-/// default, which the board file does not override.
-const PAPARAZZI_M7: &[&str] = &[
-    "-mcpu=cortex-m7",
+/// The flags of a Paparazzi ChibiOS build for an STM32F4/F7 board after `-mcpu` (every flag
+/// that changes the generated code; the warning flags are left out). Both boards use the same
+/// ones: on the F7 the FPU options are ChibiOS's default, which the board file does not
+/// override. Where each comes from, file and line at a given commit of Paparazzi, is in
+/// `docs/fpl-evidence.md`.
+const PAPARAZZI_STM32: &[&str] = &[
     "-O2",
     "-falign-functions=16",
     "-fomit-frame-pointer",
@@ -116,12 +100,12 @@ impl Target {
 
     /// The code-generation flags used unless `--cflags` replaces them.
     pub fn default_cflags(self) -> Vec<String> {
-        let flags = match self {
-            Target::Host => HOST_FLAGS,
-            Target::CortexM4 => PAPARAZZI_M4,
-            Target::CortexM7 => PAPARAZZI_M7,
+        let (cpu, flags) = match self {
+            Target::Host => (None, HOST_FLAGS),
+            Target::CortexM4 => (Some("-mcpu=cortex-m4"), PAPARAZZI_STM32),
+            Target::CortexM7 => (Some("-mcpu=cortex-m7"), PAPARAZZI_STM32),
         };
-        flags.iter().map(|s| s.to_string()).collect()
+        cpu.into_iter().chain(flags.iter().copied()).map(str::to_string).collect()
     }
 
     /// The C compiler: `$CC` or `cc` on the host, `$VOUCH_ARM_CC` or `arm-none-eabi-gcc`.
