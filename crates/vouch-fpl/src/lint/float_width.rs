@@ -34,6 +34,13 @@ fn is_comparison(tokens: &[crate::expr::Token]) -> bool {
     })
 }
 
+/// `text` with control characters escaped (`\u{1b}`): attribute values reach the terminal.
+fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { c.escape_unicode().to_string() } else { c.to_string() })
+        .collect()
+}
+
 /// The warnings of one attribute value: each width-dependent literal of a comparison, located
 /// at the literal in the XML.
 fn check_value(sources: &SourceMap, name: &str, value: &str, at: Span, out: &mut Vec<Warning>) {
@@ -61,7 +68,8 @@ fn check_value(sources: &SourceMap, name: &str, value: &str, at: Span, out: &mut
         out.push(Warning::new(
             Rule::FloatWidth,
             format!(
-                "constant {literal} in the comparison {name}=\"{value}\" is {double:?} in double precision but {single:?} in single precision: the comparison can go the other way when the autopilot computes in float (Cortex-M4F/M7 FPU, -fsingle-precision-constant, a float variable)"
+                "constant {literal} in the comparison {name}=\"{}\" is {double:?} in double precision but {single:?} in single precision: the comparison can go the other way when the autopilot computes in float (Cortex-M4F/M7 FPU, -fsingle-precision-constant, a float variable)",
+                printable(value)
             ),
             span,
         ));
@@ -112,5 +120,10 @@ mod tests {
         }
         assert!(width_dependent(&TokenKind::Int(16_777_216)).is_none());
         assert!(width_dependent(&TokenKind::Int(16_777_217)).is_some());
+    }
+
+    #[test]
+    fn control_characters_of_the_value_are_escaped() {
+        assert_eq!(printable("a\u{1b}]0;x\u{7}b"), "a\\u{1b}]0;x\\u{7}b");
     }
 }

@@ -207,6 +207,8 @@ fn cut_states(fp: &Fp, walk: &space::Explored) -> Vec<String> {
         .filter_map(|(i, _)| walk.nodes.get(i))
         .map(|n| {
             let name = fp.blocks.get(n.obs.block).map_or("?", |b| b.name.as_str());
+            // a block name is the user's text: no control character reaches the terminal
+            let name: String = name.chars().flat_map(char::escape_default).collect();
             format!("block {} '{name}' stage {}", n.obs.block, n.obs.stage)
         })
         .collect()
