@@ -208,7 +208,12 @@ fn cut_states(fp: &Fp, walk: &space::Explored) -> Vec<String> {
         .map(|n| {
             let name = fp.blocks.get(n.obs.block).map_or("?", |b| b.name.as_str());
             // a block name is the user's text: no control character reaches the terminal
-            let name: String = name.chars().flat_map(char::escape_default).collect();
+            let name: String = name
+                .chars()
+                .map(
+                    |c| if c.is_control() { c.escape_unicode().to_string() } else { c.to_string() },
+                )
+                .collect();
             format!("block {} '{name}' stage {}", n.obs.block, n.obs.stage)
         })
         .collect()
