@@ -110,7 +110,7 @@ def test_check_bag_on_the_example_bag():
     s = report["summary"]
     assert (s["plans"], s["passed"], s["failed"], s["replay_equal"]) == (3, 2, 1, 2)
     failing = report["plans"][2]
-    assert any("PoseInObstacle" in v for v in failing["violations"])
+    assert any(v["kind"] == "pose_in_obstacle" for v in failing["violations"])
     with pytest.raises(OSError):
         vouch.check_bag(EXAMPLES / "no_such_bag")
 

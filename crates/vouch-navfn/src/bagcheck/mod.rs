@@ -189,7 +189,7 @@ pub fn check_bag(bag: &Bag, opts: &BagCheckOptions) -> Result<BagReport, BagErro
         }
     }
     let summary = summarise(&plans, w.grids, opts.replay);
-    Ok(BagReport { replay_mode: opts.replay, plans, summary })
+    Ok(BagReport { version: report::BAG_REPORT_VERSION, replay_mode: opts.replay, plans, summary })
 }
 
 /// One plan against the state at its time.
