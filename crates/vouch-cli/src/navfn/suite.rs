@@ -45,7 +45,11 @@ impl From<DetailArg> for TraceDetail {
 /// Arguments of `vouch navfn suite run`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn suite run examples/navfn/suite --mode navfn --algo astar --check"
+    after_help = after_help!(
+        ["vouch navfn suite run examples/navfn/suite --mode navfn --algo astar --check"],
+        "0 every case ran, 1 suite file rejected, 2 usage or I/O error, \
+         3 a plan check failed with --check"
+    )
 )]
 pub struct SuiteRunArgs {
     /// A test file, or a folder searched recursively (sorted) for test files
