@@ -8,6 +8,20 @@
 //! The command contract (exit codes, pipe-safe output, diagnostics printed once) is in
 //! `contract.rs`.
 
+// The command line is the one place that prints (through `contract.rs` and `diagnostics.rs`)
+// and exits (in `main.rs`); it still never unwraps or panics on its own.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::dbg_macro,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};

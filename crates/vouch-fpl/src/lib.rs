@@ -19,6 +19,24 @@
 //! Entry points: [`front::parse_file`], [`passes::compile`], [`emit::compile_plan`],
 //! [`pipeline::compile_file`].
 
+// The library never prints, exits or panics on its own: callers get data and typed errors.
+// Tests (`cfg(test)`) may unwrap; an exception in library code is an `#[expect(..., reason)]`
+// in place.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::print_stdout,
+        clippy::print_stderr,
+        clippy::exit,
+        clippy::dbg_macro,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
 pub mod aircraft;
 pub mod ast;
 pub mod diag;

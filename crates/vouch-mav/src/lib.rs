@@ -17,6 +17,24 @@
 //!
 //! Nothing here prints: results are data, errors are typed [`miette::Diagnostic`]s with codes.
 
+// The library never prints, exits or panics on its own: callers get data and typed errors.
+// Tests (`cfg(test)`) may unwrap; an exception in library code is an `#[expect(..., reason)]`
+// in place.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::print_stdout,
+        clippy::print_stderr,
+        clippy::exit,
+        clippy::dbg_macro,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
 #[cfg(feature = "bench")]
 pub mod bench;
 pub mod codec;

@@ -11,6 +11,23 @@
 //! `planner.rs` holds the safe logic; `ffi.rs` the `extern "C"` entry points, the only code
 //! with `unsafe` (pointer arguments), each block with its `SAFETY:` argument.
 
+// The library never prints, exits or panics on its own: callers get data and typed errors.
+// Tests (`cfg(test)`) may unwrap; an exception in library code is an `#[expect(..., reason)]`
+// in place.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::print_stdout,
+        clippy::print_stderr,
+        clippy::exit,
+        clippy::dbg_macro,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
 // A C ABI takes raw pointers and exports unmangled symbols; both are `unsafe` in Rust. This
 // crate alone opts in, and only `ffi.rs` uses it.
 #![allow(unsafe_code, reason = "the C ABI: raw pointer arguments and unmangled symbols")]

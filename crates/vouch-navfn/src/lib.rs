@@ -10,6 +10,24 @@
 //! sequences of the golden modes, golden text) → `picture` (PNG) → `campaign`.
 //! The reference semantics is `shared/navfn/SEMANTICS.md`; the oracle is `shared/navfn/golden`.
 
+// The library never prints, exits or panics on its own: callers get data and typed errors.
+// Tests (`cfg(test)`) may unwrap; an exception in library code is an `#[expect(..., reason)]`
+// in place.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::print_stdout,
+        clippy::print_stderr,
+        clippy::exit,
+        clippy::dbg_macro,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
 pub mod bagcheck;
 pub mod campaign;
 pub mod checks;

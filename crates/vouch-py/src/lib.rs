@@ -5,6 +5,24 @@
 //! Bad input raises `ValueError` with the library's located message; unreadable files raise
 //! `OSError`.
 
+// The library never prints, exits or panics on its own: callers get data and typed errors.
+// Tests (`cfg(test)`) may unwrap; an exception in library code is an `#[expect(..., reason)]`
+// in place.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::print_stdout,
+        clippy::print_stderr,
+        clippy::exit,
+        clippy::dbg_macro,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
 use std::path::PathBuf;
 
 use numpy::ndarray::Array2;

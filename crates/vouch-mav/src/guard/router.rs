@@ -103,11 +103,15 @@ impl Core {
         // from the byte after its start marker, so it cannot swallow the frames behind it.
         split_datagram_resync(d, |p| match p {
             Piece::Frame(a, b) => match self.admit(ep, from, &d[a..b]) {
-                Admission::Forward => {
-                    let fr = FrameRef::new(&d[a..b]).expect("admitted frames are frames");
-                    runs.push(a, b, self.route(from, &fr), 1);
-                    true
-                }
+                // Admission checked the frame's length; a frame that does not cut is dropped,
+                // never forwarded (fail closed).
+                Admission::Forward => match FrameRef::new(&d[a..b]) {
+                    Some(fr) => {
+                        runs.push(a, b, self.route(from, &fr), 1);
+                        true
+                    }
+                    None => true,
+                },
                 Admission::Drop => true,
                 Admission::NotAFrame => false,
             },
@@ -231,9 +235,11 @@ impl Sink for Core {
             Received::Datagram(d) => self.on_datagram(ep, from, d),
             Received::StreamFrame(f) => match self.admit(ep, from, f) {
                 Admission::Forward => {
-                    let fr = FrameRef::new(f).expect("admitted frames are frames");
-                    let mask = self.route(from, &fr);
-                    self.forward(side, mask, f, 1);
+                    // Admission checked the frame's length; one that does not cut is dropped.
+                    if let Some(fr) = FrameRef::new(f) {
+                        let mask = self.route(from, &fr);
+                        self.forward(side, mask, f, 1);
+                    }
                 }
                 Admission::Drop => {}
                 // its bytes come back as junk (or inside later frames) from the stream splitter

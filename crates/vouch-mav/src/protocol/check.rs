@@ -80,6 +80,10 @@ impl<'a> Compiler<'a> {
         })
     }
 
+    #[expect(
+        clippy::expect_used,
+        reason = "`protocol` sets `self.proto` before compiling a body and takes it back at the end"
+    )]
     fn protocol(&mut self, p: &ast::ProtocolDecl) -> CResult<Protocol> {
         if p.roles.len() != 2 {
             return self.err(
@@ -213,10 +217,18 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    #[expect(
+        clippy::expect_used,
+        reason = "`protocol` sets `self.proto` before compiling a body and takes it back at the end"
+    )]
     pub(super) fn proto_mut(&mut self) -> &mut Protocol {
         self.proto.as_mut().expect("protocol under construction")
     }
 
+    #[expect(
+        clippy::expect_used,
+        reason = "`protocol` sets `self.proto` before compiling a body and takes it back at the end"
+    )]
     pub(super) fn role(&self, r: &ast::Ident) -> CResult<usize> {
         let proto = self.proto.as_ref().expect("protocol under construction");
         match proto.roles.iter().position(|(n, _)| *n == r.name) {

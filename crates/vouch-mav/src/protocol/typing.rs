@@ -80,8 +80,11 @@ impl<'a> Compiler<'a> {
                 } else if self.in_reply
                     && self.proto.as_ref().is_some_and(|p| p.var_names.contains(n))
                 {
-                    let p = self.proto.as_ref().expect("protocol under construction");
-                    let slot = p.var_names.iter().rposition(|v| v == n).unwrap_or(0);
+                    let slot = self
+                        .proto
+                        .as_ref()
+                        .and_then(|p| p.var_names.iter().rposition(|v| v == n))
+                        .unwrap_or(0);
                     (Expr::Var(slot), Ty::num())
                 } else if let Some(i) =
                     self.keys.iter().position(|k| k == n).filter(|_| self.in_reply)

@@ -64,8 +64,12 @@ pub(super) fn open_client(
     to: SocketAddr,
     broadcast: bool,
 ) -> io::Result<OpenedLink> {
-    let bind: SocketAddr =
-        if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" }.parse().expect("literal");
+    let any: std::net::IpAddr = if to.is_ipv4() {
+        std::net::Ipv4Addr::UNSPECIFIED.into()
+    } else {
+        std::net::Ipv6Addr::UNSPECIFIED.into()
+    };
+    let bind = SocketAddr::new(any, 0);
     let sock = Arc::new(UdpSocket::bind(bind)?);
     if broadcast {
         sock.set_broadcast(true)?;
