@@ -11,10 +11,6 @@ use syn::visit::Visit;
 /// Longest function allowed, in lines from `fn` to the closing brace.
 const MAX_FN_LINES: usize = 100;
 
-/// Functions over [`MAX_FN_LINES`] that are being split (file, function): the list may only
-/// shrink. A function listed here that fits again fails the test too, so that it leaves the list.
-const KNOWN_LONG: &[(&str, &str)] = &[];
-
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
@@ -144,22 +140,9 @@ fn no_function_is_longer_than_100_lines() {
         let rel = file.strip_prefix(root()).unwrap_or(file).display().to_string();
         long.extend(v.found.into_iter().map(|(name, lines, at)| (rel.clone(), name, lines, at)));
     }
-    let listed = |f: &str, n: &str| KNOWN_LONG.iter().any(|(kf, kn)| *kf == f && *kn == n);
-    let new: Vec<String> = long
+    let report: Vec<String> = long
         .iter()
-        .filter(|(f, n, ..)| !listed(f, n))
         .map(|(f, n, lines, at)| format!("{f}:{at}: fn {n}: {lines} lines"))
         .collect();
-    let fixed: Vec<String> = KNOWN_LONG
-        .iter()
-        .filter(|(kf, kn)| !long.iter().any(|(f, n, ..)| f == kf && n == kn))
-        .map(|(kf, kn)| format!("{kf}: fn {kn}"))
-        .collect();
-    assert!(
-        new.is_empty() && fixed.is_empty(),
-        "functions over {MAX_FN_LINES} lines:\n{}\nlisted in KNOWN_LONG but no longer over the \
-         limit (remove them):\n{}",
-        new.join("\n"),
-        fixed.join("\n")
-    );
+    assert!(report.is_empty(), "functions over {MAX_FN_LINES} lines:\n{}", report.join("\n"));
 }
