@@ -67,7 +67,9 @@ fn every_page_fits_in_100_columns() {
 /// long description forces on a whole section.
 fn is_bare_option(line: &str) -> bool {
     let t = line.trim();
-    line.starts_with("  ")
+    // options start at column 2 (`-x, --long`) or 6 (`--long`); deeper lines continue a text
+    let indent = line.len() - line.trim_start().len();
+    (2..=6).contains(&indent)
         && t.starts_with('-')
         && t.split_whitespace().all(|w| w.starts_with('-') || w.starts_with('<') || w == "[")
 }
@@ -137,6 +139,7 @@ const DATA_VALUES: &[&str] = &[
     "name", "text", "blocks", "value", "message", "path", "file", "topic", "frame", "protocol",
     "property", "detail", "why", "messages", "roles", "suite", "dir", "raw", "coords", "cmd",
     "vouch_version", "source", "label", "block", "stage", "kind_name", "content", "digest",
+    "call",
 ];
 
 fn snake(s: &str) -> bool {

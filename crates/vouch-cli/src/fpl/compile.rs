@@ -71,7 +71,7 @@ pub struct CompileArgs {
 pub fn parse(a: ParseArgs, ctx: &mut Ctx) -> CmdResult {
     let plan = a.plan.load(ctx, !a.no_extensions)?;
     if a.json {
-        ctx.out.json(&plan)?;
+        ctx.out.json(&ParseDocument { version: PARSE_JSON_VERSION, plan: &plan })?;
     } else {
         ctx.out.write_all(vouch_fpl::ast::outline::outline(&plan).as_bytes())?;
     }
@@ -194,4 +194,16 @@ fn batch(a: &CompileArgs, dir: &Path, req: &Request, ctx: &mut Ctx) -> CmdResult
             Err(rejected(last))
         }
     }
+}
+
+/// The version of `vouch fpl parse --json`; 2: enumerations (expressions, stages, waypoint
+/// frames and origins, variables) in snake_case.
+const PARSE_JSON_VERSION: u32 = 2;
+
+/// `vouch fpl parse --json`: the resolved plan's fields beside the document's version.
+#[derive(serde::Serialize)]
+struct ParseDocument<'a> {
+    version: u32,
+    #[serde(flatten)]
+    plan: &'a vouch_fpl::ast::FlightPlan,
 }

@@ -50,7 +50,7 @@ pub enum MavCmd {
          2 usage or I/O error"
     ))]
     Guard(Box<guard_args::GuardArgs>),
-    /// Measure the guard's latency, throughput and memory against socat and a direct path
+    /// Measure the guard's latency, throughput and memory beside socat and no relay
     ///
     /// Side by side in one run on 127.0.0.1; on Linux the relay is pinned to a CPU and its
     /// memory read from /proc. A progress bar shows on a terminal.

@@ -58,9 +58,10 @@ pub enum NavfnCmd {
 /// `vouch navfn suite` subcommands.
 #[derive(Subcommand)]
 pub enum SuiteCmd {
-    /// Run every case of a suite and print the golden lines (MAP / CASE / PATH [/ WORLD])
+    /// Run every case of a suite and print the golden lines (MAP, CASE, PATH, WORLD)
     ///
-    /// A test file, or every test file below a folder (sorted).
+    /// A test file, or every test file below a folder (sorted); MAP / CASE / PATH lines, and
+    /// WORLD lines in planner mode.
     Run(suite::SuiteRunArgs),
     /// Generate a suite (the paper's nine categories), the same for the same seed
     Gen(campaign::SuiteGenArgs),
