@@ -3,7 +3,7 @@
 //! codes. [`after_help!`] builds the part after the options, so every page says them the same
 //! way.
 
-/// The text after a page's options: `Examples:` with one command per line, then, for a command
+/// The text after a page's options: `Example:` (or `Examples:`) with one command per line, then, for a command
 /// that runs, `Exit codes:` and what each code means for it.
 ///
 /// ```ignore
@@ -13,8 +13,14 @@
 /// ))]
 /// ```
 macro_rules! after_help {
+    ([$example:literal $(,)?]) => {
+        concat!("Example:\n  ", $example, "\n")
+    };
     ([$($example:literal),+ $(,)?]) => {
         concat!("Examples:\n", $("  ", $example, "\n",)+)
+    };
+    ([$example:literal $(,)?], $exit:literal) => {
+        concat!("Example:\n  ", $example, "\n\nExit codes: ", $exit)
     };
     ([$($example:literal),+ $(,)?], $exit:literal) => {
         concat!("Examples:\n", $("  ", $example, "\n",)+ "\nExit codes: ", $exit)

@@ -98,9 +98,9 @@ fn every_page_has_examples_and_every_command_its_exit_codes() {
     for (path, leaf) in commands() {
         let p = page(&path, "-h");
         pages += 1;
-        let examples = p.split("Examples:\n").nth(1).unwrap_or("");
-        if !examples.lines().next().is_some_and(|l| l.trim_start().contains("vouch ")) {
-            bad.push(format!("{}: no `Examples:` with a vouch command", name(&path)));
+        let examples = p.split("Example:\n").nth(1).or(p.split("Examples:\n").nth(1));
+        if !examples.and_then(|e| e.lines().next()).is_some_and(|l| l.contains("vouch ")) {
+            bad.push(format!("{}: no `Example(s):` with a vouch command", name(&path)));
         }
         if leaf {
             leaves += 1;
