@@ -78,7 +78,12 @@ fn the_quick_tour_runs_as_written() {
             .expect("bash runs");
         let stderr = String::from_utf8_lossy(&o.stderr);
         if code(&o) != step.exit {
-            failed.push(format!("`{}`: exit {}, README says {}\n{stderr}", step.line, code(&o), step.exit));
+            failed.push(format!(
+                "`{}`: exit {}, README says {}\n{stderr}",
+                step.line,
+                code(&o),
+                step.exit
+            ));
         }
         if let Some(sign) = WARNING_SIGNS.iter().find(|s| stderr.contains(**s)) {
             failed.push(format!("`{}` warns (`{sign}`):\n{stderr}", step.line));

@@ -51,17 +51,15 @@ fn documented_targets(architecture: &str, section: &str) -> BTreeSet<String> {
 #[test]
 fn architecture_names_every_fuzz_target_and_no_other() {
     let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).expect("ARCHITECTURE.md");
-    let families = [
-        ("## fpl — ", "vouch-fpl"),
-        ("## mav — ", "vouch-mav"),
-        ("## navfn — ", "vouch-navfn"),
-    ];
+    let families =
+        [("## fpl — ", "vouch-fpl"), ("## mav — ", "vouch-mav"), ("## navfn — ", "vouch-navfn")];
     for (section, krate) in families {
         let on_disk = fuzz_targets(krate);
         assert!(!on_disk.is_empty(), "{krate} has fuzz targets");
         assert_eq!(documented_targets(&text, section), on_disk, "{krate}: ARCHITECTURE.md");
-        let manifest = std::fs::read_to_string(root().join("crates").join(krate).join("fuzz/Cargo.toml"))
-            .expect("the fuzz crate's manifest");
+        let manifest =
+            std::fs::read_to_string(root().join("crates").join(krate).join("fuzz/Cargo.toml"))
+                .expect("the fuzz crate's manifest");
         for t in &on_disk {
             assert!(manifest.contains(&format!("name = \"{t}\"")), "{krate}: [[bin]] {t}");
         }
@@ -140,9 +138,7 @@ fn no_function_is_longer_than_100_lines() {
         let rel = file.strip_prefix(root()).unwrap_or(file).display().to_string();
         long.extend(v.found.into_iter().map(|(name, lines, at)| (rel.clone(), name, lines, at)));
     }
-    let report: Vec<String> = long
-        .iter()
-        .map(|(f, n, lines, at)| format!("{f}:{at}: fn {n}: {lines} lines"))
-        .collect();
+    let report: Vec<String> =
+        long.iter().map(|(f, n, lines, at)| format!("{f}:{at}: fn {n}: {lines} lines")).collect();
     assert!(report.is_empty(), "functions over {MAX_FN_LINES} lines:\n{}", report.join("\n"));
 }

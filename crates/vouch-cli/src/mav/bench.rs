@@ -75,7 +75,12 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
     }
     let report = report.map_err(|e| Failure::usage(format_args!("loopback: {e}")))?;
     for s in &report.skipped {
-        ctx.note(format_args!("{} scenario, path `{}` skipped: {}", s.scenario, s.path.label(), s.reason));
+        ctx.note(format_args!(
+            "{} scenario, path `{}` skipped: {}",
+            s.scenario,
+            s.path.label(),
+            s.reason
+        ));
     }
     let text = if a.json {
         let mut t = serde_json::to_string_pretty(&report)

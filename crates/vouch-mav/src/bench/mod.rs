@@ -356,8 +356,8 @@ pub fn run(a: &BenchConfig, progress: &mut dyn FnMut(Step)) -> io::Result<BenchR
             report.skipped.push(Skipped { scenario, path: PathKind::Socat, reason });
         }
     }
-    let total = proxy_paths.len() as u64 * PROXY_PHASES
-        + router_paths.len() as u64 * router::ROUTER_PHASES;
+    let total =
+        proxy_paths.len() as u64 * PROXY_PHASES + router_paths.len() as u64 * router::ROUTER_PHASES;
     let mut steps = Steps { done: 0, total, scenario: "proxy", callback: progress };
     for (path, guard_args) in proxy_paths {
         let vehicle = sock()?;

@@ -103,7 +103,11 @@ fn proxy_table(w: &mut String, ps: &[PathResult]) {
     row(w, "flood: delivered (frames/s)", ps.iter().map(|p| count(p.flood_delivered_per_s)));
     let per_cpu = |p: &PathResult| p.frames_per_cpu_second.map_or_else(|| "-".into(), count);
     row(w, "  relay capacity (frames/CPU-second)", ps.iter().map(per_cpu));
-    row(w, "relay memory, peak at start-up (kB)", ps.iter().map(|p| kilobytes(p.startup_peak_rss_kb)));
+    row(
+        w,
+        "relay memory, peak at start-up (kB)",
+        ps.iter().map(|p| kilobytes(p.startup_peak_rss_kb)),
+    );
     row(w, "  peak during the traffic (kB)", ps.iter().map(|p| kilobytes(p.peak_rss_kb)));
     row(w, "  at the end (kB)", ps.iter().map(|p| kilobytes(p.end_rss_kb)));
     let _ = writeln!(
@@ -130,7 +134,11 @@ fn router_table(w: &mut String, ps: &[RouterResult]) {
     row(w, "  delivered to all peers (frames/s)", ps.iter().map(|p| count(p.delivered_all_per_s)));
     let per_cpu = |p: &RouterResult| p.frames_per_cpu_second.map_or_else(|| "-".into(), count);
     row(w, "  relay capacity (frames/CPU-second)", ps.iter().map(per_cpu));
-    row(w, "relay memory, peak at start-up (kB)", ps.iter().map(|p| kilobytes(p.startup_peak_rss_kb)));
+    row(
+        w,
+        "relay memory, peak at start-up (kB)",
+        ps.iter().map(|p| kilobytes(p.startup_peak_rss_kb)),
+    );
     row(w, "  peak during the traffic (kB)", ps.iter().map(|p| kilobytes(p.peak_rss_kb)));
     let _ = writeln!(
         w,

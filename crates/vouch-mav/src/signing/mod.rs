@@ -16,8 +16,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use sha2::{Digest, Sha256};
 
-use crate::crc::frame_crc;
 use crate::codec::frame::{FrameRef, INCOMPAT_SIGNED, SIGNATURE_LEN};
+use crate::crc::frame_crc;
 
 pub mod state;
 
