@@ -31,10 +31,10 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
 pub struct PlanArgs {
     /// Map: map_server YAML (naming a PGM/PNG), or a PGM/PNG image (resolution 1, origin 0)
     map: PathBuf,
-    /// Robot start: X,Y in metres (map frame), or column,row with --cells
+    /// Robot start: X,Y in metres, or column,row with --cells
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
     start: [f64; 2],
-    /// Robot goal: X,Y in metres (map frame), or column,row with --cells
+    /// Robot goal: X,Y in metres, or column,row with --cells
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
     goal: [f64; 2],
     /// Start and goal are cell indices (column,row; row 0 = bottom of the image)
