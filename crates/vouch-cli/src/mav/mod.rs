@@ -77,7 +77,7 @@ pub fn run(cmd: MavCmd, ctx: &mut Ctx) -> CmdResult {
 /// Options of every subcommand that runs the monitor.
 #[derive(Args, Clone, Debug)]
 pub struct MonitorOpts {
-    /// Protocol file (repeatable); replaces the standard library unless --with-stdlib is given
+    /// Protocol file, repeatable; replaces the standard library (kept with --with-stdlib)
     #[arg(long = "protocol", value_name = "FILE")]
     pub protocols: Vec<PathBuf>,
     /// Also load the standard library when --protocol is given
@@ -87,7 +87,7 @@ pub struct MonitorOpts {
     /// built in)
     #[arg(long, value_name = "FILE.xml")]
     pub dialect: Option<PathBuf>,
-    /// New value of a declared protocol constant (repeatable), e.g. --set CHUTE_MAX_CLIMB=0.5
+    /// New value of a declared protocol constant, repeatable (e.g. `CHUTE_MAX_CLIMB=0.5`)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
     pub set: Vec<(String, f64)>,
 }

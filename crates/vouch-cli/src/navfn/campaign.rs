@@ -55,8 +55,10 @@ pub struct SuiteGenArgs {
     /// Cases per imported ROS map
     #[arg(long, default_value_t = 50)]
     ros_cases: usize,
-    /// Write only shard I of N of the maps (the maps a `campaign --shard I/N --shard-by map`
-    /// runs), or `auto` from a Slurm array / Kubernetes Indexed Job (see `campaign --shard`)
+    /// Write only shard I of N of the maps, or `auto` (Slurm array, Kubernetes Indexed Job)
+    ///
+    /// The maps of shard I are those a `campaign --shard I/N --shard-by map` runs; `auto` reads
+    /// I and N from the job's environment (see `campaign --shard`).
     #[arg(long, value_parser = parse_shard_arg, value_name = "I/N|auto")]
     shard: Option<ShardArg>,
 }

@@ -62,7 +62,7 @@ pub struct PlanArgs {
     /// use_final_approach_orientation)
     #[arg(long)]
     use_final_approach_orientation: bool,
-    /// Print one JSON document: summary, checks and every pose as {"x", "y", "yaw"}
+    /// Print one JSON document: summary, checks, every pose (x, y, yaw, z, quaternion)
     #[arg(long)]
     json: bool,
     /// Also print every pose after the summary, one `x y yaw` line each (metres, radians)
@@ -145,8 +145,9 @@ fn poses_text(poses: &[Pose]) -> String {
     s
 }
 
-/// The version of `vouch navfn plan --json`; 2: poses always present as `{x, y, yaw}` (the
-/// `x y yaw` of the text form), `status` in snake_case.
+/// The version of `vouch navfn plan --json`; 2: poses always present, each as the `x y yaw` of
+/// the text form plus `z` and the quaternion nav2 returns (`orientation`: x, y, z, w), `status`
+/// in snake_case.
 const PLAN_JSON_VERSION: u32 = 2;
 
 fn json_summary(
@@ -159,7 +160,10 @@ fn json_summary(
 ) -> serde_json::Value {
     let poses: Vec<serde_json::Value> = poses
         .iter()
-        .map(|p| serde_json::json!({"x": p.position[0], "y": p.position[1], "yaw": p.yaw()}))
+        .map(|p| {
+            let [x, y, z] = p.position;
+            serde_json::json!({"x": x, "y": y, "yaw": p.yaw(), "z": z, "orientation": p.orientation})
+        })
         .collect();
     serde_json::json!({
         "version": PLAN_JSON_VERSION,

@@ -106,7 +106,10 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     });
     let files = find_test_files(&a.path, &name).map_err(map_failure)?;
     if files.is_empty() {
-        return Err(Failure::usage(format_args!("no `{name}` below {}", a.path.display())));
+        return Err(Failure::usage(format_args!(
+            "no `{name}` below {} (--name NAME searches for another file name)",
+            a.path.display()
+        )));
     }
     let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
     let mut text = String::new();
