@@ -64,13 +64,13 @@ mod tests {
 
     #[test]
     fn a_file_that_is_no_terminal_is_refused_with_its_name() {
-        let e = open("/dev/null", 57600, false).err().expect("/dev/null is not a serial port");
+        let Err(e) = open("/dev/null", 57600, false) else { panic!("/dev/null is no serial port") };
         assert!(e.to_string().starts_with("/dev/null: "), "{e}");
     }
 
     #[test]
     fn a_missing_device_is_not_found() {
-        let e = open("/nonexistent/ttyVOUCH", 57600, false).err().expect("no such device");
+        let Err(e) = open("/nonexistent/ttyVOUCH", 57600, false) else { panic!("no such device") };
         assert!(e.to_string().contains("/nonexistent/ttyVOUCH"), "{e}");
     }
 }
