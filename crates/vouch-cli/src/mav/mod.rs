@@ -26,10 +26,18 @@ pub enum MavCmd {
         "0 no violation, 1 protocol file rejected, 2 usage or I/O error, 3 violations found"
     ))]
     Check(check::CheckArgs),
-    /// Check protocol files against a dialect (the standard library without a file)
+    /// Check protocol files against a dialect, and warn about unguarded routes
+    ///
+    /// The standard library if no file is given. Warns (mav::R001) about every route to a
+    /// guarded action (a command checked on one carrier, an effect) that no loaded protocol
+    /// covers; warnings do not change the exit code.
     #[command(after_help = after_help!(
-        ["vouch mav lint", "vouch mav lint crates/vouch-mav/protocols/mission.vproto"],
-        "0 every file accepted, 1 a file rejected, 2 usage or I/O error"
+        [
+            "vouch mav lint",
+            "vouch mav lint crates/vouch-mav/protocols/mission.vproto",
+            "vouch mav lint my.vproto --with-stdlib --message-format short"
+        ],
+        "0 every file accepted (warnings included), 1 a file rejected, 2 usage or I/O error"
     ))]
     Lint(lint::LintArgs),
     /// Route MAVLink between vehicles and ground stations, checking every message
