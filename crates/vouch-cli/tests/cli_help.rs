@@ -165,6 +165,7 @@ const DATA_VALUES: &[&str] = &[
     "content",
     "digest",
     "call",
+    "command",
 ];
 
 fn snake(s: &str) -> bool {
