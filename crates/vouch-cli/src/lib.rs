@@ -26,6 +26,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+#[macro_use]
+mod help;
 pub mod contract;
 mod diagnostics;
 mod fpl;
@@ -40,18 +42,33 @@ use contract::{CmdResult, Ctx, Exit, Failure, MessageFormat, Out, Severity, Verb
 #[command(
     name = "vouch",
     version,
-    about = "Pair every doer with a checker: flight plans, MAVLink, NavFn"
+    about = "Pair every doer with a checker: flight plans, MAVLink, NavFn",
+    after_help = after_help!([
+        "vouch fpl compile examples/fpl/demo.xml -o flight_plan.h",
+        "vouch mav lint",
+        "vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5",
+        "vouch fpl compile -h          # every command has its own page"
+    ])
 )]
 pub struct Cli {
-    /// How errors and warnings are printed on stderr: boxes with the source excerpt (human),
-    /// `file:line:col: error[CODE]: message` lines (short), or JSON Lines (json)
-    #[arg(long, global = true, value_enum, default_value_t = MessageFormat::Human)]
+    /// How errors and warnings are printed on stderr
+    ///
+    /// human: boxes with the source excerpt; short: `file:line:col: error[CODE]: message`
+    /// lines, for editors and CI; json: one JSON object per line.
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        value_name = "FORMAT",
+        default_value_t = MessageFormat::Human,
+        help_heading = "Global options"
+    )]
     message_format: MessageFormat,
     /// Print errors only (no warnings, summaries or progress)
-    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    #[arg(short, long, global = true, conflicts_with = "verbose", help_heading = "Global options")]
     quiet: bool,
     /// Print more detail (progress, per-item notes)
-    #[arg(short, long, global = true)]
+    #[arg(short, long, global = true, help_heading = "Global options")]
     verbose: bool,
     #[command(subcommand)]
     command: Command,
@@ -59,20 +76,47 @@ pub struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Paparazzi flight plans: parse, compile to flight_plan.h, simulate, validate
-    #[command(subcommand)]
+    /// Paparazzi flight plans: compile to flight_plan.h, simulate, validate, check
+    #[command(
+        subcommand,
+        after_help = after_help!([
+            "vouch fpl compile examples/fpl/demo.xml -o flight_plan.h",
+            "vouch fpl validate examples/fpl/demo.xml",
+            "vouch fpl check examples/fpl/demo.xml --deadlock-free"
+        ])
+    )]
     Fpl(fpl::FplCmd),
-    /// MAVLink: protocol checking of recordings and a guarding proxy
-    #[command(subcommand)]
+    /// MAVLink: a guarding router, and protocol checks of recordings
+    #[command(
+        subcommand,
+        after_help = after_help!([
+            "vouch mav check flight.tlog",
+            "vouch mav guard -c packaging/guard.conf.example --check",
+            "vouch mav lint"
+        ])
+    )]
     Mav(mav::MavCmd),
-    /// ROS 2 nav2 NavFn planner, bit-exact, with checked plans and a verification campaign
-    #[command(subcommand)]
+    /// The ROS 2 nav2 NavFn planner, bit-exact, with checked plans and a campaign
+    #[command(
+        subcommand,
+        after_help = after_help!([
+            "vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5",
+            "vouch navfn check-bag examples/navfn/warehouse_bag",
+            "vouch navfn campaign examples/navfn/suite -o report.json"
+        ])
+    )]
     Navfn(navfn::NavfnCmd),
     /// Print a shell completion script on standard output
-    #[command(after_help = "Example:\n  vouch completions bash > /etc/bash_completion.d/vouch")]
+    #[command(after_help = after_help!(
+        ["vouch completions bash > ~/.local/share/bash-completion/completions/vouch"],
+        "0 written, 2 usage or I/O error"
+    ))]
     Completions(tooling::CompletionsArgs),
-    /// Write man pages (one per command) into a directory, or the top page to standard output
-    #[command(after_help = "Example:\n  vouch man -o /usr/local/share/man/man1")]
+    /// Write man pages (one per command) into a directory, or the top page to stdout
+    #[command(after_help = after_help!(
+        ["vouch man -o ~/.local/share/man/man1"],
+        "0 written, 2 usage or I/O error"
+    ))]
     Man(tooling::ManArgs),
 }
 

@@ -107,7 +107,11 @@ fn the_example_bag_has_one_failing_plan_and_its_picture() {
     assert_eq!(code(&o), 3);
     let v: Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
     assert_eq!(v["summary"]["replay_equal"].as_u64(), Some(2));
-    assert!(v["plans"][2]["violations"][0]["PoseInObstacle"]["index"].is_u64());
+    assert_eq!(v["version"], 2);
+    assert_eq!(v["replay_mode"], "check");
+    assert_eq!(v["plans"][0]["replay"]["verdict"], "equal");
+    assert_eq!(v["plans"][2]["violations"][0]["kind"], "pose_in_obstacle");
+    assert!(v["plans"][2]["violations"][0]["index"].is_u64());
 }
 
 #[test]

@@ -4,13 +4,15 @@
 //!
 //! Layers, lowest first (each imports only from its own or lower layers):
 //!
-//! 1. [`dialect`] (XML → tables), [`codec`] (frames, splitting, views, encoder, tlog),
-//!    [`signing`] (MAVLink 2 signatures) and [`side`] (which end of the link);
-//! 2. [`vehicle_state`] (what telemetry says about the vehicle);
-//! 3. [`protocol`] (protocol text → checked IR);
-//! 4. [`monitor`] (runs the IR on messages; reports violations);
-//! 5. [`guard`] (sockets, forwarding, enforce mode, signing checks);
-//! 6. `bench` (the benchmark harness behind `vouch mav bench`, only with the `bench` feature,
+//! 1. [`crc`] (the frame checksum) and [`side`] (which end of the link);
+//! 2. [`dialect`] (XML → tables, CRC_EXTRA);
+//! 3. [`codec`] (frames, splitting, views, encoder, tlog);
+//! 4. [`signing`] (MAVLink 2 signatures);
+//! 5. [`vehicle_state`] (what telemetry says about the vehicle);
+//! 6. [`protocol`] (protocol text → checked IR);
+//! 7. [`monitor`] (runs the IR on messages; reports violations);
+//! 8. [`guard`] (sockets, forwarding, enforce mode, signing checks);
+//! 9. `bench` (the benchmark harness behind `vouch mav bench`, only with the `bench` feature,
 //!    which the CLI enables; nothing else uses it).
 //!
 //! Nothing here prints: results are data, errors are typed [`miette::Diagnostic`]s with codes.
@@ -36,6 +38,7 @@
 #[cfg(feature = "bench")]
 pub mod bench;
 pub mod codec;
+pub mod crc;
 pub mod dialect;
 pub mod guard;
 pub mod monitor;

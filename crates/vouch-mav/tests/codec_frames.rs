@@ -219,7 +219,7 @@ fn signed_frames_keep_their_signature() {
     f[2] |= 1; // incompat: signed — the CRC does not cover flags? it does: recompute below
     let body_end = f.len() - 2;
     let def = d.by_name("HEARTBEAT").unwrap();
-    let crc = vouch_mav::codec::crc::frame_crc(&f[1..body_end], def.crc_extra);
+    let crc = vouch_mav::crc::frame_crc(&f[1..body_end], def.crc_extra);
     f[body_end..].copy_from_slice(&crc.to_le_bytes());
     f.extend_from_slice(&[7; 13]);
     let mut sp = FrameSplitter::new();

@@ -3,8 +3,8 @@
 //! any single bit flip in a signed frame is rejected.
 
 use vouch_mav::codec::FrameRef;
-use vouch_mav::codec::crc::frame_crc;
 use vouch_mav::codec::split::{Piece, StreamSplitter, split_datagram};
+use vouch_mav::crc::frame_crc;
 use vouch_mav::signing::{Signer, SigningKey, Verifier};
 
 /// xorshift64*: a tiny deterministic generator, so failures reproduce from the seed.

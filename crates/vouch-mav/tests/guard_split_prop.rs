@@ -6,8 +6,8 @@
 
 use proptest::prelude::*;
 use vouch_mav::codec::FrameRef;
-use vouch_mav::codec::crc::frame_crc;
 use vouch_mav::codec::split::{Piece, split_datagram_resync};
+use vouch_mav::crc::frame_crc;
 
 /// One CRC_EXTRA for all generated frames (the splitter does not care which).
 const EXTRA: u8 = 0x5A;

@@ -36,7 +36,10 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
     (
         "vouch-mav",
         &[
-            &["side", "dialect", "codec", "signing"],
+            &["crc", "side"],
+            &["dialect"],
+            &["codec"],
+            &["signing"],
             &["vehicle_state"],
             &["protocol"],
             &["monitor"],

@@ -28,41 +28,51 @@ pub struct CompileArgs {
     /// The flight-plan XML file(s); several plans need --out-dir
     #[arg(required = true, value_name = "PLAN")]
     plans: Vec<PathBuf>,
-    /// Directory searched for included procedures after the plan's own directory (repeatable;
-    /// default: the nearest ancestor directory holding flight_plan.dtd)
+    /// Where included procedures are searched after the plan's folder (repeatable)
+    ///
+    /// Default: the nearest ancestor directory holding flight_plan.dtd.
     #[arg(long = "include-dir", value_name = "DIR")]
     include_dirs: Vec<PathBuf>,
-    /// Output header (default: standard output, unless the dump or the settings go there)
+    /// Output header (default: stdout, unless the dump or the settings go there)
     #[arg(short, long, value_name = "FILE", conflicts_with = "out_dir")]
     output: Option<PathBuf>,
-    /// Compile every plan into DIR (in parallel): DIR/<plan path as given, .xml → .h>, or
-    /// DIR/<file name>.h for absolute paths
+    /// Compile every plan into DIR, in parallel
+    ///
+    /// DIR/<plan path as given, .xml → .h>, or DIR/<file name>.h for absolute paths.
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
-    /// Also write upstream's dump (Paparazzi's flight_plan.xml): the expanded plan with
-    /// numbered blocks and stages and the stage index of the ground station ("-": standard
-    /// output, instead of the header)
+    /// Also write upstream's dump, Paparazzi's flight_plan.xml ("-": stdout)
+    ///
+    /// The expanded plan with numbered blocks and stages and the stage index of the ground
+    /// station; "-" writes it to standard output instead of the header.
     #[arg(long, value_name = "FILE", conflicts_with = "out_dir")]
     dump: Option<PathBuf>,
-    /// Also write the settings made from the plan's variables (Paparazzi's settings.xml; "-":
-    /// standard output, instead of the header)
+    /// Also write the settings of the plan's variables, settings.xml ("-": stdout)
+    ///
+    /// Paparazzi's settings.xml made from the plan's variables; "-" writes it to standard output
+    /// instead of the header.
     #[arg(long, value_name = "FILE", conflicts_with = "out_dir")]
     settings: Option<PathBuf>,
     /// Also write the C header of those settings (Paparazzi's settings.h)
     #[arg(long, value_name = "FILE", conflicts_with = "out_dir")]
     settings_header: Option<PathBuf>,
-    /// Print exactly what upstream's generator prints, its known mistakes included (EGM96
-    /// heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates)
+    /// Print exactly what upstream's generator prints, its known mistakes included
+    ///
+    /// EGM96 heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates.
     #[arg(long)]
     upstream_compat: bool,
-    /// Paparazzi home whose data/srtm/WW15MGH.DAC[.bz2] and conf/abi.xml are read (default:
-    /// $PAPARAZZI_HOME; without one the egm96 crate stands in for the geoid grid)
+    /// Paparazzi home for the geoid grid and conf/abi.xml (default: $PAPARAZZI_HOME)
+    ///
+    /// Its data/srtm/WW15MGH.DAC[.bz2] and conf/abi.xml are read; without a home the egm96
+    /// crate stands in for the geoid grid.
     #[arg(long, value_name = "DIR")]
     paparazzi_home: Option<PathBuf>,
     /// Also show the mission-level warnings of `vouch fpl lint`
     #[arg(long)]
     lint: bool,
-    /// Emit the instrumented flavour (user C wrapped in FP_C/FP_X/FP_V/FP_I for the stub runtime)
+    /// Emit the instrumented flavour, for the stub runtime
+    ///
+    /// User C wrapped in FP_C/FP_X/FP_V/FP_I.
     #[arg(long)]
     instrumented: bool,
 }
@@ -71,7 +81,7 @@ pub struct CompileArgs {
 pub fn parse(a: ParseArgs, ctx: &mut Ctx) -> CmdResult {
     let plan = a.plan.load(ctx, !a.no_extensions)?;
     if a.json {
-        ctx.out.json(&plan)?;
+        ctx.out.json(&ParseDocument { version: PARSE_JSON_VERSION, plan: &plan })?;
     } else {
         ctx.out.write_all(vouch_fpl::ast::outline::outline(&plan).as_bytes())?;
     }
@@ -194,4 +204,16 @@ fn batch(a: &CompileArgs, dir: &Path, req: &Request, ctx: &mut Ctx) -> CmdResult
             Err(rejected(last))
         }
     }
+}
+
+/// The version of `vouch fpl parse --json`; 2: enumerations (expressions, stages, waypoint
+/// frames and origins, variables) in snake_case.
+const PARSE_JSON_VERSION: u32 = 2;
+
+/// `vouch fpl parse --json`: the resolved plan's fields beside the document's version.
+#[derive(serde::Serialize)]
+struct ParseDocument<'a> {
+    version: u32,
+    #[serde(flatten)]
+    plan: &'a vouch_fpl::ast::FlightPlan,
 }

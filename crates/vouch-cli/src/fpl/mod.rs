@@ -20,54 +20,93 @@ use crate::contract::{CmdResult, Ctx, Failure, Verbosity};
 /// The `vouch fpl` subcommands.
 #[derive(Subcommand)]
 pub enum FplCmd {
-    /// Parse a flight plan (includes, paths, names resolved) and print its outline.
-    /// Exit 0 when it parses, 1 on a plan error, 2 when the file cannot be read.
-    #[command(
-        after_help = "Example:\n  vouch fpl parse examples/fpl/demo.xml\n  vouch fpl parse --json examples/fpl/demo.xml > demo.json"
-    )]
+    /// Parse a flight plan and print its outline, or its located errors
+    ///
+    /// Includes, paths and names are resolved; `--json` prints the resolved plan.
+    #[command(after_help = after_help!(
+        ["vouch fpl parse examples/fpl/demo.xml", "vouch fpl parse --json examples/fpl/demo.xml"],
+        "0 parsed, 1 plan rejected, 2 usage or I/O error"
+    ))]
     Parse(compile::ParseArgs),
-    /// Compile flight plans to drop-in flight_plan.h files (upstream Paparazzi generator,
-    /// 2024-10, byte for byte with --upstream-compat), with upstream's dump and settings on
-    /// request. Upstream's forms work too: `-dump`, `-settings` (to standard output).
-    /// Exit 0 on success, 1 when a plan is rejected, 2 on a read/write error.
-    #[command(
-        after_help = "Examples:\n  vouch fpl compile examples/fpl/demo.xml -o flight_plan.h --dump flight_plan.xml\n  vouch fpl compile plans/*.xml --out-dir generated/"
-    )]
+    /// Compile flight plans to drop-in flight_plan.h files
+    ///
+    /// The header of Paparazzi's generator (2024-10), byte for byte with --upstream-compat, and on
+    /// request upstream's dump and settings. Upstream's forms work too: `-dump`, `-settings` (to
+    /// standard output).
+    #[command(after_help = after_help!(
+        [
+            "vouch fpl compile examples/fpl/demo.xml -o flight_plan.h --dump flight_plan.xml",
+            "vouch fpl compile plans/*.xml --out-dir generated/"
+        ],
+        "0 compiled, 1 plan rejected, 2 usage or I/O error"
+    ))]
     Compile(compile::CompileArgs),
-    /// The flight-plan part of Paparazzi's gen_aircraft: reads conf/conf.xml, finds the
-    /// aircraft's flight plan and writes flight_plan.h, flight_plan.xml (and with --settings the
-    /// settings) under var/aircrafts/AC/, only when they change. Upstream's `-name AC` works.
-    #[command(
-        after_help = "Example:\n  PAPARAZZI_HOME=~/paparazzi vouch fpl aircraft --name Microjet --target sim"
-    )]
+    /// Paparazzi's gen_aircraft, flight-plan part: writes an aircraft's generated files
+    ///
+    /// Reads conf/conf.xml, finds the aircraft's flight plan and writes flight_plan.h,
+    /// flight_plan.xml (and with --settings the settings) under var/aircrafts/AC/, only when they
+    /// change. Upstream's `-name AC` works.
+    #[command(after_help = after_help!(
+        ["PAPARAZZI_HOME=~/paparazzi vouch fpl aircraft --name Microjet --target sim"],
+        "0 written or up to date, 1 plan or configuration rejected, 2 usage or I/O error"
+    ))]
     Aircraft(aircraft::AircraftArgs),
-    /// Run the reference interpreter: the table of calls (block, stage, code, conditions).
-    /// Conditions come from --conditions (whitespace-separated integers, odd = true), or a
-    /// seeded random oracle (--seed), else are all false.
-    #[command(after_help = "Example:\n  vouch fpl sim examples/fpl/demo.xml --steps 50 --seed 7")]
+    /// Run the reference interpreter and print the table of calls
+    ///
+    /// One row per `auto_nav()` call: block, stage, code run, conditions read. Conditions come
+    /// from --conditions (whitespace-separated integers, odd = true), or a seeded random oracle
+    /// (--seed), else are all false.
+    #[command(after_help = after_help!(
+        ["vouch fpl sim examples/fpl/demo.xml --steps 50 --seed 7"],
+        "0 simulated, 1 plan rejected, 2 usage or I/O error"
+    ))]
     Sim(sim::SimArgs),
-    /// Translation validation: the compiled header (built with `cc` and the stub runtime) against
-    /// the reference semantics, on every call path and operator jump from every reachable state
-    /// (to the fixpoint; --depth N bounds it), plus seeded random runs. Exit 0 agree, 1 plan
-    /// rejected, 2 error, 3 mismatch.
-    #[command(after_help = "Example:\n  vouch fpl validate examples/fpl/demo.xml --bounds")]
+    /// Check the compiled C against the reference semantics (translation validation)
+    ///
+    /// The compiled header, built with `cc` and the stub runtime, is run on every call path and
+    /// operator jump from every reachable state (to the fixpoint; --depth N bounds it), plus
+    /// seeded random runs.
+    #[command(after_help = after_help!(
+        ["vouch fpl validate examples/fpl/demo.xml --bounds"],
+        "0 agree, 1 plan rejected, 2 usage, I/O or C compiler error, 3 disagreement"
+    ))]
     Validate(evidence::ValidateArgs),
-    /// Mission-level warnings (codes fpl::W001...), located in the XML. Exit 0, or 3 with
-    /// --strict when there are warnings.
-    #[command(after_help = "Example:\n  vouch fpl lint examples/fpl/demo.xml --strict")]
+    /// Mission-level warnings (fpl::W001…), located in the XML
+    #[command(after_help = after_help!(
+        ["vouch fpl lint examples/fpl/demo.xml --strict"],
+        "0 no warning (or warnings without --strict), 1 plan rejected, 2 usage or I/O error, \
+         3 warnings with --strict"
+    ))]
     Lint(evidence::LintArgs),
-    /// Model checking on the plan's whole reachable state graph (the validator's walk, free
-    /// conditions). Default: --no-blocked --deadlock-free. Exit 3 when a property fails.
-    #[command(
-        after_help = "Example:\n  vouch fpl check examples/fpl/demo.xml --property 'never block(HOME)' --safe-blocks Standby,Land"
-    )]
+    /// Model-check properties on the plan's whole reachable state graph
+    ///
+    /// The validator's walk with free conditions. Without a property: --no-blocked
+    /// --deadlock-free.
+    #[command(after_help = after_help!(
+        [
+            "vouch fpl check examples/fpl/demo.xml --deadlock-free --no-blocked",
+            "vouch fpl check examples/fpl/demo.xml --property 'never block(HOME)'"
+        ],
+        "0 every property holds, 1 plan or property rejected, 2 usage or I/O error, \
+         3 a property fails"
+    ))]
     Check(evidence::CheckArgs),
-    /// SVG picture of the block graph (next, deroute, return, exception edges; forbidden marked)
-    #[command(after_help = "Example:\n  vouch fpl graph examples/fpl/demo.xml -o demo.svg")]
+    /// Draw the block graph as SVG
+    ///
+    /// Edges: next, deroute, return, exception; forbidden deroutes marked.
+    #[command(after_help = after_help!(
+        ["vouch fpl graph examples/fpl/demo.xml -o demo.svg"],
+        "0 drawn, 1 plan rejected, 2 usage or I/O error"
+    ))]
     Graph(evidence::GraphArgs),
-    /// Benchmark the front end: parse every .xml file under a directory, several passes, and
-    /// print the best and mean time of one pass (measured now, on this machine)
-    #[command(after_help = "Example:\n  vouch fpl bench-parse examples/fpl --iterations 50")]
+    /// Time the front end on a folder of plans
+    ///
+    /// Parses every .xml file under a directory, several passes, and prints the best and mean
+    /// time of one pass (measured now, on this machine).
+    #[command(after_help = after_help!(
+        ["vouch fpl bench-parse examples/fpl --iterations 50"],
+        "0 measured, 2 usage or I/O error"
+    ))]
     BenchParse(bench::BenchParseArgs),
 }
 

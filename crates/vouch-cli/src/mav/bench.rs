@@ -1,10 +1,9 @@
 //! `vouch mav bench`: runs the benchmark harness of `vouch_mav::bench` and prints its figures.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use vouch_mav::bench::{self, BenchConfig, BenchReport};
+use vouch_mav::bench::{self, BenchConfig, Step};
 
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
@@ -62,9 +61,26 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
         proxy: a.scenario != Scenario::Router,
         router: a.scenario != Scenario::Proxy,
     };
-    let report = bench::run(&cfg).map_err(|e| Failure::usage(format_args!("loopback: {e}")))?;
-    for (path, why) in &report.skipped {
-        ctx.note(format_args!("path `{path}` skipped: {why}"));
+    let bar = progress_bar(ctx);
+    let mut on_step = |step: Step| {
+        if let Some(bar) = &bar {
+            bar.set_length(step.total);
+            bar.set_position(step.done);
+            bar.set_message(step.what);
+        }
+    };
+    let report = bench::run(&cfg, &mut on_step);
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    let report = report.map_err(|e| Failure::usage(format_args!("loopback: {e}")))?;
+    for s in &report.skipped {
+        ctx.note(format_args!(
+            "{} scenario, path `{}` skipped: {}",
+            s.scenario,
+            s.path.label(),
+            s.reason
+        ));
     }
     let text = if a.json {
         let mut t = serde_json::to_string_pretty(&report)
@@ -72,7 +88,7 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
         t.push('\n');
         t
     } else {
-        table(&report, a.rate).map_err(|e| Failure::usage(format_args!("table: {e}")))?
+        bench::table(&report)
     };
     match &a.output {
         Some(out) => std::fs::write(out, text).map_err(|e| Failure::io(out, &e))?,
@@ -81,114 +97,16 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
     Ok(Exit::Ok)
 }
 
-fn table(r: &BenchReport, rate: u32) -> Result<String, std::fmt::Error> {
-    let mut w = String::new();
-    if !r.paths.is_empty() {
-        proxy_table(&mut w, r, rate)?;
+/// A bar of the run's phases on stderr, when stderr is a terminal and not `-q`.
+fn progress_bar(ctx: &Ctx) -> Option<indicatif::ProgressBar> {
+    if !ctx.progress_allowed() {
+        return None;
     }
-    if !r.router.is_empty() {
-        router_table(&mut w, r)?;
-    }
-    Ok(w)
-}
-
-fn router_table(w: &mut String, r: &BenchReport) -> std::fmt::Result {
-    let socat = r.router.iter().find(|p| p.path == "socat").map(|p| p.ping_p50_us);
-    writeln!(
-        w,
-        "router scenario: vehicle (UDP server) → 2 ground stations (UDP clients) + companion (TCP), \
-         guard with all standard protocols"
-    )?;
-    writeln!(
-        w,
-        "{:<24} {:>5} {:>8} {:>8} {:>10} {:>11} {:>13} {:>11} {:>11} {:>8} {:>8}",
-        "path",
-        "ends",
-        "ping p50",
-        "ping p99",
-        "+p50 socat",
-        "offered/s",
-        "delivered/s",
-        "all peers/s",
-        "frames/CPU-s",
-        "start kB",
-        "peak kB"
-    )?;
-    let opt = |k: Option<u64>| k.map_or_else(|| "-".into(), |k| k.to_string());
-    for p in &r.router {
-        let vs = socat.map_or_else(|| "-".into(), |s| format!("{:+.1}", p.ping_p50_us - s));
-        writeln!(
-            w,
-            "{:<24} {:>5} {:>8.1} {:>8.1} {:>10} {:>11.0} {:>13.0} {:>11.0} {:>11} {:>8} {:>8}",
-            p.path,
-            p.endpoints,
-            p.ping_p50_us,
-            p.ping_p99_us,
-            vs,
-            p.offered_per_s,
-            p.delivered_per_s,
-            p.delivered_all_per_s,
-            p.frames_per_cpu_second.map_or_else(|| "-".into(), |m| format!("{m:.0}")),
-            opt(p.startup_peak_rss_kb),
-            opt(p.peak_rss_kb),
-        )?;
-    }
-    writeln!(
-        w,
-        "(µs one-way vehicle → first ground station, one frame in flight; delivered/s = frames \
-         received per second by the first ground station while the vehicle sends as fast as it \
-         can, relay pinned to CPU 0; all peers = the ground stations and the companion together; \
-         loadavg {})",
-        r.load_average.as_deref().unwrap_or("-")
+    let style = indicatif::ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:30}] {pos}/{len} phases  {wide_msg}",
     )
-}
-
-fn proxy_table(w: &mut String, r: &BenchReport, rate: u32) -> std::fmt::Result {
-    let direct = r.paths.first().cloned().unwrap_or_default();
-    writeln!(
-        w,
-        "{:<17} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8} {:>8} {:>8}",
-        "path",
-        "upl p50",
-        "upl p99",
-        "ping p50",
-        "ping p99",
-        "+p50 vs d",
-        "+p99 vs d",
-        "strm ok%",
-        "strm p99",
-        "sat msg/s",
-        "msg/CPU-s",
-        "start kB",
-        "peak kB",
-        "end kB"
-    )?;
-    let opt = |k: Option<u64>| k.map_or_else(|| "-".into(), |k| k.to_string());
-    for p in &r.paths {
-        writeln!(
-            w,
-            "{:<17} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>9.1} {:>9.1} {:>8.2} {:>9.1} {:>9.0} {:>10} {:>8} {:>8} {:>8}",
-            p.path,
-            p.upload_p50_us,
-            p.upload_p99_us,
-            p.ping_p50_us,
-            p.ping_p99_us,
-            p.upload_p50_us - direct.upload_p50_us,
-            p.upload_p99_us - direct.upload_p99_us,
-            p.stream_delivered_pct,
-            p.stream_p99_us,
-            p.saturation_msgs_per_s,
-            p.msgs_per_cpu_second.map_or_else(|| "-".into(), |m| format!("{m:.0}")),
-            opt(p.startup_peak_rss_kb),
-            opt(p.peak_rss_kb),
-            opt(p.end_rss_kb),
-        )?;
-    }
-    writeln!(
-        w,
-        "(µs one-way, one message in flight; +vs d = added over direct; stream = {rate} msg/s \
-         vehicle→GCS; sat = blast with the relay pinned to CPU 0; start kB = peak RSS at start-up, \
-         peak kB = peak RSS during the measured traffic, end kB = RSS at the end; loadavg {})",
-        r.load_average.as_deref().unwrap_or("-")
-    )
+    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    let bar = indicatif::ProgressBar::new(0).with_style(style);
+    bar.enable_steady_tick(std::time::Duration::from_millis(250));
+    Some(bar)
 }

@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
-use vouch_mav::guard::conf::{self, LogLevel};
+use vouch_mav::guard::conf::{self, GuardKeys, LogLevel};
 use vouch_mav::guard::{
     self, CounterSnapshot, GuardConfig, GuardEvent, Inspector, MonitorInspector, PassThrough,
     RoutingOptions, SigningConfig, side_word,
@@ -55,14 +55,7 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
     } else {
         None
     };
-    let level = a.debug_log_level.or(file.as_ref().and_then(|f| f.log_level));
-    if ctx.verbosity == Verbosity::Normal {
-        match level {
-            Some(LogLevel::Error | LogLevel::Warning) => ctx.verbosity = Verbosity::Quiet,
-            Some(LogLevel::Debug | LogLevel::Trace) => ctx.verbosity = Verbosity::Verbose,
-            _ => {}
-        }
-    }
+    apply_log_level(ctx, a.debug_log_level.or(file.as_ref().and_then(|f| f.log_level)));
     let file = file.unwrap_or_default();
     let eps = endpoints(&a, &file)?;
     let g = &file.guard;
@@ -75,31 +68,7 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
     let stop = guard::stop_on_signals()
         .map_err(|e| Failure::usage(format_args!("cannot install signal handlers: {e}")))?;
     let (events, received) = mpsc::sync_channel(64);
-    let sign_to_vehicle = a.sign_to_vehicle || g.sign_to_vehicle.unwrap_or(false);
-    let key = a.signing_key.clone().or(g.signing_key.clone());
-    if sign_to_vehicle && key.is_none() {
-        return Err(Failure::usage(
-            "--sign-to-vehicle needs a signing key (--signing-key or SigningKey)",
-        ));
-    }
-    let signing = match key {
-        Some(key) => {
-            // Replay protection across restarts is on whenever a key is set.
-            let state_file = match a.signing_state.clone().or(g.signing_state.clone()) {
-                Some(p) => p,
-                None => {
-                    state::default_path(&key).map_err(|e| Failure::Usage(miette::Report::new(e)))?
-                }
-            };
-            Some(SigningConfig {
-                key,
-                sign_to_vehicle,
-                link_id: a.signing_link_id.or(g.signing_link_id).unwrap_or(0),
-                state_file: Some(state_file),
-            })
-        }
-        None => None,
-    };
+    let signing = signing_config(&a, g)?;
     // --check opens nothing: the log directory is neither created nor trimmed
     let (log_path, tlog_path) = if a.check { (None, None) } else { log_paths(&a, &file)? };
     let cfg = GuardConfig {
@@ -152,6 +121,41 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
     let counters = running.stop();
     received.try_iter().for_each(|ev| note_event(ctx, &ev));
     finish(ctx, &counters, started, a.json)
+}
+
+/// mavlink-router's `DebugLogLevel` (or `--debug-log-level`) as vouch's verbosity, unless `-q`
+/// or `-v` chose one.
+fn apply_log_level(ctx: &mut Ctx, level: Option<LogLevel>) {
+    if ctx.verbosity == Verbosity::Normal {
+        match level {
+            Some(LogLevel::Error | LogLevel::Warning) => ctx.verbosity = Verbosity::Quiet,
+            Some(LogLevel::Debug | LogLevel::Trace) => ctx.verbosity = Verbosity::Verbose,
+            _ => {}
+        }
+    }
+}
+
+/// Signing from the command line over the `[Guard]` section; `None` without a key.
+fn signing_config(a: &GuardArgs, g: &GuardKeys) -> Result<Option<SigningConfig>, Failure> {
+    let sign_to_vehicle = a.sign_to_vehicle || g.sign_to_vehicle.unwrap_or(false);
+    let key = a.signing_key.clone().or(g.signing_key.clone());
+    if sign_to_vehicle && key.is_none() {
+        return Err(Failure::usage(
+            "--sign-to-vehicle needs a signing key (--signing-key or SigningKey)",
+        ));
+    }
+    let Some(key) = key else { return Ok(None) };
+    // Replay protection across restarts is on whenever a key is set.
+    let state_file = match a.signing_state.clone().or(g.signing_state.clone()) {
+        Some(p) => p,
+        None => state::default_path(&key).map_err(|e| Failure::Usage(miette::Report::new(e)))?,
+    };
+    Ok(Some(SigningConfig {
+        key,
+        sign_to_vehicle,
+        link_id: a.signing_link_id.or(g.signing_link_id).unwrap_or(0),
+        state_file: Some(state_file),
+    }))
 }
 
 fn note_event(ctx: &Ctx, ev: &GuardEvent) {

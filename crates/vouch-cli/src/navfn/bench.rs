@@ -36,7 +36,14 @@ impl From<BenchMode> for RunMode {
 /// Arguments of `vouch navfn bench`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn bench examples/navfn/suite --passes 3\n  vouch navfn bench examples/navfn/suite --oracle ./my-navfn-oracle\n  vouch navfn bench --scale 100,200,500,1000,2000,4000 --modes navfn-dijkstra,navfn-astar"
+    after_help = after_help!(
+        [
+            "vouch navfn bench examples/navfn/suite --passes 3",
+            "vouch navfn bench examples/navfn/suite --oracle ./my-navfn-oracle",
+            "vouch navfn bench --scale 100,200,500,1000 --modes navfn-dijkstra,navfn-astar"
+        ],
+        "0 measured, 1 suite or map rejected, 2 usage, I/O or oracle error"
+    )
 )]
 pub struct BenchArgs {
     /// Suite to time: a test file, or a folder searched recursively for test.txt (raw NavFn costs)

@@ -22,7 +22,13 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
 /// Arguments of `vouch navfn suite gen`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn suite gen --seed 7 --categories circus,spiral --maps 3 -o /tmp/suite\n  vouch navfn suite gen --seed 7 --maps 1000 --shard 3/8 -o /tmp/suite   # shard 3's maps only"
+    after_help = after_help!(
+        [
+            "vouch navfn suite gen --seed 7 --categories circus,spiral --maps 3 -o suite/",
+            "vouch navfn suite gen --seed 7 --maps 1000 --shard 3/8 -o suite/   # shard 3's maps"
+        ],
+        "0 written, 2 usage or I/O error"
+    )
 )]
 pub struct SuiteGenArgs {
     /// Seed: the same seed always writes the same files
@@ -49,8 +55,10 @@ pub struct SuiteGenArgs {
     /// Cases per imported ROS map
     #[arg(long, default_value_t = 50)]
     ros_cases: usize,
-    /// Write only shard I of N of the maps (the maps a `campaign --shard I/N --shard-by map`
-    /// runs), or `auto` from a Slurm array / Kubernetes Indexed Job (see `campaign --shard`)
+    /// Write only shard I of N of the maps, or `auto` (Slurm array, Kubernetes Indexed Job)
+    ///
+    /// The maps of shard I are those a `campaign --shard I/N --shard-by map` runs; `auto` reads
+    /// I and N from the job's environment (see `campaign --shard`).
     #[arg(long, value_parser = parse_shard_arg, value_name = "I/N|auto")]
     shard: Option<ShardArg>,
 }
@@ -129,7 +137,13 @@ pub enum WhiteBoxArg {
 /// Arguments of `vouch navfn suite diff`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn suite diff examples/navfn/suite --oracle ./navfn-oracle --mode navfn --algo astar"
+    after_help = after_help!(
+        [
+            "vouch navfn suite diff examples/navfn/suite --oracle ./navfn-oracle --mode navfn",
+            "vouch navfn suite diff examples/navfn/suite --oracle ./black-box --white-box none"
+        ],
+        "0 every case equal, 1 suite rejected, 2 usage, I/O or oracle error, 3 differences"
+    )
 )]
 pub struct SuiteDiffArgs {
     /// Suite folder (or one test.txt)
@@ -139,7 +153,7 @@ pub struct SuiteDiffArgs {
     oracle: String,
     #[command(flatten)]
     mode: CellModeArgs,
-    /// White-box trace compared on every case
+    /// Search trace compared on every case (`none` for an oracle without the trace extension)
     #[arg(long, value_enum, default_value = "hash")]
     white_box: WhiteBoxArg,
     /// Print the diff report as one JSON document instead of text
@@ -181,7 +195,15 @@ pub fn suite_diff(a: SuiteDiffArgs, ctx: &mut Ctx) -> CmdResult {
 /// Arguments of `vouch navfn campaign`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn campaign examples/navfn/suite --mode navfn --algo dijkstra -o report.json --pictures pics/\n  vouch navfn campaign examples/navfn/suite --shard 1/4 -o shard1.json -q\n  vouch navfn campaign SUITE --shard auto -o shard-$SLURM_ARRAY_TASK_ID.json -q   # in a Slurm array job"
+    after_help = after_help!(
+        [
+            "vouch navfn campaign examples/navfn/suite -o report.json --pictures pics/",
+            "vouch navfn campaign examples/navfn/suite --shard 1/4 -o shard1.json -q",
+            "vouch navfn campaign SUITE --shard auto -o shard-$SLURM_ARRAY_TASK_ID.json -q  # Slurm"
+        ],
+        "0 no failure (findings alone do not fail), 1 suite rejected, 2 usage or I/O error, \
+         3 a property or exact relation failed"
+    )
 )]
 pub struct CampaignArgs {
     /// Suite folder (`<category>/<map>/test.txt`)
@@ -363,7 +385,11 @@ pub enum ReportCmd {
 /// Arguments of `vouch navfn report merge`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn report merge shard0.json shard1.json shard2.json shard3.json -o report.json"
+    after_help = after_help!(
+        ["vouch navfn report merge shard0.json shard1.json shard2.json shard3.json -o report.json"],
+        "0 merged without failures, 1 reports that do not belong together, \
+         2 usage or I/O error, 3 the merged report has failures"
+    )
 )]
 pub struct ReportMergeArgs {
     /// Merged report to write

@@ -27,7 +27,14 @@ pub enum ReplayArg {
 /// Arguments of `vouch navfn check-bag`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn check-bag recording/ --png-dir failing/\n  vouch navfn check-bag recording_0.mcap --json --replay report"
+    after_help = after_help!(
+        [
+            "vouch navfn check-bag examples/navfn/warehouse_bag --png-dir failing/",
+            "vouch navfn check-bag recording_0.mcap --json --replay report"
+        ],
+        "0 every plan passes, 1 bag rejected (malformed), 2 usage or I/O error, \
+         3 a plan fails"
+    )
 )]
 pub struct CheckBagArgs {
     /// A rosbag2 bag: its folder (metadata.yaml and .mcap or .db3 files) or one storage file

@@ -21,32 +21,54 @@ use crate::contract::{CmdResult, Ctx, Failure};
 /// `vouch navfn` subcommands.
 #[derive(Subcommand)]
 pub enum NavfnCmd {
-    /// Plan one path on a ROS map (YAML+PGM/PNG, or an image) like nav2's NavfnPlanner, checked
+    /// Plan one path on a ROS map like nav2's NavfnPlanner, and check it
+    ///
+    /// The map is map_server YAML (naming a PGM/PNG) or an image; the plan's poses go to stdout
+    /// (--poses), a file (-o) or the JSON document (--json).
     Plan(plan::PlanArgs),
-    /// Check every plan recorded in a rosbag2 bag (MCAP or sqlite3) on the costmap in force,
-    /// and replay it bit-exactly with vouch's planner
+    /// Check the plans recorded in a rosbag2 bag and replay them bit-exactly
+    ///
+    /// Every plan of an MCAP or sqlite3 bag is checked on the costmap in force when it was
+    /// published, and replayed with vouch's planner.
     CheckBag(check_bag::CheckBagArgs),
-    /// Suites in the paper's format (test.txt + map.bin): run, generate, compare with an oracle
-    #[command(subcommand)]
+    /// Suites in the paper's format (test.txt + map.bin): run, generate, compare
+    #[command(
+        subcommand,
+        after_help = after_help!([
+            "vouch navfn suite run examples/navfn/suite --mode navfn --check",
+            "vouch navfn suite gen --seed 7 --maps 3 -o suite/",
+            "vouch navfn suite diff examples/navfn/suite --oracle ./navfn-oracle"
+        ])
+    )]
     Suite(SuiteCmd),
-    /// Time vouch's NavFn on a suite (µs per path) and on one planner request (ms per plan)
+    /// Time vouch's NavFn on a suite and on planner requests, beside an oracle
     Bench(bench::BenchArgs),
-    /// Verification campaign: properties, optimality, metamorphic relations, oracle diff, report
+    /// Verification campaign: properties, optimality, metamorphic relations, report
     Campaign(campaign::CampaignArgs),
-    /// Campaign reports
-    #[command(subcommand)]
+    /// Campaign reports: merge the reports of sharded runs
+    #[command(
+        subcommand,
+        after_help = after_help!([
+            "vouch navfn report merge shard0.json shard1.json -o report.json"
+        ])
+    )]
     Report(campaign::ReportCmd),
 }
 
 /// `vouch navfn suite` subcommands.
 #[derive(Subcommand)]
 pub enum SuiteCmd {
-    /// Run every case of a test file (or of every test file below a folder, sorted) and print
-    /// the golden line format (MAP / CASE / PATH [/ WORLD]) on stdout
+    /// Run every case of a suite and print the golden lines (MAP, CASE, PATH, WORLD)
+    ///
+    /// A test file, or every test file below a folder (sorted); MAP / CASE / PATH lines, and
+    /// WORLD lines in planner mode.
     Run(suite::SuiteRunArgs),
-    /// Generate a suite (the paper's nine categories), deterministic for a seed
+    /// Generate a suite (the paper's nine categories), the same for the same seed
     Gen(campaign::SuiteGenArgs),
-    /// Run vouch and an external oracle on a suite and compare (black box and per-cycle trace)
+    /// Compare vouch with an external oracle on a suite, case by case
+    ///
+    /// Black box (the golden lines), and with an oracle that offers the trace extension also the
+    /// per-cycle search trace (--white-box).
     Diff(campaign::SuiteDiffArgs),
 }
 

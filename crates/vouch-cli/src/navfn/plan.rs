@@ -19,15 +19,22 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
 /// Arguments of `vouch navfn plan`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --goal-yaw 1.57 --png plan.png"
+    after_help = after_help!(
+        [
+            "vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --png plan.png",
+            "vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --json"
+        ],
+        "0 planned, 1 map or request rejected or no path, 2 usage or I/O error, \
+         3 a plan check failed with --checked"
+    )
 )]
 pub struct PlanArgs {
     /// Map: map_server YAML (naming a PGM/PNG), or a PGM/PNG image (resolution 1, origin 0)
     map: PathBuf,
-    /// Robot start X,Y (metres in the map frame; column,row with --cells)
+    /// Robot start: X,Y in metres, or column,row with --cells
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
     start: [f64; 2],
-    /// Robot goal X,Y (metres in the map frame; column,row with --cells)
+    /// Robot goal: X,Y in metres, or column,row with --cells
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
     goal: [f64; 2],
     /// Start and goal are cell indices (column,row; row 0 = bottom of the image)
@@ -55,13 +62,13 @@ pub struct PlanArgs {
     /// use_final_approach_orientation)
     #[arg(long)]
     use_final_approach_orientation: bool,
-    /// Print one JSON document (summary and checks; the poses too with --poses)
+    /// Print one JSON document: summary, checks, every pose (x, y, yaw, z, quaternion)
     #[arg(long)]
     json: bool,
-    /// Also print every pose of the path (`x y yaw`: metres and radians, one per line)
+    /// Also print every pose after the summary, one `x y yaw` line each (metres, radians)
     #[arg(long)]
     poses: bool,
-    /// Write the poses (`x y yaw`: metres and radians, one per line) to this file
+    /// Write the poses to this file, one `x y yaw` line each (metres, radians)
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
     /// Write a picture to this PNG file: map, potential heat map, path
@@ -138,6 +145,11 @@ fn poses_text(poses: &[Pose]) -> String {
     s
 }
 
+/// The version of `vouch navfn plan --json`; 2: poses always present, each as the `x y yaw` of
+/// the text form plus `z` and the quaternion nav2 returns (`orientation`: x, y, z, w), `status`
+/// in snake_case.
+const PLAN_JSON_VERSION: u32 = 2;
+
 fn json_summary(
     a: &PlanArgs,
     [start, goal]: [[f64; 2]; 2],
@@ -146,8 +158,16 @@ fn json_summary(
     report: &CheckReport,
     elapsed_ms: f64,
 ) -> serde_json::Value {
-    let mut v = serde_json::json!({
-        "status": plan.status.name(),
+    let poses: Vec<serde_json::Value> = poses
+        .iter()
+        .map(|p| {
+            let [x, y, z] = p.position;
+            serde_json::json!({"x": x, "y": y, "yaw": p.yaw(), "z": z, "orientation": p.orientation})
+        })
+        .collect();
+    serde_json::json!({
+        "version": PLAN_JSON_VERSION,
+        "status": plan.status,
         "start": start, "goal": goal,
         "start_yaw": a.start_yaw, "goal_yaw": a.goal_yaw,
         "max_cycles_factor": a.max_cycles_factor,
@@ -157,11 +177,8 @@ fn json_summary(
         "tolerance_used": plan.tol_used, "best_goal": plan.best,
         "navfn_points": plan.navfn_len, "pose_count": poses.len(),
         "checks": report, "time_ms": (elapsed_ms * 1e3).round() / 1e3,
-    });
-    if a.poses {
-        v["poses"] = serde_json::json!(poses);
-    }
-    v
+        "poses": poses,
+    })
 }
 
 fn print_summary(

@@ -45,7 +45,11 @@ impl From<DetailArg> for TraceDetail {
 /// Arguments of `vouch navfn suite run`.
 #[derive(Args)]
 #[command(
-    after_help = "Example:\n  vouch navfn suite run examples/navfn/suite --mode navfn --algo astar --check"
+    after_help = after_help!(
+        ["vouch navfn suite run examples/navfn/suite --mode navfn --algo astar --check"],
+        "0 every case ran, 1 suite file rejected, 2 usage or I/O error, \
+         3 a plan check failed with --check"
+    )
 )]
 pub struct SuiteRunArgs {
     /// A test file, or a folder searched recursively (sorted) for test files
@@ -102,7 +106,10 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     });
     let files = find_test_files(&a.path, &name).map_err(map_failure)?;
     if files.is_empty() {
-        return Err(Failure::usage(format_args!("no `{name}` below {}", a.path.display())));
+        return Err(Failure::usage(format_args!(
+            "no `{name}` below {} (--name NAME searches for another file name)",
+            a.path.display()
+        )));
     }
     let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
     let mut text = String::new();

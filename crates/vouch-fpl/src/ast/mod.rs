@@ -174,6 +174,7 @@ pub struct Spanned<T> {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum WpFrame {
     Utm,
     Ltp,
@@ -187,6 +188,7 @@ pub struct Header {
 
 /// How a waypoint came to exist.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum WaypointOrigin {
     /// Written in the main plan.
     Plan,
@@ -226,6 +228,7 @@ pub struct Sector {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum VariableDecl {
     Var(Variable),
     Abi(AbiBinding),

@@ -23,6 +23,7 @@ pub struct Stage {
 // thousand stages at most, so the size difference does not matter.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum StageKind {
     While(While),
     For(For),
@@ -88,6 +89,7 @@ pub struct NavCommon {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum VMode {
     Alt,
     Climb,
@@ -97,12 +99,14 @@ pub enum VMode {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum HMode {
     Route,
     Direct,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Pitch {
     /// `pitch="auto"`.
     Auto(Span),
@@ -175,6 +179,7 @@ pub struct Return {
 /// Where `Return(x)` resumes the block it returns to. The runtime restarts the block when `x`
 /// equals 1 (`TRUE` is 1); any other value resumes it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Resume {
     /// At the stage where the block was left (`reset_stage` absent or not 1).
     SavedStage,
@@ -291,6 +296,7 @@ pub struct Oval {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Orientation {
     NS,
     WE,

@@ -25,6 +25,7 @@ use crate::ids::BlockId;
 /// A parsed expression. Identifiers keep their spelling (`$i` keeps its `$`; a quoted
 /// identifier `'a b'` is stored without its quotes, as upstream's lexer does).
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Expr {
     Int(i64),
     Float(f64),
@@ -49,6 +50,7 @@ pub enum Expr {
 /// Binary operators. Precedence (lowest first): `And`/`Or`; comparisons; `Add`/`Sub`;
 /// `Mul`/`Div`/`Mod`/`Pow`. All left-associative.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum BinOp {
     And,
     Or,
@@ -96,6 +98,7 @@ impl BinOp {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum UnOp {
     /// Unary minus, prints `-(e)`.
     Neg,

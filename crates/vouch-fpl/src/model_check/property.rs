@@ -41,6 +41,7 @@ enum Atom {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum StateFormula {
     True,
     False,
@@ -54,6 +55,7 @@ pub enum StateFormula {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Temporal {
     Always,
     Eventually,

@@ -4,7 +4,8 @@
 //! protocols, against the direct path and a socat relay (vehicle → first ground station) in the
 //! same run:
 //!
-//! * one-way latency vehicle → first ground station, one telemetry frame in flight (p50, p99);
+//! * one-way latency vehicle → first ground station, one telemetry frame in flight (median and
+//!   spread);
 //! * delivered throughput: telemetry frames *received* per second by the first ground station
 //!   (and by all three ground peers together) while the vehicle sends as fast as it can, the
 //!   relay pinned to CPU 0 and the bench to CPU 1; the offered rate and the relay's frames per
@@ -21,26 +22,28 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use serde::Serialize;
+
 use super::traffic::{attitude, heartbeat_vehicle};
-use super::{BenchConfig, Relay, percentiles, spawn_relay, stop};
+use super::{BenchConfig, Latency, PathKind, Relay, Skipped, Steps, spawn_relay, stop};
 use crate::codec::frame::frame_len;
 use crate::codec::split::{Piece, split_datagram};
 use crate::guard::sys::{process, udp_batch};
 
 /// Frames the vehicle sends in the throughput phase.
 const BLAST: u32 = 600_000;
+/// Phases of one path of the router scenario.
+pub(super) const ROUTER_PHASES: u64 = 2;
 
 /// The figures of one path of the router scenario.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Serialize)]
 pub struct RouterResult {
-    /// `direct`, `socat`, `guard router relay-only`, `guard router`.
-    pub path: String,
+    /// Which path: `direct`, `socat`, `guard_router_relay_only`, `guard_router`.
+    pub path: PathKind,
     /// Endpoints of the relay (1 + the ground peers it feeds).
     pub endpoints: u32,
-    /// One-way latency vehicle → first ground station, µs, median.
-    pub ping_p50_us: f64,
-    /// … 99th percentile.
-    pub ping_p99_us: f64,
+    /// One-way latency vehicle → first ground station.
+    pub telemetry: Latency,
     /// Frames per second the vehicle offered in the throughput phase.
     pub offered_per_s: f64,
     /// Frames per second received by the first ground station.
@@ -201,7 +204,13 @@ fn settle(drains: &[&Drain], started: Instant) -> f64 {
     last_change
 }
 
-fn measure(label: &str, relay: &mut Relay, rig: Rig, a: &BenchConfig) -> io::Result<RouterResult> {
+fn measure(
+    path: PathKind,
+    relay: &mut Relay,
+    rig: Rig,
+    a: &BenchConfig,
+    steps: &mut Steps<'_>,
+) -> io::Result<RouterResult> {
     let Rig { vehicle, entry, gcs1, gcs2, companion } = rig;
     let pid = match relay {
         Relay::Direct => None,
@@ -209,17 +218,29 @@ fn measure(label: &str, relay: &mut Relay, rig: Rig, a: &BenchConfig) -> io::Res
     };
     handshake(&vehicle, entry, &gcs1)?;
     let endpoints = 2 + u32::from(gcs2.is_some()) + u32::from(companion.is_some());
-    let mut r = RouterResult { path: label.into(), endpoints, ..RouterResult::default() };
+    let mut r = RouterResult {
+        path,
+        endpoints,
+        telemetry: Latency::default(),
+        offered_per_s: 0.0,
+        delivered_per_s: 0.0,
+        delivered_all_per_s: 0.0,
+        frames_per_cpu_second: None,
+        startup_peak_rss_kb: None,
+        peak_rss_kb: None,
+    };
     if let Some(pid) = pid {
         r.startup_peak_rss_kb = process::peak_rss_kb(pid);
         process::reset_peak_rss(pid);
     }
     // The other peers are read only from the throughput phase on, so that no reader of theirs
     // wakes up during the latency phase (what they get meanwhile waits in socket buffers).
-    (r.ping_p50_us, r.ping_p99_us) = percentiles(pings(&vehicle, entry, &gcs1, a.pings)?);
+    steps.start(path, "telemetry latency");
+    r.telemetry = Latency::of(pings(&vehicle, entry, &gcs1, a.pings)?);
     let mut others: Vec<Drain> = gcs2.into_iter().map(Drain::udp).collect();
     others.extend(companion.map(Drain::tcp));
     std::thread::sleep(Duration::from_millis(100));
+    steps.start(path, "flood");
     if let Some(pid) = pid {
         process::pin_process(pid, 0);
     }
@@ -269,13 +290,18 @@ fn connect(port: u16) -> io::Result<TcpStream> {
     }
 }
 
-fn one(label: &str, extra: Option<Vec<String>>, a: &BenchConfig) -> io::Result<RouterResult> {
+fn one(
+    path: PathKind,
+    extra: Option<Vec<String>>,
+    a: &BenchConfig,
+    steps: &mut Steps<'_>,
+) -> io::Result<RouterResult> {
     let (vehicle, gcs1) = (udp()?, udp()?);
     let g1 = gcs1.local_addr()?;
     let entry = SocketAddr::from(([127, 0, 0, 1], free_port()?));
-    let (mut relay, gcs2, companion) = match (label, extra) {
-        ("direct", _) => (Relay::Direct, None, None),
-        ("socat", _) => {
+    let (mut relay, gcs2, companion) = match (path, extra) {
+        (PathKind::Direct, _) => (Relay::Direct, None, None),
+        (PathKind::Socat, _) => {
             let mut cmd = Command::new("socat");
             cmd.arg("-b65536")
                 .arg(format!("UDP4-LISTEN:{},bind=127.0.0.1,reuseaddr", entry.port()))
@@ -297,24 +323,37 @@ fn one(label: &str, extra: Option<Vec<String>>, a: &BenchConfig) -> io::Result<R
     };
     let entry = if matches!(relay, Relay::Direct) { g1 } else { entry };
     let rig = Rig { vehicle, entry, gcs1, gcs2, companion };
-    let r = measure(label, &mut relay, rig, a);
+    let r = measure(path, &mut relay, rig, a, steps);
     stop(relay);
     r
 }
 
-/// Runs the router scenario's paths; a path that cannot run is listed with its reason.
-pub fn run(a: &BenchConfig, socat: bool) -> (Vec<RouterResult>, Vec<(String, String)>) {
-    let mut paths: Vec<(&str, Option<Vec<String>>)> = vec![("direct", None)];
+/// The paths of the router scenario and the guard's arguments for each (`None` = no guard).
+pub(super) fn paths(a: &BenchConfig, socat: bool) -> Vec<(PathKind, Option<Vec<String>>)> {
+    let mut paths = vec![(PathKind::Direct, None)];
     if socat {
-        paths.push(("socat", None));
+        paths.push((PathKind::Socat, None));
     }
-    paths.push(("guard router relay-only", Some(vec!["--relay-only".into()])));
-    paths.push(("guard router", Some(a.guard_args.clone())));
+    paths.push((PathKind::GuardRouterRelayOnly, Some(vec!["--relay-only".into()])));
+    paths.push((PathKind::GuardRouter, Some(a.guard_args.clone())));
+    paths
+}
+
+/// Runs the router scenario's paths; a path that cannot run is listed with its reason.
+pub(super) fn run(
+    a: &BenchConfig,
+    paths: Vec<(PathKind, Option<Vec<String>>)>,
+    steps: &mut Steps<'_>,
+) -> (Vec<RouterResult>, Vec<Skipped>) {
     let (mut done, mut skipped) = (vec![], vec![]);
-    for (label, extra) in paths {
-        match one(label, extra, a) {
+    for (path, extra) in paths {
+        let before = steps.done;
+        match one(path, extra, a, steps) {
             Ok(r) => done.push(r),
-            Err(e) => skipped.push((format!("router: {label}"), e.to_string())),
+            Err(e) => {
+                steps.skip(ROUTER_PHASES - (steps.done - before));
+                skipped.push(Skipped { scenario: "router", path, reason: e.to_string() });
+            }
         }
     }
     (done, skipped)

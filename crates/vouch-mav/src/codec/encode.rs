@@ -2,9 +2,9 @@
 
 use crate::dialect::{Dialect, FieldDef, MessageDef, PrimType};
 
-use super::crc::frame_crc;
 use super::frame::{MAGIC_V1, MAGIC_V2, V2_HEADER_LEN};
 use super::view::Value;
+use crate::crc::frame_crc;
 
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum EncodeError {

@@ -6,7 +6,7 @@
 //! unchanged (signatures and zero truncation stay intact). Splitting buffers into frames is
 //! [`split`](super::split)'s.
 
-use super::crc::{X25, frame_crc};
+use crate::crc::{X25, frame_crc};
 use crate::dialect::{Dialect, MsgIndex};
 
 /// Start marker of a MAVLink 1 frame.
@@ -184,7 +184,7 @@ impl<'a> FrameRef<'a> {
         running.update(self.crc_covered());
         let want = self.crc();
         (0..=255u8).find(|&e| {
-            let mut c = running;
+            let mut c = running.clone();
             c.push(e);
             c.get() == want
         })

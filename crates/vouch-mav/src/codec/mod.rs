@@ -1,7 +1,6 @@
-//! MAVLink wire format: checksum, frame headers, splitting received bytes into frames, payload
+//! MAVLink wire format: frame headers, splitting received bytes into frames, payload
 //! views, encoder, tlog reader.
 
-pub mod crc;
 pub mod encode;
 pub mod frame;
 pub mod split;

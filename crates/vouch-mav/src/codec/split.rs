@@ -232,7 +232,7 @@ impl FrameSplitter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::codec::crc::frame_crc;
+    use crate::crc::frame_crc;
 
     // MISSION_COUNT{count=100} as MAVLink 2 from 255/230, seq 0, per PROTOCOL_FACTS (16 bytes,
     // 4-byte payload); the CRC bytes are computed here from the published algorithm + CRC_EXTRA 221.

@@ -235,8 +235,7 @@ impl Dialect {
 
 /// The MAVLink CRC_EXTRA of a message, from its name and base fields in wire order.
 pub fn compute_crc_extra(name: &str, fields: &[FieldDef]) -> u8 {
-    use crate::codec::crc::X25;
-    let mut crc = X25::new();
+    let mut crc = crate::crc::X25::new();
     crc.update(name.as_bytes());
     crc.update(b" ");
     for f in fields.iter().filter(|f| !f.is_extension) {

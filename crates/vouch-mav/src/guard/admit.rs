@@ -143,7 +143,7 @@ impl Core {
         let endpoint = &self.endpoints[ep].name;
         self.log_line(json!({"t_us": unix_micros(), "from": side.as_str(), "endpoint": endpoint,
             "action": action, "kind": "violation", "summary": summary, "sysid": fr.sysid(),
-            "compid": fr.compid(), "msgid": fr.msgid(), "frame": hex(fr.bytes), "violation": v}));
+            "compid": fr.compid(), "msgid": fr.msgid(), "frame": hex::encode(fr.bytes), "violation": v}));
         if self.alert_gcs {
             self.alert(&summary);
         }
@@ -227,8 +227,4 @@ impl Core {
             let _ = l.write_all(line.as_bytes()).and_then(|_| l.flush());
         }
     }
-}
-
-fn hex(b: &[u8]) -> String {
-    b.iter().map(|x| format!("{x:02x}")).collect()
 }

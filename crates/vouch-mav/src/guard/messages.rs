@@ -101,17 +101,13 @@ pub fn command_ack(
 mod tests {
     use super::*;
 
-    fn hex(v: &[u8]) -> String {
-        v.iter().map(|b| format!("{b:02x}")).collect()
-    }
-
     // Expected bytes produced by pymavlink 2.4.50 (MAVLINK20=1, source 1/191, seq 0):
     // statustext_encode(4, b"vouch: hi") and mission_ack_encode(255, 230, 13).
     #[test]
     fn matches_pymavlink_encoding() {
         let st = statustext(4, "vouch: hi", 1, 191);
-        assert_eq!(hex(&st.encode_v2(0)), "fd0a00000001bffd000004766f7563683a20686985e7");
+        assert_eq!(hex::encode(st.encode_v2(0)), "fd0a00000001bffd000004766f7563683a20686985e7");
         let ack = mission_ack(Side::Gcs, 1, 191, (255, 230), 13, 0);
-        assert_eq!(hex(&ack.encode_v2(0)), "fd0300000001bf2f0000ffe60d2b3d");
+        assert_eq!(hex::encode(ack.encode_v2(0)), "fd0300000001bf2f0000ffe60d2b3d");
     }
 }

@@ -31,7 +31,7 @@ mod routing;
 mod state;
 
 #[cfg(target_os = "linux")]
-#[allow(unsafe_code)] // the guard's Linux I/O module: recvmmsg/sendmmsg, termios, process control
+#[allow(unsafe_code)] // the guard's Linux I/O module: recvmmsg/sendmmsg, process control
 pub(crate) mod linux;
 
 #[cfg(target_os = "linux")]

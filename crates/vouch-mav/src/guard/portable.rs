@@ -1,5 +1,5 @@
 //! Fallbacks of `super::linux` for other systems, in safe std code: one datagram per receive
-//! call and direct sends, no serial ports, no process control or `/proc` readings. Compiled on
+//! call and direct sends, no process control or `/proc` readings. Compiled on
 //! Linux too, where its tests keep it working.
 
 #![cfg_attr(target_os = "linux", allow(dead_code))]
@@ -63,20 +63,6 @@ pub mod udp_batch {
 
     /// Nothing to flush.
     pub fn flush() {}
-}
-
-/// Serial ports need termios, which this build does not use.
-pub mod serial {
-    use std::fs::File;
-    use std::io;
-
-    /// Always an error: serial endpoints are supported on Linux only.
-    pub fn open_raw(device: &str, _baud: u32, _flow_control: bool) -> io::Result<File> {
-        Err(io::Error::new(
-            io::ErrorKind::Unsupported,
-            format!("{device}: serial endpoints are supported on Linux only"),
-        ))
-    }
 }
 
 /// No process control or `/proc` readings: the benchmark runs unpinned and reports no CPU time
@@ -147,6 +133,5 @@ mod tests {
         b.recv(&rx).unwrap();
         let (_, bytes, truncated) = b.get(0);
         assert_eq!((bytes.len(), truncated), (SLOT, true));
-        assert!(super::serial::open_raw("/dev/null", 57600, false).is_err());
     }
 }

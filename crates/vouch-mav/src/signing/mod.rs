@@ -16,8 +16,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use sha2::{Digest, Sha256};
 
-use crate::codec::crc::frame_crc;
 use crate::codec::frame::{FrameRef, INCOMPAT_SIGNED, SIGNATURE_LEN};
+use crate::crc::frame_crc;
 
 pub mod state;
 
@@ -66,14 +66,8 @@ impl SigningKey {
 
     /// A key from 64 hex digits.
     pub fn from_hex(s: &str) -> Option<Self> {
-        let s = s.trim();
-        if s.len() != 64 || !s.is_ascii() {
-            return None;
-        }
         let mut k = [0u8; 32];
-        for (i, byte) in k.iter_mut().enumerate() {
-            *byte = u8::from_str_radix(&s[2 * i..2 * i + 2], 16).ok()?;
-        }
+        hex::decode_to_slice(s.trim(), &mut k).ok()?;
         Some(SigningKey(k))
     }
 

@@ -9,7 +9,7 @@ const PYMAVLINK_HEARTBEAT: &str =
     "fd09010000ffe600000000000000060800000360a90701b864d945008f9956aa9a36";
 
 fn hex(s: &str) -> Vec<u8> {
-    (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap()).collect()
+    hex::decode(s).unwrap()
 }
 
 fn key() -> SigningKey {

@@ -14,8 +14,8 @@ use std::path::Path;
 
 pub use plan_check::{DETOUR_CELLS, DETOUR_FACTOR, MAX_STEP_CELLS, check_plan_on};
 pub use report::{
-    BagReport, CostmapUsed, PathViolation, PlanVerdict, Replay, ReplayMode, Request, Source,
-    Summary,
+    BAG_REPORT_VERSION, BagReport, CostmapUsed, PathViolation, PlanVerdict, Replay, ReplayMode,
+    Request, Source, Summary,
 };
 pub use state::{CostmapKind, CostmapState, TfTree, translate_cost, untranslate};
 
@@ -189,7 +189,7 @@ pub fn check_bag(bag: &Bag, opts: &BagCheckOptions) -> Result<BagReport, BagErro
         }
     }
     let summary = summarise(&plans, w.grids, opts.replay);
-    Ok(BagReport { replay_mode: opts.replay, plans, summary })
+    Ok(BagReport { version: BAG_REPORT_VERSION, replay_mode: opts.replay, plans, summary })
 }
 
 /// One plan against the state at its time.

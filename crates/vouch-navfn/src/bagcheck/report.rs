@@ -10,6 +10,7 @@ use super::state::CostmapKind;
 
 /// What to do with the replay.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ReplayMode {
     /// Replay, and count a plan that differs from vouch's as failed.
     Check,
@@ -21,6 +22,7 @@ pub enum ReplayMode {
 
 /// Whether an end of the request was recorded or taken from the plan itself.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Source {
     /// From the goal topic, or the robot pose (`/amcl_pose` or the transform tree).
     Recorded,
@@ -44,6 +46,7 @@ pub struct Request {
 /// A property of a recorded plan that does not hold. Cells are in NavFn units
 /// (`(w − origin) / resolution`, cell centres whole numbers).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum PathViolation {
     /// No costmap had been recorded before the plan.
     NoCostmap,
@@ -125,6 +128,8 @@ pub enum PathViolation {
         goal: [f64; 2],
     },
     /// `PositionSafe` or `Progress` of the planner's potential on this costmap.
+    // Already tagged by the plan check's own `kind`.
+    #[serde(untagged)]
     Potential(Violation),
 }
 
@@ -207,6 +212,7 @@ impl fmt::Display for PathViolation {
 
 /// The replay's verdict.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "verdict", rename_all = "snake_case")]
 pub enum Replay {
     /// Every pose bit-identical.
     Equal,
@@ -318,9 +324,15 @@ pub struct Summary {
     pub costmaps: usize,
 }
 
+/// The version of the report's JSON form; 2: kinds and verdicts in snake_case, violations and
+/// replays as objects tagged by `kind` and `verdict`.
+pub const BAG_REPORT_VERSION: u32 = 2;
+
 /// The whole bag's report.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct BagReport {
+    /// [`BAG_REPORT_VERSION`].
+    pub version: u32,
     /// How replays were judged.
     pub replay_mode: ReplayMode,
     /// Per plan.

@@ -10,6 +10,7 @@ use crate::rosbag::msgs::{Grid, GridCells, GridUpdate, PoseMsg, Transform};
 
 /// Where a costmap came from, which decides how its cells become Costmap2D values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum CostmapKind {
     /// map_server's occupancy grid (`/map`), through nav2's static layer (trinary, unknown kept).
     Map,

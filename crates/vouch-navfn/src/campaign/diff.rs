@@ -31,7 +31,8 @@ pub struct DiffOptions {
     pub oracle: String,
     /// The call sequence.
     pub mode: RunMode,
-    /// White-box detail for every case (`None` = black box only; the deep re-run still happens).
+    /// White-box detail for every case and for the details of a mismatch (`None` = black box
+    /// only, for an oracle without the trace extension).
     pub white_box: Option<TraceDetail>,
     /// Test-only perturbation of vouch's own side.
     pub perturb_pri_inc: Option<f32>,
@@ -170,13 +171,12 @@ pub fn diff_file(
     let different = file.cases.len() - equal;
     let Some(k) = first else { return Ok((equal, different, None)) };
 
-    // Deep re-run of this file for the details of its first mismatch.
-    let ours = ours_for(&file, opts, Some(TraceDetail::Cells), true)?;
-    let theirs = run_oracle(
-        &opts.oracle,
-        &contract_args(opts.mode, Some(TraceDetail::Cells), true),
-        test_txt,
-    )?;
+    // Deep re-run of this file for the details of its first mismatch: the cell-level trace and
+    // the potentials when the oracle offers the white box, else its answers again.
+    let deep = opts.white_box.is_some();
+    let trace = deep.then_some(TraceDetail::Cells);
+    let ours = ours_for(&file, opts, trace, deep)?;
+    let theirs = run_oracle(&opts.oracle, &contract_args(opts.mode, trace, deep), test_txt)?;
     let a = ours.get(&k).cloned().unwrap_or_default();
     let b = theirs.get(&k).cloned().unwrap_or_default();
     let (mut fields, divergence) = compare(&a, &b);

@@ -128,6 +128,9 @@ pub enum OracleError {
         status: String,
         /// The first lines of its stderr.
         stderr: String,
+        /// What to try, when the call asked for more than the basic contract.
+        #[help]
+        hint: Option<String>,
     },
     /// The answer does not follow the contract.
     #[error("oracle `{cmd}` on {file}: {msg}")]

@@ -175,11 +175,18 @@ pub fn run_oracle(
     if !output.status.success() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         let stderr: String = stderr.lines().take(5).collect::<Vec<_>>().join(" | ");
+        // A black-box oracle (the basic contract only) may refuse the trace extension.
+        let hint = args.iter().any(|a| a == "--trace" || a == "--pot").then(|| {
+            "an oracle without the trace extension (--trace, --pot) is compared black box only: \
+             `vouch navfn suite diff --white-box none`"
+                .to_string()
+        });
         return Err(OracleError::Failed {
             cmd: cmd.into(),
             file,
             status: output.status.to_string(),
             stderr,
+            hint,
         });
     }
     let text = String::from_utf8_lossy(&output.stdout);

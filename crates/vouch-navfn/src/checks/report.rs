@@ -6,6 +6,7 @@ use crate::core::Cell;
 
 /// One violated property of one plan.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Violation {
     /// `ValidPath`: no open cell (cost < 254) within ±0.5 of the point.
     PoseInObstacle { index: usize, point: [f32; 2] },

@@ -45,6 +45,7 @@ impl Default for PlannerParams {
 /// Outcome of `createPlan`, named like nav2's exceptions; the `Ub*` statuses mark inputs on
 /// which the real planner has undefined behaviour (a point rounding to index `size`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum PlanStatus {
     /// A path was found.
     Ok,

@@ -78,6 +78,7 @@ impl Default for SpaceOptions {
 
 /// One transition.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Move {
     /// One `auto_nav` call with these answers (oracle convention).
     Call(Vec<i64>),
@@ -99,6 +100,7 @@ pub struct Succ<'p> {
 /// What the next test of a `for` loop does with this counter pair (`int8_t` arithmetic, as
 /// in C): `++v > to` true, false now but true within 256 tests, or never.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum LoopClass {
     Exits,
     Continues,

@@ -1,7 +1,9 @@
 //! Located errors and warnings of configuration files (`file:line:col`, rendered by miette with
-//! the offending line).
+//! the offending line). A diagnostic shares its file's text with the others of the same file
+//! (`Arc`), which keeps it small enough to return by value.
 
 use std::fmt;
+use std::sync::Arc;
 
 use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
 
@@ -50,8 +52,8 @@ pub struct ConfError {
     pub kind: ConfErrorKind,
     /// One sentence saying what is wrong.
     pub message: String,
-    /// The file's text, named after its path.
-    pub src: NamedSource<String>,
+    /// The file's text, named after its path (shared by every diagnostic of the file).
+    pub src: Arc<NamedSource<String>>,
     /// Byte offset and length in the text.
     pub span: (usize, usize),
     /// How to fix it, when there is something to say.
@@ -68,7 +70,17 @@ impl ConfError {
         offset: usize,
         len: usize,
     ) -> ConfError {
-        let src = NamedSource::new(name, text.to_string());
+        ConfError::in_file(kind, message, named(name, text), offset, len)
+    }
+
+    /// A diagnostic at `offset..offset + len` of a file already shared by other diagnostics.
+    pub fn in_file(
+        kind: ConfErrorKind,
+        message: String,
+        src: Arc<NamedSource<String>>,
+        offset: usize,
+        len: usize,
+    ) -> ConfError {
         ConfError { kind, message, src, span: (offset, len), help: None }
     }
 
@@ -93,6 +105,11 @@ impl ConfError {
     }
 }
 
+/// A file's name and text as diagnostics show them.
+pub fn named(name: &str, text: &str) -> Arc<NamedSource<String>> {
+    Arc::new(NamedSource::new(name, text.to_string()))
+}
+
 impl fmt::Display for ConfError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.message)
@@ -115,7 +132,7 @@ impl Diagnostic for ConfError {
     }
 
     fn source_code(&self) -> Option<&dyn SourceCode> {
-        (self.kind != ConfErrorKind::Io).then_some(&self.src as &dyn SourceCode)
+        (self.kind != ConfErrorKind::Io).then_some(self.src.as_ref() as &dyn SourceCode)
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {

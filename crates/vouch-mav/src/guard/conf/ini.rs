@@ -9,6 +9,10 @@
 //! again — in the same file or a later one — adds to the first; a key given again replaces its
 //! value. A key before any section, a line without `=`, an empty key or value are errors.
 
+use std::sync::Arc;
+
+use miette::NamedSource;
+
 use super::error::{ConfError, ConfErrorKind};
 
 /// One file's text.
@@ -69,6 +73,8 @@ impl Section {
 pub struct Ini {
     /// The files, in the order read.
     pub sources: Vec<Source>,
+    /// The same files as diagnostics show them, shared by every diagnostic of a file.
+    named: Vec<Arc<NamedSource<String>>>,
     /// The sections, in the order they first appeared.
     pub sections: Vec<Section>,
 }
@@ -77,6 +83,7 @@ impl Ini {
     /// Reads one more file into the sections read so far.
     pub fn add(&mut self, source: Source) -> Result<(), ConfError> {
         let file = self.sources.len();
+        self.named.push(super::error::named(&source.name, &source.text));
         self.sources.push(source);
         let text = self.sources[file].text.clone();
         let mut current: Option<usize> = None;
@@ -194,8 +201,7 @@ impl Ini {
 
     /// An error of `kind` at `at`.
     pub fn err(&self, kind: ConfErrorKind, at: Place, message: String) -> ConfError {
-        let s = &self.sources[at.file];
-        ConfError::new(kind, message, &s.name, &s.text, at.offset, at.len)
+        ConfError::in_file(kind, message, self.named[at.file].clone(), at.offset, at.len)
     }
 }
 

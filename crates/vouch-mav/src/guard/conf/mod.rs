@@ -10,9 +10,6 @@
 //! sections, and mavlink-router's dialect (whole-line comments only, no quotes or escapes,
 //! section-name rules, case-insensitive merging across files) is small.
 
-// Configuration errors carry their file's text for miette; they are cold, so their size is fine.
-#![allow(clippy::result_large_err)]
-
 mod endpoints;
 mod error;
 mod general;

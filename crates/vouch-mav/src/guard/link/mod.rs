@@ -6,6 +6,7 @@
 //! receive batch a reader calls [`Sink::end_batch`], where the router sends what the batch
 //! produced.
 
+mod serial;
 mod stream;
 mod udp;
 mod writer;

@@ -9,13 +9,13 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
+use super::serial;
 use super::writer::Writer;
 use super::{
     Egress, EgressKind, FIXED_STREAM, LinkEvent, MAX_TCP_CLIENTS, OpenedLink, POLL_INTERVAL, Peer,
     ReaderCtx, Received, is_transient,
 };
 use crate::codec::split::StreamSplitter;
-use crate::guard::sys::serial;
 
 /// How long one connection attempt of a TCP client may take.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(2);
@@ -132,9 +132,9 @@ pub(super) fn open_serial(
     baud: u32,
     flow_control: bool,
 ) -> io::Result<OpenedLink> {
-    let port = serial::open_raw(device, baud, flow_control)?;
-    let reader = port.try_clone()?;
-    let out = Writer::spawn(format!("{}-write", rc.name), port, None, || {})?;
+    let port = serial::open(device, baud, flow_control)?;
+    let reader = port.try_clone().map_err(io::Error::from)?;
+    let out = Writer::spawn(format!("{}-write", rc.name), serial::Output(port), None, || {})?;
     let egress = Arc::new(Egress { kind: EgressKind::Serial { out } });
     let t = thread::Builder::new().name(format!("{}-serial", rc.name)).spawn(move || {
         read_stream(&rc, reader, Peer::Fixed, false);
@@ -148,7 +148,7 @@ fn read_stream<R: Read>(rc: &ReaderCtx, mut reader: R, peer: Peer, zero_is_eof: 
     let mut splitter = StreamSplitter::default();
     while !rc.stop.load(Ordering::Relaxed) {
         match reader.read(&mut buf) {
-            // TCP: 0 = peer closed. Serial (VMIN=0, VTIME=1): 0 = read timeout.
+            // TCP: 0 = peer closed. Serial: 0 = nothing yet (a timeout is `TimedOut`).
             Ok(0) if zero_is_eof => return "closed by the peer".into(),
             Ok(0) => {}
             Ok(n) => {
