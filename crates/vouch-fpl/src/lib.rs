@@ -40,6 +40,7 @@
 pub mod aircraft;
 pub mod ast;
 pub mod diag;
+pub mod diff;
 pub mod emit;
 pub mod evidence;
 pub mod expr;

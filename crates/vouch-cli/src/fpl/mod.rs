@@ -5,6 +5,7 @@
 mod aircraft;
 mod bench;
 mod compile;
+mod diff;
 mod evidence;
 mod sim;
 
@@ -62,6 +63,13 @@ pub enum FplCmd {
         after_help = "Example:\n  vouch fpl check examples/fpl/demo.xml --property 'never block(HOME)' --safe-blocks Standby,Land"
     )]
     Check(evidence::CheckArgs),
+    /// Compare two versions of a plan by behaviour: equivalent (exit 0), or the shortest run
+    /// that tells them apart, side by side and located in both files (exit 3); with a
+    /// structural summary first (blocks, stages, exceptions, waypoints).
+    #[command(
+        after_help = "Examples:\n  vouch fpl diff old.xml new.xml\n  vouch fpl diff --git HEAD~1 conf/flight_plans/mission.xml\n  vouch fpl diff --git main --json\n\nExit codes: 0 equivalent, 1 a plan rejected, 2 usage or I/O error (git), 3 different or undecided."
+    )]
+    Diff(diff::DiffArgs),
     /// SVG picture of the block graph (next, deroute, return, exception edges; forbidden marked)
     #[command(after_help = "Example:\n  vouch fpl graph examples/fpl/demo.xml -o demo.svg")]
     Graph(evidence::GraphArgs),
@@ -82,6 +90,7 @@ pub fn run(cmd: FplCmd, ctx: &mut Ctx) -> CmdResult {
         FplCmd::Lint(a) => evidence::lint(a, ctx),
         FplCmd::Check(a) => evidence::check(a, ctx),
         FplCmd::Graph(a) => evidence::graph(a, ctx),
+        FplCmd::Diff(a) => diff::diff(a, ctx),
         FplCmd::BenchParse(a) => bench::bench_parse(a, ctx),
     }
 }
