@@ -45,7 +45,8 @@ fn copy_tree(from: &Path, to: &Path) {
 fn compare(old: &Path, new: &Path, jumps: bool) -> DiffReport {
     let opts = Options::default();
     let parse = |p: &Path| {
-        parse_file_with(p, &opts).unwrap_or_else(|e| panic!("{}: {}", p.display(), e.items[0].message))
+        parse_file_with(p, &opts)
+            .unwrap_or_else(|e| panic!("{}: {}", p.display(), e.items[0].message))
     };
     let (a, b) = (parse(old), parse(new));
     let fa = vouch_fpl::passes::lower::lower(&a).expect("lowers");
@@ -55,7 +56,10 @@ fn compare(old: &Path, new: &Path, jumps: bool) -> DiffReport {
 }
 
 fn sibling(p: &Path, suffix: &str) -> PathBuf {
-    p.with_file_name(format!("{}.{suffix}.xml", p.file_stem().and_then(|s| s.to_str()).unwrap_or("x")))
+    p.with_file_name(format!(
+        "{}.{suffix}.xml",
+        p.file_stem().and_then(|s| s.to_str()).unwrap_or("x")
+    ))
 }
 
 #[test]
@@ -131,7 +135,8 @@ fn replace_word(text: &str, word: &str, by: &str) -> String {
     let mut out = String::new();
     let mut rest = text;
     while let Some(i) = rest.find(word) {
-        let before_ok = !rest[..i].chars().next_back().is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
+        let before_ok =
+            !rest[..i].chars().next_back().is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
         let after = &rest[i + word.len()..];
         let after_ok = !after.chars().next().is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
         out.push_str(&rest[..i]);
@@ -168,7 +173,12 @@ fn a_consistent_waypoint_rename_is_equivalent() {
         let copy = sibling(&path, "renamed");
         std::fs::write(&copy, rename_waypoint(&text, &from, &to)).expect("write");
         let r = compare(&path, &copy, true);
-        assert_eq!(r.verdict, Verdict::Equivalent, "{rel} ({from}): {}", vouch_fpl::diff::render(&r));
+        assert_eq!(
+            r.verdict,
+            Verdict::Equivalent,
+            "{rel} ({from}): {}",
+            vouch_fpl::diff::render(&r)
+        );
         let summary = vouch_fpl::diff::summary(&r.structure);
         assert!(summary.contains(&format!("'{from}' renamed '{to}'")), "{rel}: {summary}");
         renamed += 1;
@@ -389,8 +399,11 @@ fn every_mutant_of_basic_is_different_with_its_first_divergence() {
         assert_eq!(d.old.text.as_deref(), Some(m.old_seen), "{}", m.what);
         assert_eq!(d.new.text.as_deref(), Some(m.new_seen), "{}", m.what);
         // Located on both files, in the block that differs.
-        let (lo, ln) = (d.old.location.as_ref().expect("old"), d.new.location.as_ref().expect("new"));
-        assert!(lo.file.ends_with("basic.xml") && ln.file.ends_with(&format!("basic_mutant_{i}.xml")));
+        let (lo, ln) =
+            (d.old.location.as_ref().expect("old"), d.new.location.as_ref().expect("new"));
+        assert!(
+            lo.file.ends_with("basic.xml") && ln.file.ends_with(&format!("basic_mutant_{i}.xml"))
+        );
         // Without operator jumps the plans still differ (a natural run, or none reaches it).
         let natural = compare(&base, &path, false);
         assert_ne!(natural.verdict, Verdict::Undecided, "{}", m.what);

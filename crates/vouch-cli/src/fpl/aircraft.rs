@@ -76,9 +76,13 @@ pub fn aircraft(a: AircraftArgs, ctx: &mut Ctx) -> CmdResult {
             paparazzi_home: Some(home.clone()),
             ..EmitOptions::default()
         },
+        front: vouch_fpl::front::Options {
+            upstream_includes: a.upstream_compat,
+            upstream_flight_plans: vouch_fpl::front::upstream_flight_plans(Some(&home)),
+            ..Default::default()
+        },
         dump: fp,
         settings,
-        ..Request::default()
     };
     let built = build(&ac.flight_plan, &req).map_err(rejected)?;
     super::report_built(ctx, &built, a.upstream_compat);

@@ -106,6 +106,10 @@ fn request(a: &CompileArgs) -> Request {
     Request {
         front: vouch_fpl::front::Options {
             search_dirs: a.include_dirs.clone(),
+            upstream_includes: a.upstream_compat,
+            upstream_flight_plans: vouch_fpl::front::upstream_flight_plans(
+                emit.paparazzi_home.as_deref(),
+            ),
             ..Default::default()
         },
         emit,

@@ -188,7 +188,11 @@ fn git_pair(rev: &str, root: &Path, plan: &Path) -> Result<Pair, Failure> {
     let mut folders: Vec<PathBuf> = rel.parent().map(Path::to_path_buf).into_iter().collect();
     folders.extend(procedures.clone());
     for folder in folders {
-        let spec = if folder.as_os_str().is_empty() { ".".to_string() } else { folder.display().to_string() };
+        let spec = if folder.as_os_str().is_empty() {
+            ".".to_string()
+        } else {
+            folder.display().to_string()
+        };
         let listed = lines(git(&root, &["ls-tree", "-r", "--name-only", rev, "--", &spec])?);
         for file in listed.iter().filter(|f| f.ends_with(".xml") || f.ends_with(".dtd")) {
             let bytes = git(&root, &["show", &format!("{rev}:{file}")])?;

@@ -180,7 +180,11 @@ pub struct DiffReport {
 }
 
 /// Compares two versions of a plan (see the module documentation).
-pub fn diff(old: Version<'_>, new: Version<'_>, opts: &DiffOptions) -> Result<DiffReport, StepError> {
+pub fn diff(
+    old: Version<'_>,
+    new: Version<'_>,
+    opts: &DiffOptions,
+) -> Result<DiffReport, StepError> {
     let space = SpaceOptions {
         max_states: opts.max_states,
         max_paths_per_call: opts.max_paths_per_call,
@@ -341,7 +345,12 @@ fn locate(
             Move::Call(_) => {
                 let origins = side.interp.origins();
                 let idx = k.unwrap_or(usize::MAX);
-                origins.iter().rev().find(|o| o.first_event <= idx).or(origins.last()).map(|o| o.span)
+                origins
+                    .iter()
+                    .rev()
+                    .find(|o| o.first_event <= idx)
+                    .or(origins.last())
+                    .map(|o| o.span)
             }
         };
         let text = match k {

@@ -96,7 +96,9 @@ impl Canon {
                     Some(n) => out.push_str(&format!("i{n}")),
                     None => out.push_str(word),
                 }
-            } else if c.is_ascii_digit() || (c == '.' && chars.peek().is_some_and(|x| x.1.is_ascii_digit())) {
+            } else if c.is_ascii_digit()
+                || (c == '.' && chars.peek().is_some_and(|x| x.1.is_ascii_digit()))
+            {
                 while let Some(&(j, d)) = chars.peek() {
                     if !(d.is_ascii_alphanumeric() || d == '.') {
                         break;

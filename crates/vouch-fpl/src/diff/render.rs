@@ -20,7 +20,8 @@ fn loc(l: &Location) -> String {
 }
 
 fn attrs(list: &[AttrChange]) -> String {
-    let show = |v: &Option<String>| v.as_deref().map_or("(none)".to_string(), |v| format!("\"{v}\""));
+    let show =
+        |v: &Option<String>| v.as_deref().map_or("(none)".to_string(), |v| format!("\"{v}\""));
     list.iter()
         .map(|a| format!("{}: {} → {}", a.name, show(&a.old), show(&a.new)))
         .collect::<Vec<_>>()
@@ -32,13 +33,9 @@ fn stage_lines(out: &mut String, indent: &str, list: &[StageChange]) {
         let _ = match c {
             StageChange::Added { tag, at } => writeln!(out, "{indent}+ {tag} ({})", loc(at)),
             StageChange::Removed { tag, at } => writeln!(out, "{indent}- {tag} ({})", loc(at)),
-            StageChange::Changed { tag, attrs: a, old_at, new_at } => writeln!(
-                out,
-                "{indent}~ {tag}: {} ({} → {})",
-                attrs(a),
-                loc(old_at),
-                loc(new_at)
-            ),
+            StageChange::Changed { tag, attrs: a, old_at, new_at } => {
+                writeln!(out, "{indent}~ {tag}: {} ({} → {})", attrs(a), loc(old_at), loc(new_at))
+            }
         };
     }
 }
@@ -86,7 +83,9 @@ pub fn summary(s: &Structure) -> String {
     stage_lines(&mut out, "  global exception ", &s.exceptions);
     for w in &s.waypoints {
         let _ = match w {
-            WaypointChange::Added { name, number } => writeln!(out, "  + waypoint {number} '{name}'"),
+            WaypointChange::Added { name, number } => {
+                writeln!(out, "  + waypoint {number} '{name}'")
+            }
             WaypointChange::Removed { name, number } => {
                 writeln!(out, "  - waypoint {number} '{name}'")
             }
@@ -120,7 +119,8 @@ fn side_cells(s: &StepSide) -> (String, String, String) {
 
 /// The distinguishing run side by side: one row per step (tab-separated, like `fpl sim`).
 pub fn table(d: &Divergence) -> String {
-    let mut out = String::from("step\told block\tstage\tcode executed\tnew block\tstage\tcode executed\n");
+    let mut out =
+        String::from("step\told block\tstage\tcode executed\tnew block\tstage\tcode executed\n");
     for (i, s) in d.steps.iter().enumerate() {
         let what = match (s.call, s.jump) {
             (_, Some(b)) => format!("jump {b}"),
@@ -152,7 +152,8 @@ pub fn render(r: &DiffReport) -> String {
         out.push_str("structure:\n");
         out.push_str(&s);
     }
-    let env = if r.operator_jumps { "with ground-station jumps" } else { "without ground-station jumps" };
+    let env =
+        if r.operator_jumps { "with ground-station jumps" } else { "without ground-station jumps" };
     let _ = match r.verdict {
         Verdict::Equivalent => writeln!(
             out,
@@ -171,8 +172,12 @@ pub fn render(r: &DiffReport) -> String {
         let n = d.steps.len();
         let what = match d.kind {
             PartingKind::Init => "auto_nav_init() runs other code".to_string(),
-            PartingKind::Event => format!("event {} of the last step differs", d.event_index.unwrap_or(0) + 1),
-            PartingKind::State => "same events, another block or stage after the last step".to_string(),
+            PartingKind::Event => {
+                format!("event {} of the last step differs", d.event_index.unwrap_or(0) + 1)
+            }
+            PartingKind::State => {
+                "same events, another block or stage after the last step".to_string()
+            }
         };
         let _ = writeln!(out, "first difference after {n} step(s): {what}");
         let show = |o: &super::Observed| {

@@ -31,12 +31,29 @@ pub enum StageChange {
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "change", rename_all = "snake_case")]
 pub enum BlockChange {
-    Added { name: String, number: usize, at: Location },
-    Removed { name: String, number: usize, at: Location },
+    Added {
+        name: String,
+        number: usize,
+        at: Location,
+    },
+    Removed {
+        name: String,
+        number: usize,
+        at: Location,
+    },
     /// Same content under another name.
-    Renamed { old: String, new: String, old_number: usize, new_number: usize },
+    Renamed {
+        old: String,
+        new: String,
+        old_number: usize,
+        new_number: usize,
+    },
     /// Same name and content, another number.
-    Renumbered { name: String, old_number: usize, new_number: usize },
+    Renumbered {
+        name: String,
+        old_number: usize,
+        new_number: usize,
+    },
     Changed {
         name: String,
         old_number: usize,
@@ -51,14 +68,35 @@ pub enum BlockChange {
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "change", rename_all = "snake_case")]
 pub enum WaypointChange {
-    Added { name: String, number: usize },
-    Removed { name: String, number: usize },
+    Added {
+        name: String,
+        number: usize,
+    },
+    Removed {
+        name: String,
+        number: usize,
+    },
     /// Same number, another name.
-    Renamed { old: String, new: String, number: usize },
-    Renumbered { name: String, old_number: usize, new_number: usize },
+    Renamed {
+        old: String,
+        new: String,
+        number: usize,
+    },
+    Renumbered {
+        name: String,
+        old_number: usize,
+        new_number: usize,
+    },
     /// Moved on the ground by this many metres (between the positions the header gives it).
-    Moved { name: String, metres: f64 },
-    Altitude { name: String, old: Option<String>, new: Option<String> },
+    Moved {
+        name: String,
+        metres: f64,
+    },
+    Altitude {
+        name: String,
+        old: Option<String>,
+        new: Option<String>,
+    },
 }
 
 /// The summary.
@@ -147,7 +185,12 @@ fn stage_text(c: &mut Canon, s: &FpStage, out: &mut String) {
             let mut texts: Vec<String> = Vec::new();
             let mut add = |t: &str| texts.push(c.text(t).to_string());
             n.init.iter().flatten().for_each(|x| add(&x.text));
-            n.pre_call.iter().chain(&n.before).chain(&n.lines).chain(&n.post_call).for_each(|x| add(&x.text));
+            n.pre_call
+                .iter()
+                .chain(&n.before)
+                .chain(&n.lines)
+                .chain(&n.post_call)
+                .for_each(|x| add(&x.text));
             n.approach.iter().for_each(|(x, _)| add(x));
             n.until.iter().for_each(|x| add(x));
             write!(out, "{:?} {};", n.kind, texts.join("|"))
@@ -187,7 +230,11 @@ fn blocks(old: Version<'_>, new: Version<'_>, ca: &mut Canon, cb: &mut Canon) ->
         used_b[j] = true;
         if ka[i] == kb[j] {
             if i != j {
-                out.push(BlockChange::Renumbered { name: name(old.plan, i), old_number: i, new_number: j });
+                out.push(BlockChange::Renumbered {
+                    name: name(old.plan, i),
+                    old_number: i,
+                    new_number: j,
+                });
             }
             continue;
         }
@@ -199,8 +246,18 @@ fn blocks(old: Version<'_>, new: Version<'_>, ca: &mut Canon, cb: &mut Canon) ->
             old_number: i,
             new_number: j,
             attrs,
-            stages: stages((old.plan, &pa.stages, &old.fp.blocks[i].stages), (new.plan, &pb.stages, &new.fp.blocks[j].stages), ca, cb),
-            exceptions: exceptions((old.plan, &pa.exceptions, &old.fp.blocks[i].exceptions), (new.plan, &pb.exceptions, &new.fp.blocks[j].exceptions), ca, cb),
+            stages: stages(
+                (old.plan, &pa.stages, &old.fp.blocks[i].stages),
+                (new.plan, &pb.stages, &new.fp.blocks[j].stages),
+                ca,
+                cb,
+            ),
+            exceptions: exceptions(
+                (old.plan, &pa.exceptions, &old.fp.blocks[i].exceptions),
+                (new.plan, &pb.exceptions, &new.fp.blocks[j].exceptions),
+                ca,
+                cb,
+            ),
         });
     }
     // Same content, another name: renamed.
@@ -211,7 +268,12 @@ fn blocks(old: Version<'_>, new: Version<'_>, ca: &mut Canon, cb: &mut Canon) ->
         if let Some(j) = (0..kb.len()).find(|&j| !used_b[j] && kb[j] == ka[i]) {
             used_a[i] = true;
             used_b[j] = true;
-            out.push(BlockChange::Renamed { old: name(old.plan, i), new: name(new.plan, j), old_number: i, new_number: j });
+            out.push(BlockChange::Renamed {
+                old: name(old.plan, i),
+                new: name(new.plan, j),
+                old_number: i,
+                new_number: j,
+            });
         }
     }
     for i in (0..ka.len()).filter(|&i| !used_a[i]) {
@@ -226,7 +288,11 @@ fn blocks(old: Version<'_>, new: Version<'_>, ca: &mut Canon, cb: &mut Canon) ->
 }
 
 /// Stages of both versions, flattened in order (loop bodies after their loop).
-fn flatten<'a>(ast: &'a [ast::Stage], fp: &'a [FpStage], out: &mut Vec<(&'a ast::Stage, &'a FpStage)>) {
+fn flatten<'a>(
+    ast: &'a [ast::Stage],
+    fp: &'a [FpStage],
+    out: &mut Vec<(&'a ast::Stage, &'a FpStage)>,
+) {
     for (a, f) in ast.iter().zip(fp) {
         out.push((a, f));
         match (&a.kind, f) {
@@ -269,36 +335,51 @@ fn exceptions(
     let mut out = Vec::new();
     for (i, j) in align(&ka, &kb) {
         match (i, j) {
-            (Some(i), None) => out.push(StageChange::Removed { tag: "exception".into(), at: Location::of(a.0, a.1[i].span) }),
-            (None, Some(j)) => out.push(StageChange::Added { tag: "exception".into(), at: Location::of(b.0, b.1[j].span) }),
+            (Some(i), None) => out.push(StageChange::Removed {
+                tag: "exception".into(),
+                at: Location::of(a.0, a.1[i].span),
+            }),
+            (None, Some(j)) => out.push(StageChange::Added {
+                tag: "exception".into(),
+                at: Location::of(b.0, b.1[j].span),
+            }),
             _ => {}
         }
     }
     pair_changes(out, |old, new| {
-        let (x, y) = (find_at(a.1.iter().map(|e| (e.span, &e.attrs)), a.0, old), find_at(b.1.iter().map(|e| (e.span, &e.attrs)), b.0, new));
+        let (x, y) = (
+            find_at(a.1.iter().map(|e| (e.span, &e.attrs)), a.0, old),
+            find_at(b.1.iter().map(|e| (e.span, &e.attrs)), b.0, new),
+        );
         x.zip(y).map(|(x, y)| attr_changes(x, y))
     })
 }
 
-fn find_at<'a>(mut it: impl Iterator<Item = (crate::span::Span, &'a ast::Attrs)>, p: &FlightPlan, at: &Location) -> Option<&'a ast::Attrs> {
+fn find_at<'a>(
+    mut it: impl Iterator<Item = (crate::span::Span, &'a ast::Attrs)>,
+    p: &FlightPlan,
+    at: &Location,
+) -> Option<&'a ast::Attrs> {
     it.find(|(s, _)| Location::of(p, *s) == *at).map(|(_, a)| a)
 }
 
 /// Adjacent removed + added of the same tag become one "changed" entry.
-fn pair_changes(list: Vec<StageChange>, attrs: impl Fn(&Location, &Location) -> Option<Vec<AttrChange>>) -> Vec<StageChange> {
+fn pair_changes(
+    list: Vec<StageChange>,
+    attrs: impl Fn(&Location, &Location) -> Option<Vec<AttrChange>>,
+) -> Vec<StageChange> {
     let mut out: Vec<StageChange> = Vec::new();
     for c in list {
         let merged = match (out.last(), &c) {
-            (Some(StageChange::Removed { tag: t0, at: old_at }), StageChange::Added { tag, at })
-                if t0 == tag =>
-            {
-                attrs(old_at, at).map(|a| StageChange::Changed {
-                    tag: tag.clone(),
-                    attrs: a,
-                    old_at: old_at.clone(),
-                    new_at: at.clone(),
-                })
-            }
+            (
+                Some(StageChange::Removed { tag: t0, at: old_at }),
+                StageChange::Added { tag, at },
+            ) if t0 == tag => attrs(old_at, at).map(|a| StageChange::Changed {
+                tag: tag.clone(),
+                attrs: a,
+                old_at: old_at.clone(),
+                new_at: at.clone(),
+            }),
             _ => None,
         };
         match merged {
@@ -312,7 +393,11 @@ fn pair_changes(list: Vec<StageChange>, attrs: impl Fn(&Location, &Location) -> 
     out
 }
 
-fn describe(items: Vec<(Option<&ast::Stage>, Option<&ast::Stage>)>, pa: &FlightPlan, pb: &FlightPlan) -> Vec<StageChange> {
+fn describe(
+    items: Vec<(Option<&ast::Stage>, Option<&ast::Stage>)>,
+    pa: &FlightPlan,
+    pb: &FlightPlan,
+) -> Vec<StageChange> {
     let mut list = Vec::new();
     let mut by_loc: Vec<(Location, &ast::Attrs)> = Vec::new();
     for (x, y) in items {
@@ -385,7 +470,11 @@ fn waypoints(a: &FlightPlan, b: &FlightPlan) -> Vec<WaypointChange> {
         used_b[j] = true;
         same_waypoint(&mut out, (a, w), (b, &b.waypoints[j]), &w.name.value);
         if i != j {
-            out.push(WaypointChange::Renumbered { name: w.name.value.clone(), old_number: i + 1, new_number: j + 1 });
+            out.push(WaypointChange::Renumbered {
+                name: w.name.value.clone(),
+                old_number: i + 1,
+                new_number: j + 1,
+            });
         }
     }
     for i in 0..a.waypoints.len() {
@@ -393,7 +482,11 @@ fn waypoints(a: &FlightPlan, b: &FlightPlan) -> Vec<WaypointChange> {
             used_a[i] = true;
             used_b[i] = true;
             let (x, y) = (&a.waypoints[i], &b.waypoints[i]);
-            out.push(WaypointChange::Renamed { old: x.name.value.clone(), new: y.name.value.clone(), number: i + 1 });
+            out.push(WaypointChange::Renamed {
+                old: x.name.value.clone(),
+                new: y.name.value.clone(),
+                number: i + 1,
+            });
             same_waypoint(&mut out, (a, x), (b, y), &y.name.value);
         }
     }
@@ -406,7 +499,12 @@ fn waypoints(a: &FlightPlan, b: &FlightPlan) -> Vec<WaypointChange> {
     out
 }
 
-fn same_waypoint(out: &mut Vec<WaypointChange>, a: (&FlightPlan, &ast::Waypoint), b: (&FlightPlan, &ast::Waypoint), name: &str) {
+fn same_waypoint(
+    out: &mut Vec<WaypointChange>,
+    a: (&FlightPlan, &ast::Waypoint),
+    b: (&FlightPlan, &ast::Waypoint),
+    name: &str,
+) {
     if let (Some(p), Some(q)) = (position(a.0, a.1), position(b.0, b.1)) {
         let metres = (p.0 - q.0).hypot(p.1 - q.1);
         if metres > 0.0 {
@@ -415,7 +513,12 @@ fn same_waypoint(out: &mut Vec<WaypointChange>, a: (&FlightPlan, &ast::Waypoint)
     }
     let alt = |w: &ast::Waypoint| w.alt.as_ref().or(w.height.as_ref()).map(|n| n.value);
     if alt(a.1) != alt(b.1) {
-        let text = |w: &ast::Waypoint| w.alt.as_ref().or(w.height.as_ref()).map(|n| n.text.value.clone());
-        out.push(WaypointChange::Altitude { name: name.to_string(), old: text(a.1), new: text(b.1) });
+        let text =
+            |w: &ast::Waypoint| w.alt.as_ref().or(w.height.as_ref()).map(|n| n.text.value.clone());
+        out.push(WaypointChange::Altitude {
+            name: name.to_string(),
+            old: text(a.1),
+            new: text(b.1),
+        });
     }
 }
