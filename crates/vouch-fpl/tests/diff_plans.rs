@@ -431,3 +431,40 @@ fn mutants_are_replayable_on_the_interpreter() {
     }
     assert_eq!(vouch_fpl::diff::replay_args(&d), " --answers '1 1 1 1' --jump 1:9 --steps 5");
 }
+
+/// The crafted pair in `tests/diff_plans/` (written for this repository).
+fn crafted(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/diff_plans").join(name)
+}
+
+#[test]
+fn a_procedure_inlined_by_hand_is_equivalent() {
+    let r = compare(&crafted("with_procedure.xml"), &crafted("inlined.xml"), true);
+    assert_eq!(r.verdict, Verdict::Equivalent, "{}", vouch_fpl::diff::render(&r));
+    let summary = vouch_fpl::diff::summary(&r.structure);
+    // Matched by content: the procedure's blocks under their new names.
+    assert!(summary.contains("block 'L.approach' renamed 'Approach'"), "{summary}");
+    assert!(summary.contains("block 'L.final' renamed 'Final'"), "{summary}");
+    assert!(!summary.contains("waypoint"), "{summary}");
+    // Upstream merges an empty header for the include; not behaviour, but reported.
+    assert!(r.structure.header_changed);
+}
+
+#[test]
+fn a_change_in_the_inlined_copy_is_found() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(crafted("inlined.xml")).expect("read");
+    let changed = dir.path().join("inlined_changed.xml");
+    std::fs::write(&changed, text.replacen("@GT 0.50", "@GT 0.60", 1)).expect("write");
+    let r = compare(&crafted("with_procedure.xml"), &changed, true);
+    assert_eq!(r.verdict, Verdict::Different);
+    // Jump to block 3 (the procedure's first block), one call: the baseleg code, the circle's
+    // four lines, then the until condition (upstream prints %f floats).
+    assert_eq!(describe_run(&r), ["jump 3", "call [0, 0, 0]"]);
+    let d = r.divergence.expect("divergence");
+    assert_eq!(d.old.text.as_deref(), Some("C 0 (NavCircleCount()>0.500000)"));
+    assert_eq!(d.new.text.as_deref(), Some("C 0 (NavCircleCount()>0.600000)"));
+    // Located in the procedure file on one side and in the plan on the other.
+    assert!(d.old.location.expect("old").file.ends_with("landing_proc.xml"));
+    assert!(d.new.location.expect("new").file.ends_with("inlined_changed.xml"));
+}
