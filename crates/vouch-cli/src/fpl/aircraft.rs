@@ -47,7 +47,8 @@ pub struct AircraftArgs {
     /// Both of the above (gen_aircraft's -all for the flight-plan part)
     #[arg(long)]
     all: bool,
-    /// Print exactly what upstream prints, its known mistakes included
+    /// Print exactly what upstream prints, its known mistakes included, procedures searched
+    /// in upstream's order, and upstream's "No SRTM data found to check altitude." line
     #[arg(long)]
     upstream_compat: bool,
 }

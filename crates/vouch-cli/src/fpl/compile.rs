@@ -52,7 +52,10 @@ pub struct CompileArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "out_dir")]
     settings_header: Option<PathBuf>,
     /// Print exactly what upstream's generator prints, its known mistakes included (EGM96
-    /// heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates)
+    /// heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates); search
+    /// included procedures in upstream's order (the plan's directory, then
+    /// $PAPARAZZI_HOME/conf/flight_plans); and print upstream's own stderr line "No SRTM data
+    /// found to check altitude." when no SRTM terrain tile covers the reference (-v says why)
     #[arg(long)]
     upstream_compat: bool,
     /// Paparazzi home whose data/srtm/WW15MGH.DAC[.bz2] and conf/abi.xml are read (default:

@@ -53,8 +53,9 @@ pub enum FplCmd {
     /// rejected, 2 error, 3 mismatch.
     #[command(after_help = "Example:\n  vouch fpl validate examples/fpl/demo.xml --bounds")]
     Validate(evidence::ValidateArgs),
-    /// Mission-level warnings (codes fpl::W001...), located in the XML. Exit 0, or 3 with
-    /// --strict when there are warnings.
+    /// Mission-level warnings (codes fpl::W001...), located in the XML, and the warnings
+    /// `compile` gives (upstream's notices, fpl::W02x) on stderr. Exit 0, or 3 with --strict
+    /// when there are warnings.
     #[command(after_help = "Example:\n  vouch fpl lint examples/fpl/demo.xml --strict")]
     Lint(evidence::LintArgs),
     /// Model checking on the plan's whole reachable state graph (the validator's walk, free
@@ -112,6 +113,7 @@ impl PlanArgs {
         let opts = vouch_fpl::front::Options {
             search_dirs: self.include_dirs.clone(),
             allow_forbidden_deroutes,
+            ..Default::default()
         };
         let plan = vouch_fpl::front::parse_file_with(&self.plan, &opts).map_err(rejected)?;
         for w in &plan.warnings {
@@ -144,8 +146,17 @@ fn lowered(plan: &FlightPlan) -> Result<Fp, Failure> {
 fn report_built(ctx: &Ctx, built: &vouch_fpl::pipeline::Built, upstream_compat: bool) {
     use vouch_fpl::emit::terrain::Coverage;
     match &built.terrain {
-        Coverage::NoTile { .. } if upstream_compat => {
+        Coverage::NoTile { name, searched } if upstream_compat => {
             ctx.note("No SRTM data found to check altitude.");
+            if ctx.verbosity == Verbosity::Verbose {
+                let dirs: Vec<String> = searched.iter().map(|d| d.display().to_string()).collect();
+                ctx.note(format_args!(
+                    "note: the line above is upstream's generator's own stderr line, printed as \
+                     upstream prints it under --upstream-compat: no SRTM tile {name} (searched \
+                     {}), so the terrain is not checked",
+                    dirs.join(", ")
+                ));
+            }
         }
         Coverage::NoTile { name, searched } if ctx.verbosity == Verbosity::Verbose => {
             let dirs: Vec<String> = searched.iter().map(|d| d.display().to_string()).collect();
