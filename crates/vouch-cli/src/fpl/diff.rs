@@ -156,7 +156,7 @@ fn lines(bytes: Vec<u8>) -> Vec<String> {
 /// The plans to compare with `REV`: the ones named, or every `.xml` that changed since REV
 /// and is a flight plan now.
 fn git_pairs(rev: &str, plans: &[PathBuf]) -> Result<Vec<Pair>, Failure> {
-    let cwd = std::env::current_dir().map_err(|e| Failure::usage(e))?;
+    let cwd = std::env::current_dir().map_err(Failure::usage)?;
     let root = PathBuf::from(lines(git(&cwd, &["rev-parse", "--show-toplevel"])?).join(""));
     let plans: Vec<PathBuf> = if plans.is_empty() {
         lines(git(&root, &["diff", "--name-only", rev, "--", "*.xml"])?)
@@ -184,7 +184,7 @@ fn git_pair(rev: &str, root: &Path, plan: &Path) -> Result<Pair, Failure> {
         .find(|d| d.join("flight_plan.dtd").is_file())
         .and_then(|d| d.strip_prefix(&root).ok())
         .map(Path::to_path_buf);
-    let dir = tempfile::tempdir().map_err(|e| Failure::usage(e))?;
+    let dir = tempfile::tempdir().map_err(Failure::usage)?;
     let mut folders: Vec<PathBuf> = rel.parent().map(Path::to_path_buf).into_iter().collect();
     folders.extend(procedures.clone());
     for folder in folders {
