@@ -1,11 +1,19 @@
 #!/usr/bin/env bash
 # Installs the real peers the tests talk to: a Python venv with pymavlink, MAVProxy and MAVSDK,
 # rosbags and mcap-ros2-support (all from PyPI), Dask distributed (the engine of the navfn
-# campaign's distributed test), and socat (Debian) for the do-nothing relay of the guard benchmark.
+# campaign's distributed test), socat (Debian) for the do-nothing relay of the guard benchmark, and
+# for `vouch fpl validate --target cortex-m4|cortex-m7` the ARM cross compiler with its C library
+# and the emulator (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v socat >/dev/null 2>&1; then
   (apt-get update -qq && apt-get install -y -qq socat) >/dev/null 2>&1 || echo "socat not installed (benchmark relay will be skipped)"
+fi
+if ! command -v arm-none-eabi-gcc >/dev/null 2>&1 || ! command -v qemu-system-arm >/dev/null 2>&1 \
+  || [ ! -d /usr/lib/arm-none-eabi/newlib ]; then
+  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm) >/dev/null 2>&1 \
+    || echo "ARM cross compiler or QEMU not installed (the fpl --target cortex-m tests will be skipped)"
 fi
 if [ ! -x .venv/bin/python ]; then
   python3 -m venv .venv

@@ -78,3 +78,25 @@ fn corpus_lint_summary() {
         counts(&all).iter().map(|(c, n)| format!("{}={n}", c.code())).collect();
     eprintln!("corpus lint: {} warnings: {}", all.len(), summary.join(" "));
 }
+
+/// W009: comparisons with a decimal constant that single precision does not hold exactly,
+/// located at the constant; exact constants and constants outside comparisons are not reported.
+#[test]
+fn float_width_dependent_comparisons_are_found() {
+    let xml = r#"<flight_plan name="f" lat0="43.46" lon0="1.27" alt="200" ground_alt="150" security_height="25" max_dist_from_home="1000">
+<waypoints><waypoint name="HOME" x="0" y="0"/><waypoint name="A" x="10" y="0"/></waypoints>
+<exceptions><exception cond="GetPosAlt() @GT ground_alt + 10.3" deroute="HOME"/></exceptions>
+<blocks><block name="b">
+<go wp="A" until="stage_time > 2.5"/>
+<set var="x" value="x + 0.1"/>
+<while cond="y == 0.1 || z > 16777217"><call_once fun="f()"/></while>
+</block></blocks></flight_plan>"#;
+    let plan = vouch_fpl::front::parse_str("f.xml", xml).expect("parses");
+    let w: Vec<_> = lint(&plan).into_iter().filter(|w| w.rule == Rule::FloatWidth).collect();
+    let at: Vec<(u32, u32, &str)> =
+        w.iter().map(|w| (w.span.line, w.span.col, plan.sources.snippet(w.span))).collect();
+    // columns: the value of `cond` starts at 30 and 10.3 follows 29 characters; `while cond="` is 13
+    assert_eq!(at, [(3, 59, "10.3"), (7, 19, "0.1"), (7, 30, "16777217")]);
+    assert!(w[0].message.contains("10.300000190734863"), "{}", w[0].message);
+    assert_eq!(Rule::FloatWidth.code(), "fpl::W009");
+}

@@ -263,8 +263,9 @@ fn a_crash_is_reported_on_its_path() {
     assert!(r.abstracted.restarts >= 1);
 }
 
-/// A static the declaration scan cannot read (a parenthesised declarator) is still seen: the
-/// driver watches the whole writable data segment.
+/// A static the declaration scan cannot read (a name in parentheses without `*`, `(seen)`,
+/// which it takes for a function declarator) is still seen: the driver watches the whole
+/// writable data segment.
 #[test]
 fn unregistered_static_storage_is_watched() {
     let Some(_cc) = common::c_compiler() else { return };

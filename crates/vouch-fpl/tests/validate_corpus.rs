@@ -5,28 +5,15 @@
 
 mod common;
 
-use rayon::prelude::*;
 use std::time::Instant;
-use vouch_fpl::evidence::validate::{Options, Report, validate};
+use vouch_fpl::evidence::validate::Options;
 
 #[test]
 fn every_corpus_plan_validates_to_the_fixpoint() {
     let Some(_cc) = common::c_compiler() else { return };
-    let Some(dir) = common::corpus_dir() else { return };
-    let plans = common::corpus_plans(&dir);
-    assert_eq!(plans.len(), 104);
     let t0 = Instant::now();
     let opts = Options { random_runs: 3, random_steps: 300, ..Options::default() };
-    let results: Vec<(String, Result<Report, String>)> = plans
-        .par_iter()
-        .map(|p| {
-            let name = p.strip_prefix(&dir).unwrap_or(p).display().to_string();
-            let r = vouch_fpl::front::parse_file(p)
-                .map_err(|d| d.listing())
-                .and_then(|plan| validate(&plan, &opts).map_err(|e| e.to_string()));
-            (name, r)
-        })
-        .collect();
+    let Some(results) = common::validate_corpus(&opts) else { return };
     let mut failures = Vec::new();
     let (mut states, mut transitions, mut second, mut random) = (0, 0, 0, 0);
     let mut slowest: Vec<(f64, &str, usize, usize)> = Vec::new();

@@ -67,3 +67,98 @@ fn upstreams_exceeding_time_text_is_a_disagreement_with_the_semantics() {
     let cx = format!("{:?}", r.counterexample.expect("a counterexample"));
     assert!(cx.contains("-a+b"), "{cx}");
 }
+
+/// The build directory is private and fresh: a directory planted at the name the validator
+/// once used (`$TMPDIR/vouch-fpl-validate-<pid>-<n>`, accepted when it existed) is ignored,
+/// and nothing in it runs.
+#[test]
+fn a_planted_build_directory_is_never_used() {
+    use std::os::unix::fs::PermissionsExt;
+    let Some(_cc) = vouch_testkit::c_compiler() else { return };
+    let planted = std::env::temp_dir().join(format!("vouch-fpl-validate-{}-0", std::process::id()));
+    let marker = planted.join("ran");
+    std::fs::create_dir_all(&planted).expect("plant");
+    let evil = "#!/bin/sh\ntouch \"$(dirname \"$0\")/ran\"\n";
+    for name in ["driver", "cc"] {
+        std::fs::write(planted.join(name), evil).expect("plant");
+        std::fs::set_permissions(planted.join(name), std::fs::Permissions::from_mode(0o755))
+            .expect("chmod");
+    }
+    let r = validate(
+        &plan("mutation.xml"),
+        &Options { random_runs: 1, random_steps: 50, ..Options::default() },
+    )
+    .expect("validates");
+    assert!(r.passed() && r.fixpoint);
+    assert!(!marker.exists(), "a program of the planted directory ran");
+    std::fs::remove_dir_all(&planted).expect("clean up");
+}
+
+/// The driver's directory is made private (mode 0700) under an unpredictable name, differs
+/// from build to build, and is gone once the driver is.
+#[test]
+fn the_build_directory_is_private_unpredictable_and_removed() {
+    use std::os::unix::fs::PermissionsExt;
+    use vouch_fpl::evidence::cdriver::{Driver, Limits, Target};
+    let Some(_cc) = vouch_testkit::c_compiler() else { return };
+    let p = plan("mutation.xml");
+    let h = vouch_fpl::emit::compile_plan(
+        &p,
+        &vouch_fpl::emit::EmitOptions {
+            flavor: vouch_fpl::emit::Flavor::Instrumented,
+            ..Default::default()
+        },
+    )
+    .expect("compiles");
+    let limits = Limits { leaf_budget: 100, question_limit: 100, values: (-128, 127) };
+    let a = Driver::build(&h, limits, Target::Host, None).expect("builds");
+    let b = Driver::build(&h, limits, Target::Host, None).expect("builds");
+    let (da, db) = (a.build_dir().to_path_buf(), b.build_dir().to_path_buf());
+    assert_ne!(da, db);
+    for d in [&da, &db] {
+        let mode = std::fs::metadata(d).expect("exists").permissions().mode() & 0o777;
+        assert_eq!(mode, 0o700, "{}", d.display());
+        let name = d.file_name().and_then(|n| n.to_str()).expect("name");
+        let pid_form = format!("vouch-fpl-validate-{}-", std::process::id());
+        assert!(name.starts_with("vouch-fpl-validate-") && !name.starts_with(&pid_form), "{name}");
+    }
+    drop(a);
+    drop(b);
+    assert!(!da.exists() && !db.exists());
+}
+
+/// Plan variables of every declaration form (arrays with brace initialisers, pointers, a
+/// pointer to function, qualifiers) compile in the validation header and are found as C state.
+#[test]
+fn array_and_pointer_variables_validate_to_the_fixpoint() {
+    let Some(_cc) = vouch_testkit::c_compiler() else { return };
+    let r = validate(
+        &plan("arrays.xml"),
+        &Options { random_runs: 2, random_steps: 300, ..Options::default() },
+    )
+    .unwrap_or_else(|e| panic!("arrays.xml: {e}"));
+    assert!(r.passed(), "{:?}", r.counterexample);
+    assert!(r.fixpoint && r.cut.is_none());
+    for v in ["buf", "grid", "names", "target", "on_done", "count", "laps"] {
+        assert!(r.abstracted.c_variables.iter().any(|c| c == v), "{v} is C state");
+    }
+}
+
+/// A call with 33,151 paths (two loops in a row bounded by plan variables, see the plan):
+/// the former fixed cap of 20,000 paths cut it, and the report says exactly which state was
+/// cut; the default budget now covers it and the walk reaches its fixpoint.
+#[test]
+fn a_plan_that_hit_the_former_path_cap_reaches_the_fixpoint() {
+    let Some(_cc) = vouch_testkit::c_compiler() else { return };
+    let p = plan("wide.xml");
+    let old = Options { max_paths_per_call: 20_000, random_runs: 0, ..Options::default() };
+    let cut = validate(&p, &old).expect("runs");
+    assert!(cut.passed() && cut.incomplete() && !cut.fixpoint);
+    assert_eq!(cut.cut_states, ["block 0 'Grid' stage 0"]);
+    assert!(cut.render("wide.xml").contains("NOT ESTABLISHED for the whole plan: 1 state(s) cut"));
+    let r = validate(&p, &Options { random_runs: 1, random_steps: 100, ..Options::default() })
+        .expect("runs");
+    assert!(r.passed(), "{:?}", r.counterexample);
+    assert!(r.fixpoint && !r.incomplete() && r.cut_states.is_empty());
+    eprintln!("wide.xml: {} states, {} transitions, {:.2} s", r.states, r.transitions, r.seconds);
+}

@@ -28,15 +28,47 @@ pub struct ValidateArgs {
     /// Calls in each random run
     #[arg(long, default_value_t = 500)]
     random_steps: usize,
-    /// State budget: beyond it the walk is cut (and reported as not a fixpoint)
+    /// State budget: beyond it the walk is cut (reported as not a fixpoint, exit 3)
     #[arg(long, default_value_t = 200_000)]
     max_states: usize,
+    /// Paths of one call: beyond it the call is cut (reported as not a fixpoint, exit 3)
+    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    max_paths: usize,
     /// Also print the static per-block bound (stages and external events per call)
     #[arg(long)]
     bounds: bool,
     /// Print the report as one JSON document (the per-block bound included)
     #[arg(long)]
     json: bool,
+    /// Where the compiled C runs: this machine (`host`, the system `cc`), or an emulated
+    /// Cortex-M4/M7 (`arm-none-eabi-gcc` with the flags of a Paparazzi STM32 build, QEMU)
+    #[arg(long, value_enum, default_value_t = TargetArg::Host)]
+    target: TargetArg,
+    /// Code-generation flags replacing the target's defaults (one string, split at blanks),
+    /// e.g. --cflags '-mcpu=cortex-m4 -mthumb -O2 -fsingle-precision-constant'
+    #[arg(long, value_name = "FLAGS", allow_hyphen_values = true)]
+    cflags: Option<String>,
+}
+
+/// `--target` of `vouch fpl validate`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TargetArg {
+    /// The system C compiler on this machine
+    Host,
+    /// Cortex-M4F (STM32F4 autopilots): arm-none-eabi-gcc, QEMU mps2-an386
+    CortexM4,
+    /// Cortex-M7 (STM32F7 autopilots): arm-none-eabi-gcc, QEMU mps2-an500
+    CortexM7,
+}
+
+impl From<TargetArg> for validate::Target {
+    fn from(t: TargetArg) -> Self {
+        match t {
+            TargetArg::Host => validate::Target::Host,
+            TargetArg::CortexM4 => validate::Target::CortexM4,
+            TargetArg::CortexM7 => validate::Target::CortexM7,
+        }
+    }
 }
 
 /// Arguments of `vouch fpl lint`.
@@ -101,6 +133,9 @@ pub fn validate(a: ValidateArgs, ctx: &mut Ctx) -> CmdResult {
         random_runs: a.random_runs,
         random_steps: a.random_steps,
         max_states: a.max_states,
+        max_paths_per_call: a.max_paths,
+        target: a.target.into(),
+        cflags: a.cflags.as_deref().map(|f| f.split_whitespace().map(str::to_string).collect()),
         ..validate::Options::default()
     };
     let report = validate::validate(&plan, &opts).map_err(|e| {
@@ -112,7 +147,8 @@ pub fn validate(a: ValidateArgs, ctx: &mut Ctx) -> CmdResult {
         text.push_str(&report.bound.render());
     }
     print_report(ctx, a.json, &report, &text)?;
-    Ok(if report.passed() { Exit::Ok } else { Exit::Findings })
+    // a walk cut by a budget has not established what was asked
+    Ok(if report.passed() && !report.incomplete() { Exit::Ok } else { Exit::Findings })
 }
 
 /// `vouch fpl lint`: the warnings, then a count per code.

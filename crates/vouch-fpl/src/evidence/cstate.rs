@@ -168,6 +168,9 @@ fn declared_names<'a>(stmt: &[Tok<'a>]) -> Option<Vec<&'a str>> {
     let mut names = Vec::new();
     let mut last_ident: Option<&'a str> = None;
     let mut in_init = false;
+    // the current declarator's name was in parentheses (`(*cb)(void)`, `(*rows)[4]`): the
+    // groups after it are its parameter lists or dimensions
+    let mut parenthesised = false;
     let mut i = 0;
     while i < stmt.len() {
         let t = &stmt[i];
@@ -179,7 +182,20 @@ fn declared_names<'a>(stmt: &[Tok<'a>]) -> Option<Vec<&'a str>> {
                 }
                 continue;
             }
-            "(" if !in_init => return None, // a function declarator
+            "(" if !in_init && !parenthesised => {
+                if stmt.get(i + 1).is_none_or(|t| t.text != "*") {
+                    return None; // a function declarator
+                }
+                let end = skip_group(stmt, i);
+                last_ident = stmt[i + 1..end.saturating_sub(1)]
+                    .iter()
+                    .filter(|t| t.ident && !matches!(t.text, "const" | "volatile" | "restrict"))
+                    .map(|t| t.text)
+                    .next();
+                parenthesised = true;
+                i = end;
+                continue;
+            }
             "(" | "[" | "{" => {
                 i = skip_group(stmt, i);
                 continue;
@@ -191,8 +207,9 @@ fn declared_names<'a>(stmt: &[Tok<'a>]) -> Option<Vec<&'a str>> {
             "," => {
                 names.extend(last_ident.take());
                 in_init = false;
+                parenthesised = false;
             }
-            _ if t.ident && !in_init => last_ident = Some(t.text),
+            _ if t.ident && !in_init && !parenthesised => last_ident = Some(t.text),
             _ => {}
         }
         i += 1;
@@ -410,6 +427,20 @@ static inline void auto_nav(void) {
             ]
         );
         assert!(d.runtime_registrations.starts_with("VOUCH_REGISTER(0, nav_block)\n"));
+    }
+
+    #[test]
+    fn every_declaration_form_of_plan_variables() {
+        // the forms `<type> <var> = <init>;` takes with the types and names plans use
+        let header = "#ifdef NAV_C\nuint8_t buf[4] = FP_I(\"{0}\");\nfloat m[2][3] = FP_I(\"{{0}}\");\nfloat *p = FP_I(\"0\");\nvoid (*cb)(void) = FP_I(\"0\");\nint (*rows)[4] = FP_I(\"0\");\nconst int k = FP_I(\"3\"), *q = FP_I(\"0\");\nvolatile bool flag = FP_I(\"false\");\nstruct point { float x, y; } pt = FP_I(\"{0}\");\nint f(int a);\nint (g)(int);\n#endif\n";
+        let d = discover(header, RUNTIME);
+        let names: Vec<&str> =
+            d.vars.iter().filter(|v| !v.runtime).map(|v| v.name.as_str()).collect();
+        assert_eq!(names, ["buf", "m", "p", "cb", "rows", "k", "q", "flag", "pt"]);
+        assert!(
+            d.registered_header
+                .contains("void (*cb)(void) = FP_I(\"0\");\nVOUCH_REGISTER(10, cb)\n")
+        );
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! the back end rejects. They are static over-approximations of the plan's behaviour: a block
 //! is "reachable" when some chain of next-block, deroute or exception edges leads to it.
 
+mod float_width;
 mod report;
 pub(crate) mod rules;
 
@@ -37,11 +38,13 @@ pub enum Rule {
     UnusedWaypoint,
     /// Stages that can never run.
     DeadStage,
+    /// A comparison with a constant that single precision does not hold exactly.
+    FloatWidth,
 }
 
 impl Rule {
     /// Every rule, in code order.
-    pub const ALL: [Rule; 8] = [
+    pub const ALL: [Rule; 9] = [
         Rule::UnreachableBlock,
         Rule::AlwaysForbidden,
         Rule::ForbiddenWhen,
@@ -50,6 +53,7 @@ impl Rule {
         Rule::SelfException,
         Rule::UnusedWaypoint,
         Rule::DeadStage,
+        Rule::FloatWidth,
     ];
 
     /// The stable code.
@@ -63,6 +67,7 @@ impl Rule {
             Rule::SelfException => "fpl::W006",
             Rule::UnusedWaypoint => "fpl::W007",
             Rule::DeadStage => "fpl::W008",
+            Rule::FloatWidth => "fpl::W009",
         }
     }
 
@@ -85,6 +90,9 @@ impl Rule {
             Rule::SelfException => "block exception targets its own block and can never fire",
             Rule::UnusedWaypoint => "waypoint never used by the plan",
             Rule::DeadStage => "stage can never run (it follows a deroute, return or home stage)",
+            Rule::FloatWidth => {
+                "comparison with a constant that single precision does not hold exactly: its result depends on float width"
+            }
         }
     }
 }
@@ -147,6 +155,7 @@ pub fn lint(plan: &FlightPlan) -> Vec<Warning> {
     rules::self_exceptions(plan, &mut out);
     rules::unused_waypoints(plan, &mut out);
     rules::dead_stages(plan, &mut out);
+    float_width::float_width(plan, &mut out);
     out.sort_by_key(|w| (w.span.file.0, w.span.start, w.rule));
     for w in &mut out {
         w.attach(&plan.sources);

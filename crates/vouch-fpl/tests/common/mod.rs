@@ -32,3 +32,25 @@ pub fn stub_dir() -> PathBuf {
 pub fn c_compiler() -> Option<String> {
     vouch_testkit::c_compiler()
 }
+
+/// Every corpus plan validated with `opts`, in parallel: (corpus-relative name, the report or
+/// the error's text).
+pub fn validate_corpus(
+    opts: &vouch_fpl::evidence::validate::Options,
+) -> Option<Vec<(String, Result<vouch_fpl::evidence::validate::Report, String>)>> {
+    use rayon::prelude::*;
+    let dir = corpus_dir()?;
+    let plans = corpus_plans(&dir);
+    assert_eq!(plans.len(), 104);
+    let results = plans
+        .par_iter()
+        .map(|p| {
+            let name = p.strip_prefix(&dir).unwrap_or(p).display().to_string();
+            let r = vouch_fpl::front::parse_file(p).map_err(|d| d.listing()).and_then(|plan| {
+                vouch_fpl::evidence::validate::validate(&plan, opts).map_err(|e| e.to_string())
+            });
+            (name, r)
+        })
+        .collect();
+    Some(results)
+}

@@ -8,9 +8,9 @@
  * runtime globals of fp_stub.h) is one field of the *state bytes*, in registration order. A
  * request gives a state; the driver writes it into the variables ("restore"), runs, and reads
  * them back. Whatever else the program keeps in static storage must never change: after every
- * run the driver compares the whole writable data segment of the executable (found from
- * /proc/self/maps and the linker's `edata`/`end`) outside the registered variables with its
- * image taken at start-up, and reports any difference (`H`): state the validator does not see.
+ * run the driver compares the program's whole static storage (as the platform finds it:
+ * vouch_watch_range) outside the registered variables with its image taken at start-up, and
+ * reports any difference (`H`): state the validator does not see.
  *
  * Requests on stdin, one per line; every answer ends with "done <cut>":
  *
@@ -32,16 +32,25 @@
  *                           <changes>: " offset=value" for every byte that differs.
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
+ *   F                       the decimal constants of the plan's comparisons as compiled
+ *                           (vouch_consts.h): F <hex of the double's bytes, lowest first>
  *
  *   H <offset>              (after a record) its runs wrote outside the registered variables
  *   A <signal> k a1..ak     the process dies (crash, time-out) on that answer prefix (or
  *   A <signal> J b          during the jump to block b); the answer is then "done 0" and the
  *                           process exits.
  *
- * argv: leaf budget (paths per request), question limit (per call), lowest and highest value
- * tried for a non-literal value.
+ * argv (or, on the target, the first request line "L <budget> <limit> <lo> <hi>"): leaf budget
+ * (paths per request), question limit (per call), lowest and highest value tried for a
+ * non-literal value.
+ *
+ * This file is portable C99 (plus the linker-section registration of GCC): the same code runs
+ * on the host and on an emulated Cortex-M core. What differs — crash and time-out handlers, the
+ * extent of the program's static storage, running a plain walk isolated from the server's
+ * state — is behind the small platform interface below, implemented by host_rt.c (POSIX:
+ * signals, alarm, fork, /proc/self/maps) and target_rt.c (Cortex-M: fault handlers, SysTick,
+ * linker symbols, semihosting I/O through newlib).
  */
-#define _GNU_SOURCE
 /* The stub runtime is compiled in the same cc call with its own oracle renamed away
  * (-Dfp_cond=vouch_stub_fp_cond ...); this file defines the real ones. */
 #undef fp_cond
@@ -53,27 +62,25 @@
 #include <errno.h>
 #include <setjmp.h>
 #include <unistd.h>
-#include <signal.h>
-#include <sys/types.h>
-#include <sys/wait.h>
+#include "vouch_platform.h"
+#include "driver_text.h"
 
 struct vouch_var { unsigned long magic; long id; void *addr; unsigned long size; };
-#define VOUCH_MAGIC 0x766f7563685f7661UL
+/* truncated alike on 32- and 64-bit targets */
+#define VOUCH_MAGIC ((unsigned long)0x766f7563685f7661ULL)
 #define VOUCH_REGISTER(id, name) \
   static struct vouch_var vouch_var_##id __attribute__((used, section("vouch_vars"))) = \
     { VOUCH_MAGIC, id, (void *)&(name), sizeof(name) };
 #include "fp_stub.h"
 #include "vouch_runtime_vars.h"
+#include "vouch_consts.h"
 #define NAV_C
 #include "flight_plan.h"
 
 extern struct vouch_var __start_vouch_vars[], __stop_vouch_vars[];
-extern char edata, end;
 
-#define ALARM_SECONDS 20
+#define ALARM_SECONDS VOUCH_ALARM_SECONDS
 enum mode { SCRIPT, EXPLORE, FORCED };
-
-struct buf { char *p; size_t len, cap; };
 
 /* All mutable driver state lives on the heap, outside the data segment it watches. */
 struct driver {
@@ -105,68 +112,11 @@ struct driver {
   /* output: events are recorded into *rec when it is set */
   struct buf *rec;
   struct buf ev, ev2, out;
-  char *line;
-  size_t line_cap;
+  struct input in;
 };
 static struct driver *D;
 
-static void *grow(void *p, size_t n)
-{
-  void *q = realloc(p, n ? n : 1);
-  if (q == NULL) { _exit(4); }
-  return q;
-}
-
-/* ---- output ---- */
-static void put(struct buf *b, const char *s, size_t n)
-{
-  if (b->len + n > b->cap) {
-    size_t cap = b->cap ? b->cap : 4096;
-    while (cap < b->len + n) { cap *= 2; }
-    b->p = grow(b->p, cap);
-    b->cap = cap;
-  }
-  memcpy(b->p + b->len, s, n);
-  b->len += n;
-}
-static void put_s(struct buf *b, const char *s) { put(b, s, strlen(s)); }
-/* async-signal-safe decimal printing */
-static void put_l(struct buf *b, long v)
-{
-  char tmp[24];
-  int k = 24;
-  unsigned long u = v < 0 ? 0UL - (unsigned long)v : (unsigned long)v;
-  do { tmp[--k] = (char)('0' + u % 10); u /= 10; } while (u > 0);
-  if (v < 0) { tmp[--k] = '-'; }
-  put(b, tmp + k, (size_t)(24 - k));
-}
-static void put_text(struct buf *b, const char *t)
-{
-  for (; *t; t++) {
-    if (*t == '\\') { put_s(b, "\\\\"); }
-    else if (*t == '\n') { put_s(b, "\\n"); }
-    else if (*t == '\r') { put_s(b, "\\r"); }
-    else { put(b, t, 1); }
-  }
-  put_s(b, "\n");
-}
-static void write_all(const char *s, size_t n)
-{
-  while (n > 0) {
-    ssize_t w = write(1, s, n);
-    if (w < 0) { if (errno == EINTR) { continue; } _exit(5); }
-    s += w;
-    n -= (size_t)w;
-  }
-}
 static void flush_out(void) { write_all(D->out.p, D->out.len); D->out.len = 0; }
-static void put_answers(struct buf *b, const long *a, size_t n)
-{
-  put_l(b, (long)n);
-  for (size_t i = 0; i < n; i++) { put_s(b, " "); put_l(b, a[i]); }
-  put_s(b, "\n");
-}
-
 /* ---- the registered variables and the watched segment ---- */
 static void collect_vars(void)
 {
@@ -218,23 +168,14 @@ static int registered(const char *a)
   return 0;
 }
 
-/* The writable mappings covering [start of the one holding edata, end). */
+/* The program's static storage as the platform knows it; bytes outside every registered
+ * variable are compared with their image after every run. */
 static void watch_segment(void)
 {
-  FILE *f = fopen("/proc/self/maps", "r");
-  unsigned long a, b, lo = 0, hi = 0;
-  char perms[8];
-  unsigned long e = (unsigned long)&edata - 1, stop = (unsigned long)&end;
-  if (f == NULL) { return; }
-  while (fscanf(f, "%lx-%lx %7s%*[^\n]", &a, &b, perms) == 3) {
-    if (perms[0] != 'r' || perms[1] != 'w') { continue; }
-    if (a <= e && e < b) { lo = a; hi = b; }
-    else if (lo != 0 && a == hi && a < stop) { hi = b; }
-  }
-  fclose(f);
-  if (lo == 0 || hi < stop) { return; }
-  D->lo = (char *)lo;
-  D->hi = (char *)stop;
+  char *lo, *hi;
+  if (!vouch_watch_range(&lo, &hi) || hi <= lo) { return; }
+  D->lo = lo;
+  D->hi = hi;
   D->image = grow(NULL, (size_t)(D->hi - D->lo));
   D->clean = grow(NULL, sizeof *D->clean);
   D->n_clean = 0;
@@ -252,6 +193,15 @@ static void watch_segment(void)
   }
   memcpy(D->image, D->lo, (size_t)(D->hi - D->lo));
   D->watching = 1;
+}
+
+/* Puts the watched bytes back as they were at start-up (after an in-process walk). */
+static void reset_watched(void)
+{
+  for (size_t k = 0; D->watching && k < D->n_clean; k++) {
+    size_t a = D->clean[k][0], b = D->clean[k][1];
+    memcpy(D->lo + a, D->image + a, b - a);
+  }
 }
 
 /* Notes bytes written outside the registered variables (D->hidden, printed with the record of
@@ -366,12 +316,12 @@ int fp_value(const char *text)
   return (int)v;
 }
 
-/* ---- crashes and time-outs ---- */
-static void on_signal(int sig)
+/* ---- crashes and time-outs (called by the platform's handlers) ---- */
+static void on_crash(int status)
 {
   flush_out();
   put_s(&D->out, "A ");
-  put_l(&D->out, 128 + sig);
+  put_l(&D->out, status);
   put_s(&D->out, " ");
   if (D->jumping >= 0) {
     put_s(&D->out, "J ");
@@ -382,7 +332,7 @@ static void on_signal(int sig)
   }
   put_s(&D->out, "done 0\n");
   flush_out();
-  _exit(0);
+  vouch_exit(0);
 }
 
 /* ---- runs ---- */
@@ -524,35 +474,38 @@ static void put_state(struct buf *b)
   put_l(b, last_block); put_s(b, " "); put_l(b, last_stage); put_s(b, "\n");
 }
 
+/* The body of a plain walk: from the initial state, `calls` calls, the trace written out. */
+static void walk_body(long calls)
+{
+  restore(D->init_state);
+  D->mode = SCRIPT;
+  D->n_taken = 0;
+  D->ev.len = 0;
+  D->rec = &D->ev;
+  put_s(&D->ev, "init\n");
+  auto_nav_init();
+  for (long i = 1; i <= calls; i++) {
+    put_s(&D->ev, "step "); put_l(&D->ev, i); put_s(&D->ev, "\n");
+    auto_nav();
+    put_s(&D->ev, "S ");
+    put_state(&D->ev);
+  }
+  D->rec = NULL;
+  write_all(D->ev.p, D->ev.len);
+}
+
 static void walk(long calls)
 {
-  pid_t pid = fork();
-  if (pid < 0) { _exit(6); }
-  if (pid == 0) {
-    static const int sigs[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM };
-    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) { signal(sigs[i], SIG_DFL); }
-    alarm(ALARM_SECONDS);
+  int st = vouch_isolated(walk_body, calls);
+  if (st < 0) {
+    /* ran in this process: leave nothing of it behind */
     restore(D->init_state);
-    D->mode = SCRIPT;
-    D->n_taken = 0;
-    D->ev.len = 0;
-    D->rec = &D->ev;
-    put_s(&D->ev, "init\n");
-    auto_nav_init();
-    for (long i = 1; i <= calls; i++) {
-      put_s(&D->ev, "step "); put_l(&D->ev, i); put_s(&D->ev, "\n");
-      auto_nav();
-      put_s(&D->ev, "S ");
-      put_state(&D->ev);
-    }
-    write_all(D->ev.p, D->ev.len);
-    _exit(0);
+    reset_watched();
+    st = 0;
   }
-  int st = 0;
-  while (waitpid(pid, &st, 0) < 0 && errno == EINTR) { }
-  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
+  if (st != 0) {
     put_s(&D->out, "A ");
-    put_l(&D->out, WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st));
+    put_l(&D->out, st);
     put_s(&D->out, " 0\n");
   }
   put_s(&D->out, "done 0\n");
@@ -575,11 +528,29 @@ static int parse_hex(const char **p, unsigned char *s)
   return 1;
 }
 
+/* The comparison constants as this build reads them: the bytes of each double, lowest first. */
+static void constants(void)
+{
+  static const char hex[] = "0123456789abcdef";
+  for (size_t i = 1; i <= VOUCH_N_CONSTS; i++) {
+    unsigned char b[sizeof(double)];
+    memcpy(b, &vouch_consts[i], sizeof b);
+    put_s(&D->out, "F ");
+    for (size_t k = 0; k < sizeof b; k++) {
+      put(&D->out, &hex[b[k] >> 4], 1);
+      put(&D->out, &hex[b[k] & 15], 1);
+    }
+    put_s(&D->out, "\n");
+  }
+  put_s(&D->out, "done 0\n");
+}
+
 static void request(const char *line)
 {
   char *end;
   const char *p = line + 1;
   if (line[0] == 'I') { initial(); return; }
+  if (line[0] == 'F') { constants(); return; }
   if (line[0] == 'X') {
     int jumps = (int)strtol(p, &end, 10);
     p = end;
@@ -595,9 +566,9 @@ static void request(const char *line)
       if (!parse_hex(&p, D->copies + (size_t)i * D->state_len)) { break; }
       D->n_copies++;
     }
-    alarm(ALARM_SECONDS);
+    vouch_timer_arm(ALARM_SECONDS);
     explore(jumps);
-    alarm(0);
+    vouch_timer_arm(0);
     return;
   }
   if (line[0] == 'W') {
@@ -612,23 +583,38 @@ static void request(const char *line)
   }
 }
 
+static void set_limits(long budget, long limit, long lo, long hi)
+{
+  D->leaf_budget = budget;
+  D->question_limit = limit;
+  D->value_lo = lo;
+  D->value_hi = hi;
+  if (D->question_limit < 1 || D->question_limit > 1 << 20) { D->question_limit = 4096; }
+  D->cap_answers = (size_t)D->question_limit + 1 > 1 << 16 ? (size_t)D->question_limit + 1 : 1 << 16;
+  D->prefix = grow(D->prefix, D->cap_answers * sizeof(long));
+  D->taken = grow(D->taken, D->cap_answers * sizeof(long));
+}
+
 int main(int argc, char **argv)
 {
-  static const int sigs[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM };
   D = calloc(1, sizeof *D);
   if (D == NULL) { return 4; }
   D->jumping = -1;
-  D->leaf_budget = argc > 1 ? strtol(argv[1], NULL, 10) : 100000;
-  D->question_limit = argc > 2 ? strtol(argv[2], NULL, 10) : 4096;
-  D->value_lo = argc > 3 ? strtol(argv[3], NULL, 10) : -128;
-  D->value_hi = argc > 4 ? strtol(argv[4], NULL, 10) : 127;
-  if (D->question_limit < 1 || D->question_limit > 1 << 20) { D->question_limit = 4096; }
-  D->cap_answers = (size_t)D->question_limit + 1 > 1 << 16 ? (size_t)D->question_limit + 1 : 1 << 16;
-  D->prefix = grow(NULL, D->cap_answers * sizeof(long));
-  D->taken = grow(NULL, D->cap_answers * sizeof(long));
   collect_vars();
   capture(D->init_state);
-  for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) { signal(sigs[i], on_signal); }
+  if (argc > 4) {
+    set_limits(strtol(argv[1], NULL, 10), strtol(argv[2], NULL, 10),
+               strtol(argv[3], NULL, 10), strtol(argv[4], NULL, 10));
+  } else {
+    /* no arguments (the target): the limits are the first request */
+    if (!next_line(&D->in) || D->in.line[0] != 'L') { return 4; }
+    char *p = D->in.line + 1, *e;
+    long v[4];
+    for (int i = 0; i < 4; i++) { v[i] = strtol(p, &e, 10); p = e; }
+    set_limits(v[0], v[1], v[2], v[3]);
+    consume_line(&D->in);
+  }
+  vouch_platform_init(on_crash);
   /* the variable table: id and size of every registered variable */
   put_s(&D->out, "vars ");
   put_l(&D->out, (long)D->n_vars);
@@ -641,8 +627,9 @@ int main(int argc, char **argv)
   put_l(&D->out, D->watching ? (long)(D->hi - D->lo) : -1);
   put_s(&D->out, "\n");
   flush_out();
-  while (getline(&D->line, &D->line_cap, stdin) > 0) {
-    request(D->line);
+  while (next_line(&D->in)) {
+    request(D->in.line);
+    consume_line(&D->in);
     flush_out();
   }
   return 0;

@@ -27,8 +27,9 @@ mod report;
 
 use std::time::Instant;
 
-pub use report::{Abstracted, Counterexample, Report, RunPath};
+pub use report::{Abstracted, ConstantReading, Counterexample, Report, RunPath};
 
+pub use super::cdriver::Target;
 use super::cdriver::{Driver, DriverError, Limits};
 use super::wcet;
 use crate::ast::FlightPlan;
@@ -58,6 +59,10 @@ pub struct Options {
     pub max_states: usize,
     /// Paths of one call.
     pub max_paths_per_call: usize,
+    /// Where the compiled C runs.
+    pub target: Target,
+    /// Code-generation flags replacing the target's defaults.
+    pub cflags: Option<Vec<String>>,
 }
 
 impl Default for Options {
@@ -69,7 +74,9 @@ impl Default for Options {
             random_runs: 3,
             random_steps: 500,
             max_states: 200_000,
-            max_paths_per_call: 20_000,
+            max_paths_per_call: 100_000,
+            target: Target::Host,
+            cflags: None,
         }
     }
 }
@@ -115,7 +122,7 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         question_limit: bound.max_events + 1,
         values: VALUE_RANGE,
     };
-    let mut driver = Driver::build(header, limits)?;
+    let mut driver = Driver::build(header, limits, opts.target, opts.cflags.as_deref())?;
     let space_opts = SpaceOptions {
         operator_jumps: opts.operator_jumps,
         depth: opts.depth,
@@ -135,7 +142,10 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
     let findings = std::mem::take(&mut side.findings);
     let (cut_c, max_events_seen, second_runs) =
         (side.cut.clone(), side.max_events_seen, side.second_runs);
-    let cx = report::shortest(findings.into_iter().map(|f| counterexample(&walk, f)).collect());
+    let found_on = driver.target.name().to_string();
+    let cx = report::shortest(
+        findings.into_iter().map(|f| counterexample(&walk, f, &found_on)).collect(),
+    );
     let symbolic_loops = space
         .abstraction
         .symbolic
@@ -143,6 +153,8 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         .map(|l| format!("block {} '{}' {}", l.block, fp.blocks[l.block].name, l.var))
         .collect();
     let mut report = Report {
+        target: opts.target,
+        built: driver.describe(),
         fixpoint: walk.fixpoint && cut_c.is_none(),
         depth: opts.depth,
         operator_jumps: opts.operator_jumps,
@@ -159,12 +171,25 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
             restarts: driver.restarts,
         },
         random_calls: 0,
-        cut: walk.cut.or(cut_c),
+        cut: walk.cut.clone().or(cut_c),
+        cut_states: cut_states(fp, &walk),
         bound,
         max_events_seen,
         counterexample: cx,
         seconds: 0.0,
+        constants: Vec::new(),
     };
+    let values = driver.constant_values()?;
+    report.constants = driver
+        .constants
+        .iter()
+        .zip(values)
+        .map(|(text, compiled)| ConstantReading {
+            text: text.clone(),
+            host: text.parse().unwrap_or(f64::NAN),
+            compiled,
+        })
+        .collect();
     if report.counterexample.is_none() {
         random_runs(&mut driver, fp, opts, &mut report)?;
     }
@@ -172,11 +197,34 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
     Ok(report)
 }
 
+/// The states whose transitions a budget cut, as "block 'name' stage n" (the first paths of
+/// their calls, in answer order, were compared; the rest, and what they lead to, were not).
+fn cut_states(fp: &Fp, walk: &space::Explored) -> Vec<String> {
+    walk.incomplete
+        .iter()
+        .enumerate()
+        .filter(|(_, cut)| **cut)
+        .filter_map(|(i, _)| walk.nodes.get(i))
+        .map(|n| {
+            let name = fp.blocks.get(n.obs.block).map_or("?", |b| b.name.as_str());
+            // a block name is the user's text: no control character reaches the terminal
+            let name: String = name
+                .chars()
+                .map(
+                    |c| if c.is_control() { c.escape_unicode().to_string() } else { c.to_string() },
+                )
+                .collect();
+            format!("block {} '{name}' stage {}", n.obs.block, n.obs.stage)
+        })
+        .collect()
+}
+
 /// The counterexample of a finding: the path to its node, then its move.
-fn counterexample(walk: &space::Explored, f: Finding) -> Counterexample {
+fn counterexample(walk: &space::Explored, f: Finding, target: &str) -> Counterexample {
     let mut moves = walk.path_to(f.node);
     moves.extend(f.mv);
     let mut cx = Counterexample::new(RunPath::of(&moves), f.what, f.expected, f.actual);
+    cx.target = target.to_string();
     cx.other = f.other.map(|o| RunPath::of(&walk.path_to(o)));
     cx
 }
@@ -223,6 +271,7 @@ fn random_runs(
             cx.replay = format!(
                 "vouch fpl sim PLAN --seed {seed} --percent-true {percent} --steps {step} --trace"
             );
+            cx.target = driver.target.name().to_string();
             report.counterexample = Some(cx);
             return Ok(());
         }

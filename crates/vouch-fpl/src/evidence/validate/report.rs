@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use crate::evidence::cdriver::Target;
 use crate::evidence::wcet::PlanBound;
 use crate::semantics::space::Move;
 
@@ -85,6 +86,8 @@ pub struct Counterexample {
     pub other: Option<RunPath>,
     /// The command that replays the run on the semantics.
     pub replay: String,
+    /// The target the compiled C ran on when it disagreed (`host`, `cortex-m4`, ...).
+    pub target: String,
 }
 
 impl Counterexample {
@@ -99,6 +102,7 @@ impl Counterexample {
             expected,
             actual,
             other: None,
+            target: String::new(),
         }
     }
 
@@ -111,6 +115,9 @@ impl Counterexample {
             jumps: self.jumps.clone(),
         };
         let mut s = format!("  {}\n", self.what);
+        if !self.target.is_empty() {
+            s.push_str(&format!("  found on: {}\n", self.target));
+        }
         s.push_str(&path.render("  run: "));
         s.push_str(&format!("  replay: {}\n", self.replay));
         let (a, b) = match &self.other {
@@ -151,8 +158,22 @@ pub struct Abstracted {
     pub restarts: usize,
 }
 
+/// A decimal constant of the plan's comparisons as the host reads it (a correctly rounded
+/// double, as C without special flags) and as the validated build compiled it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConstantReading {
+    /// As written in the plan.
+    pub text: String,
+    pub host: f64,
+    pub compiled: f64,
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
+    /// Where the compiled C ran.
+    pub target: Target,
+    /// How it was built and run (compiler, flags, emulator).
+    pub built: String,
     /// Every reachable (interpreter, C) state pair was explored: agreement on every call and
     /// jump from all of them holds for runs of any length (over the abstraction).
     pub fixpoint: bool,
@@ -173,18 +194,30 @@ pub struct Report {
     pub random_calls: usize,
     /// Why the walk is incomplete (a budget).
     pub cut: Option<String>,
+    /// The states whose calls or successors the budget cut (their first paths, in answer
+    /// order, were compared; the rest, and every state only they lead to, were not).
+    pub cut_states: Vec<String>,
     pub bound: PlanBound,
     /// Largest number of events seen in one call.
     pub max_events_seen: usize,
     pub counterexample: Option<Counterexample>,
     /// Wall time of the whole validation, measured by this run.
     pub seconds: f64,
+    /// The decimal constants of the plan's comparisons as compiled (conditions are free in
+    /// the walk, so a constant the build rounds differently is reported here, not there).
+    pub constants: Vec<ConstantReading>,
 }
 
 impl Report {
     /// Whether the C and the semantics agreed everywhere they were compared.
     pub fn passed(&self) -> bool {
         self.counterexample.is_none()
+    }
+
+    /// A budget cut the walk: agreement holds on the explored part only, which is less than
+    /// what was asked (the CLI exits 3).
+    pub fn incomplete(&self) -> bool {
+        !self.fixpoint && self.cut.is_some()
     }
 
     /// The text of `vouch fpl validate` for the plan called `name`.
@@ -204,6 +237,14 @@ impl Report {
             "{name}: {verdict} — {reach}: {} states, {} transitions ({jumps}) compared in both directions, {} runs repeated with the dropped state changed, {} random calls, {:.2} s\n",
             self.states, self.transitions, self.second_runs, self.random_calls, self.seconds
         );
+        s.push_str(&format!("  compiled C: {}\n", self.built));
+        if self.incomplete() {
+            s.push_str(&format!(
+                "  NOT ESTABLISHED for the whole plan: {} state(s) cut — {}; their first paths (in answer order) were compared, their other paths and the states only those lead to were not\n",
+                self.cut_states.len(),
+                self.cut_states.join(", ")
+            ));
+        }
         let a = &self.abstracted;
         let watched = a.watched_bytes.map_or_else(
             || "the rest of static storage not watched on this platform".to_string(),
@@ -239,8 +280,45 @@ impl Report {
             "  bound per call: at most {} stages and {} external events (largest seen: {} events)\n",
             self.bound.max_stages, self.bound.max_events, self.max_events_seen
         ));
+        s.push_str(&self.render_constants());
         if let Some(cx) = &self.counterexample {
             s.push_str(&cx.render());
+        }
+        s
+    }
+
+    /// The constants the validated build reads differently from the host.
+    pub fn constant_differences(&self) -> Vec<&ConstantReading> {
+        self.constants.iter().filter(|c| c.host.to_bits() != c.compiled.to_bits()).collect()
+    }
+
+    fn render_constants(&self) -> String {
+        if self.constants.is_empty() {
+            return String::new();
+        }
+        let differ = self.constant_differences();
+        if differ.is_empty() {
+            let on = self.target.name();
+            return format!(
+                "  comparison constants: {} ({}), read by the {on} build exactly as on the host\n",
+                self.constants.len(),
+                self.constants.iter().map(|c| c.text.as_str()).collect::<Vec<_>>().join(", ")
+            );
+        }
+        let mut s = format!(
+            "  HOST AND {} DIFFER on {} of {} comparison constants (the walk leaves conditions free, so it agrees with the semantics either way; see fpl lint, fpl::W009):\n",
+            self.target.name().to_uppercase(),
+            differ.len(),
+            self.constants.len()
+        );
+        for c in differ {
+            s.push_str(&format!(
+                "    {}: host {:?}, {} {:?}\n",
+                c.text,
+                c.host,
+                self.target.name(),
+                c.compiled
+            ));
         }
         s
     }

@@ -8,7 +8,7 @@
  * through three macros so that a test can drive auto_nav() from a scripted sequence of answers:
  *   FP_C("cond")  -> answers a condition (consumes one number: odd = true)    trace: C <0|1> text
  *   FP_X("code")  -> records executed code                                    trace: X text
- *   FP_I("init")  -> a variable initialiser, 0 in tests
+ *   FP_I("init")  -> a variable initialiser, {0} (zero, for any type) in tests
  *   FP_V("value") -> an integer value (literal when the text is one, else consumes one number
  *                    and uses it shifted right by one)                         trace: V <int> text
  * The trace format is shared with the Rust interpreter (crate::semantics::trace).
@@ -68,8 +68,10 @@ long fp_value_of_number(long n);
 #define FP_C(text) fp_cond(text)
 #define FP_X(text) { fp_code(text); }
 #define FP_V(text) fp_value(text)
-/* Variable initialisers may name airframe constants; in tests every variable starts at 0. */
-#define FP_I(text) 0
+/* Variable initialisers may name airframe constants; in tests every variable starts at 0.
+ * A braced zero initialises any object type: scalars, pointers, arrays (`buf[4]`, init "{0}"),
+ * structures. */
+#define FP_I(text) {0}
 /* ABI callbacks of the header are only referenced by the (recorded, not executed) AbiBindMsg
  * lines of the instrumented header, so they are unused here by construction. */
 #pragma GCC diagnostic ignored "-Wunused-function"

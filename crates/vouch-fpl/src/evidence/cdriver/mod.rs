@@ -1,33 +1,24 @@
 //! Builds and talks to the C side of translation validation: the generated (instrumented)
 //! header with its state variables registered ([`super::cstate`]), the project's stub runtime
-//! and [`DRIVER_C`], compiled by the system C compiler into a small server process. The server
-//! restores a given C state, runs every path of one `auto_nav` call (and every operator jump)
-//! from it, and reports the events and the state after each (see the comment at the top of
-//! `c/explore_driver.c` for the line protocol).
+//! and [`DRIVER_C`], compiled into a small server for a [`Target`]: a process on the host, or a
+//! program on an emulated Cortex-M core (module `build`). The server restores a given C state,
+//! runs every path of one `auto_nav` call (and every operator jump) from it, and reports the
+//! events and the state after each (see the comment at the top of `c/explore_driver.c` for the
+//! line protocol, read in module `protocol`).
 //!
 //! The stub runtime sources are embedded from `tests/stub/` so the `vouch` binary can validate
 //! without the source tree; the runtime is therefore the same one the compiler's own tests use.
 
+mod build;
+mod protocol;
+
 use std::io::{BufRead, BufReader, Write};
-use std::path::PathBuf;
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::process::{Child, ChildStdin, ChildStdout, Stdio};
+
+pub use build::{DRIVER_C, RUNTIME_H, Target, comparison_constants};
+use protocol::{crashed, finish, parse_hex, parse_num, record_line};
 
 use super::cstate::{self, Discovery};
-
-pub const DRIVER_C: &str = include_str!("c/explore_driver.c");
-
-/// The stub runtime's declarations: its globals are state variables too.
-pub const RUNTIME_H: &str = include_str!("../../tests/stub/include/fp_stub.h");
-
-/// (relative path, contents) of the stub runtime files.
-const STUB_FILES: &[(&str, &str)] = &[
-    ("fp_stub.c", include_str!("../../tests/stub/fp_stub.c")),
-    ("include/fp_stub.h", RUNTIME_H),
-    ("include/std.h", include_str!("../../tests/stub/include/std.h")),
-    ("include/autopilot.h", include_str!("../../tests/stub/include/autopilot.h")),
-    ("include/generated/modules.h", include_str!("../../tests/stub/include/generated/modules.h")),
-    ("include/modules/core/abi.h", include_str!("../../tests/stub/include/modules/core/abi.h")),
-];
 
 /// What the driver is asked to explore with (fixed for one build).
 #[derive(Debug, Clone, Copy)]
@@ -40,13 +31,19 @@ pub struct Limits {
     pub values: (i64, i64),
 }
 
-/// A compiled driver in its own temporary directory (removed on drop).
+/// A compiled driver in its own private temporary directory (removed on drop).
 pub struct Driver {
-    dir: PathBuf,
+    dir: tempfile::TempDir,
     limits: Limits,
+    /// Where it runs.
+    pub target: Target,
+    /// The code-generation flags it was compiled with.
+    pub cflags: Vec<String>,
     proc: Proc,
     /// The state variables, in the order of the state bytes.
     pub discovery: Discovery,
+    /// The decimal constants of the plan's comparisons, as written (see [`Driver::constants`]).
+    pub constants: Vec<String>,
     /// Byte offset of every variable in the state bytes (one more entry: the total length).
     pub offsets: Vec<usize>,
     /// Size of the watched data segment, when the driver can watch it for unregistered writes.
@@ -119,19 +116,17 @@ pub struct Initial {
     pub hidden: Vec<usize>,
 }
 
-fn next_unique_dir() -> PathBuf {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    std::env::temp_dir().join(format!("vouch-fpl-validate-{}-{n}", std::process::id()))
-}
-
 /// Why the C side of the validation could not run.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum DriverError {
     /// The C compiler cannot be started.
     #[error("cannot run the C compiler '{cc}': {source}")]
-    #[diagnostic(code(fpl::E050), help("set CC to a C99 compiler"))]
+    #[diagnostic(
+        code(fpl::E050),
+        help(
+            "set CC to a C99 compiler (host), or install gcc-arm-none-eabi and libnewlib-arm-none-eabi (Debian) or set VOUCH_ARM_CC (cortex-m targets)"
+        )
+    )]
     NoCompiler {
         /// The compiler command (`$CC` or `cc`).
         cc: String,
@@ -145,6 +140,18 @@ pub enum DriverError {
     HeaderRejected {
         /// The first lines of the compiler's messages.
         log: String,
+    },
+    /// The emulator that runs the target build cannot be started.
+    #[error("cannot run the emulator '{qemu}': {source}")]
+    #[diagnostic(
+        code(fpl::E054),
+        help("install qemu-system-arm (Debian) or set VOUCH_QEMU_ARM; --target host needs none")
+    )]
+    NoEmulator {
+        /// The emulator command (`$VOUCH_QEMU_ARM` or `qemu-system-arm`).
+        qemu: String,
+        /// Why it could not start.
+        source: std::io::Error,
     },
     /// A temporary file or the driver process could not be written, read or started.
     #[error("{what}: {source}")]
@@ -161,81 +168,46 @@ pub enum DriverError {
     Protocol(String),
 }
 
-fn io_err(what: &str) -> impl FnOnce(std::io::Error) -> DriverError + '_ {
+pub(super) fn io_err(what: &str) -> impl FnOnce(std::io::Error) -> DriverError + '_ {
     move |source| DriverError::Io { what: what.to_string(), source }
 }
 
-fn protocol(msg: impl Into<String>) -> DriverError {
+pub(super) fn protocol(msg: impl Into<String>) -> DriverError {
     DriverError::Protocol(msg.into())
-}
-
-/// Compiles the driver in `dir`; `Ok(Err(log))` when the compiler rejects the sources.
-fn compile(dir: &std::path::Path) -> Result<Result<(), String>, DriverError> {
-    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
-    let out = Command::new(&cc)
-        .current_dir(dir)
-        .args(["-std=c99", "-O0", "-w", "-Iinclude", "-I."])
-        .args([
-            "-Dfp_cond=vouch_stub_fp_cond",
-            "-Dfp_code=vouch_stub_fp_code",
-            "-Dfp_value=vouch_stub_fp_value",
-        ])
-        // everything resolved at start-up, the GOT read-only: the watched segment then holds
-        // only the program's own static variables
-        .args(["-Wl,-z,relro,-z,now"])
-        .args(["fp_stub.c", "explore_driver.c", "-o", "driver"])
-        .output()
-        .map_err(|source| DriverError::NoCompiler { cc, source })?;
-    if out.status.success() {
-        return Ok(Ok(()));
-    }
-    let msg = String::from_utf8_lossy(&out.stderr);
-    Ok(Err(msg.lines().take(20).collect::<Vec<_>>().join("\n")))
 }
 
 impl Driver {
     /// Compiles `header` (an instrumented `flight_plan.h`) with its state variables registered
-    /// and the stub runtime, and starts the server.
-    pub fn build(header: &str, limits: Limits) -> Result<Driver, DriverError> {
-        let dir = next_unique_dir();
+    /// and the stub runtime for `target` (with `cflags`, else the target's default flags), and
+    /// starts the server.
+    pub fn build(
+        header: &str,
+        limits: Limits,
+        target: Target,
+        cflags: Option<&[String]>,
+    ) -> Result<Driver, DriverError> {
+        build::check_emulator(target)?;
+        let cflags = cflags.map_or_else(|| target.default_cflags(), <[String]>::to_vec);
+        let dir = tempfile::Builder::new()
+            .prefix("vouch-fpl-validate-")
+            .permissions(private())
+            .tempdir()
+            .map_err(io_err("cannot create a private build directory"))?;
         let discovery = cstate::discover(header, RUNTIME_H);
-        let written = (|| {
-            std::fs::create_dir_all(dir.join("include/generated")).map_err(io_err("temp dir"))?;
-            std::fs::create_dir_all(dir.join("include/modules/core"))
-                .map_err(io_err("temp dir"))?;
-            for (rel, text) in STUB_FILES {
-                std::fs::write(dir.join(rel), text).map_err(io_err(rel))?;
-            }
-            std::fs::write(dir.join("flight_plan.h"), &discovery.registered_header)
-                .map_err(io_err("flight_plan.h"))?;
-            std::fs::write(dir.join("vouch_runtime_vars.h"), &discovery.runtime_registrations)
-                .map_err(io_err("vouch_runtime_vars.h"))?;
-            std::fs::write(dir.join("explore_driver.c"), DRIVER_C).map_err(io_err("driver"))?;
-            compile(&dir)
-        })();
-        match written {
-            Ok(Ok(())) => {}
-            Ok(Err(log)) => {
-                let _ = std::fs::remove_dir_all(&dir);
-                return Err(DriverError::HeaderRejected { log });
-            }
-            Err(e) => {
-                let _ = std::fs::remove_dir_all(&dir);
-                return Err(e);
-            }
+        let constants = build::comparison_constants(header);
+        build::write_sources(dir.path(), &discovery, &constants)?;
+        if let Err(log) = build::compile(dir.path(), target, &cflags)? {
+            return Err(DriverError::HeaderRejected { log });
         }
-        let proc = match Self::spawn(&dir, limits) {
-            Ok(p) => p,
-            Err(e) => {
-                let _ = std::fs::remove_dir_all(&dir);
-                return Err(e);
-            }
-        };
+        let proc = Self::spawn(dir.path(), target, limits)?;
         let mut d = Driver {
             dir,
             limits,
+            target,
+            cflags,
             proc,
             discovery,
+            constants,
             offsets: Vec::new(),
             watched: None,
             restarts: 0,
@@ -244,10 +216,9 @@ impl Driver {
         Ok(d)
     }
 
-    fn spawn(dir: &std::path::Path, l: Limits) -> Result<Proc, DriverError> {
-        let mut child = Command::new(dir.join("driver"))
-            .args([l.leaf_budget, l.question_limit].map(|n| n.to_string()))
-            .args([l.values.0, l.values.1].map(|n| n.to_string()))
+    fn spawn(dir: &std::path::Path, target: Target, l: Limits) -> Result<Proc, DriverError> {
+        let (mut cmd, intro) = build::command(dir, target, l)?;
+        let mut child = cmd
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -256,7 +227,23 @@ impl Driver {
         let stdin = child.stdin.take().ok_or_else(|| protocol("no standard input"))?;
         let stdout =
             BufReader::new(child.stdout.take().ok_or_else(|| protocol("no standard output"))?);
-        Ok(Proc { child, stdin, stdout })
+        let mut p = Proc { child, stdin, stdout };
+        if let Some(line) = intro {
+            p.stdin.write_all(line.as_bytes()).map_err(io_err("driver write"))?;
+            p.stdin.write_all(b"\n").map_err(io_err("driver write"))?;
+            p.stdin.flush().map_err(io_err("driver write"))?;
+        }
+        Ok(p)
+    }
+
+    /// The private directory the driver was built in (removed with the driver).
+    pub fn build_dir(&self) -> &std::path::Path {
+        self.dir.path()
+    }
+
+    /// How the driver was built and where it ran, for reports.
+    pub fn describe(&self) -> String {
+        self.target.describe(&self.cflags)
     }
 
     /// The first two lines of a fresh process: the variable sizes and the watched segment.
@@ -309,7 +296,7 @@ impl Driver {
     fn restart(&mut self) -> Result<(), DriverError> {
         let _ = self.proc.child.kill();
         let _ = self.proc.child.wait();
-        self.proc = Self::spawn(&self.dir, self.limits)?;
+        self.proc = Self::spawn(self.dir.path(), self.target, self.limits)?;
         self.restarts += 1;
         self.read_table()
     }
@@ -357,10 +344,10 @@ impl Driver {
         copies: &[Vec<u8>],
         jumps: bool,
     ) -> Result<Expansion, DriverError> {
-        let mut line = format!("X {} {} {}", u8::from(jumps), hex(state), copies.len());
+        let mut line = format!("X {} {} {}", u8::from(jumps), hex::encode(state), copies.len());
         for c in copies {
             line.push(' ');
-            line.push_str(&hex(c));
+            line.push_str(&hex::encode(c));
         }
         self.send(&line)?;
         let mut ex = Expansion::default();
@@ -397,6 +384,25 @@ impl Driver {
         }
     }
 
+    /// The values the compiled C gives the [`Driver::constants`], in their order (read back as
+    /// the double the compiler made of each literal).
+    pub fn constant_values(&mut self) -> Result<Vec<f64>, DriverError> {
+        self.send("F")?;
+        let mut out = Vec::new();
+        loop {
+            let l = self.read_line()?;
+            if l.starts_with("done") {
+                return Ok(out);
+            }
+            let bytes = l
+                .strip_prefix("F ")
+                .and_then(|h| hex::decode(h.trim()).ok())
+                .and_then(|b| <[u8; 8]>::try_from(b).ok())
+                .ok_or_else(|| protocol(format!("bad constant line '{l}'")))?;
+            out.push(f64::from_le_bytes(bytes));
+        }
+    }
+
     /// One plain run of `calls` calls from the initial state, in a child process; returns the
     /// trace text (format of `Run::to_text`) and whether the process ended normally.
     pub fn walk(&mut self, calls: usize, answers: &[i64]) -> Result<(String, bool), DriverError> {
@@ -411,6 +417,10 @@ impl Driver {
         loop {
             let l = self.read_line()?;
             if l.starts_with("done ") {
+                if !ok && self.target != Target::Host {
+                    // on the target the walk runs in the server itself, which has ended
+                    self.restart()?;
+                }
                 return Ok((out, ok));
             }
             if l.starts_with("A ") {
@@ -423,137 +433,16 @@ impl Driver {
     }
 }
 
+/// Owner only (0700): no other user can add to or change the programs built there.
+fn private() -> std::fs::Permissions {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::Permissions::from_mode(0o700)
+}
+
 impl Drop for Driver {
     fn drop(&mut self) {
+        // (the build directory is removed when `dir` drops)
         let _ = self.proc.child.kill();
         let _ = self.proc.child.wait();
-        let _ = std::fs::remove_dir_all(&self.dir);
     }
-}
-
-fn finish(ex: &mut Expansion, run: Option<CRun>) {
-    ex.runs.extend(run);
-}
-
-fn done_run(jump: Option<usize>, answers: Vec<i64>) -> CRun {
-    CRun::Done {
-        jump,
-        answers,
-        events: Vec::new(),
-        after: Vec::new(),
-        seconds: Vec::new(),
-        hidden: Vec::new(),
-    }
-}
-
-/// `A <status> k a1..ak` or `A <status> J b`.
-fn crashed(rest: &str) -> Result<CRun, DriverError> {
-    let (st, rest) = rest.split_once(' ').unwrap_or((rest, "0"));
-    let status = st.parse::<i64>().map_err(|_| protocol(format!("bad status '{st}'")))?;
-    Ok(match rest.strip_prefix("J ") {
-        Some(b) => CRun::Crashed { status, answers: Vec::new(), jump: Some(parse_num(b)?) },
-        None => CRun::Crashed { status, answers: parse_answers(rest)?, jump: None },
-    })
-}
-
-/// One line of an `X` answer other than its end: a record starts (`P`, `J`, `L`) or the current
-/// one goes on (`S`, `T`, `H`, event lines). `states` are the requested state and its copies.
-fn record_line(
-    ex: &mut Expansion,
-    cur: &mut Option<CRun>,
-    l: &str,
-    states: (&[u8], &[Vec<u8>]),
-) -> Result<(), DriverError> {
-    let (tag, rest) = l.split_once(' ').unwrap_or((l, ""));
-    match (tag, cur.as_mut()) {
-        ("P", _) => {
-            finish(ex, cur.take());
-            *cur = Some(done_run(None, parse_answers(rest)?));
-        }
-        ("J", _) => {
-            finish(ex, cur.take());
-            *cur = Some(done_run(Some(parse_num(rest)?), Vec::new()));
-        }
-        ("L", _) => {
-            finish(ex, cur.take());
-            ex.runs.push(CRun::TooLong { answers: parse_answers(rest)? });
-        }
-        ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
-        ("T", Some(CRun::Done { seconds, .. })) => {
-            let (i, changes) = rest.split_once(' ').unwrap_or((rest, ""));
-            let base = states.1.get(parse_num(i)?).ok_or_else(|| protocol("T line for no copy"))?;
-            seconds.push(if changes.trim() == "!" {
-                Second::Differs(Vec::new())
-            } else {
-                Second::Same(apply_changes(base, changes)?)
-            })
-        }
-        // (a run that did not end is reported as such already)
-        ("H", Some(CRun::Done { hidden, .. })) => hidden.push(parse_num(rest)?),
-        ("H", _) => {}
-        ("S" | "T", _) => return Err(protocol(format!("{tag} line outside a run"))),
-        (_, Some(CRun::Done { seconds, events, .. })) => match seconds.last_mut() {
-            Some(Second::Differs(ev2)) => ev2.push(l.to_string()),
-            _ => events.push(l.to_string()),
-        },
-        _ => return Err(protocol(format!("unexpected line '{l}'"))),
-    }
-    Ok(())
-}
-
-/// Lowercase hexadecimal text of `bytes`.
-pub fn hex(bytes: &[u8]) -> String {
-    const DIGITS: &[u8; 16] = b"0123456789abcdef";
-    let mut s = String::with_capacity(2 * bytes.len());
-    for b in bytes {
-        s.push(char::from(DIGITS[usize::from(b >> 4)]));
-        s.push(char::from(DIGITS[usize::from(b & 15)]));
-    }
-    s
-}
-
-fn parse_hex(text: &str) -> Result<Vec<u8>, DriverError> {
-    let t = text.trim().as_bytes();
-    if !t.len().is_multiple_of(2) {
-        return Err(protocol("odd hexadecimal state"));
-    }
-    t.chunks(2)
-        .map(|c| {
-            std::str::from_utf8(c)
-                .ok()
-                .and_then(|s| u8::from_str_radix(s, 16).ok())
-                .ok_or_else(|| protocol("bad hexadecimal state"))
-        })
-        .collect()
-}
-
-fn parse_num(text: &str) -> Result<usize, DriverError> {
-    text.trim().parse().map_err(|_| protocol(format!("bad number '{text}'")))
-}
-
-/// `base` with the ` offset=value` changes of a driver line applied.
-fn apply_changes(base: &[u8], changes: &str) -> Result<Vec<u8>, DriverError> {
-    let mut s = base.to_vec();
-    for w in changes.split_whitespace() {
-        let (o, v) = w.split_once('=').ok_or_else(|| protocol(format!("bad change '{w}'")))?;
-        let o: usize = o.parse().map_err(|_| protocol(format!("bad offset '{o}'")))?;
-        let v: u8 = v.parse().map_err(|_| protocol(format!("bad byte '{v}'")))?;
-        *s.get_mut(o).ok_or_else(|| protocol(format!("offset {o} out of the state")))? = v;
-    }
-    Ok(s)
-}
-
-fn parse_answers(rest: &str) -> Result<Vec<i64>, DriverError> {
-    let mut it = rest.split_whitespace();
-    let n: usize = it
-        .next()
-        .and_then(|w| w.parse().ok())
-        .ok_or_else(|| protocol(format!("bad answer list '{rest}'")))?;
-    let v = it
-        .map(|w| w.parse::<i64>().map_err(|_| protocol(format!("bad answer '{w}'"))))
-        .collect::<Result<Vec<_>, _>>()?;
-    if v.len() != n {
-        return Err(protocol(format!("answer count mismatch in '{rest}'")));
-    }
-    Ok(v)
 }
