@@ -2,7 +2,7 @@
 //! (EGM96 heights where the geoid is negative, `WAYPOINTS_GLOBAL` of "D M S" coordinates, the
 //! `exceeding_time` sign), the emitter prints either upstream's text ([`Compat::Upstream`],
 //! `--upstream-compat`) or the right one ([`Compat::Corrected`], each difference announced as a
-//! located `fpl::W020`). The choice is one value handed to the emitter; [`Choices`] applies it
+//! located `fpl::W020`). The choice is one value handed to the emitter; `Choices` applies it
 //! where a value is printed and keeps the corrections it made.
 
 use crate::diag::Diagnostic;
