@@ -339,9 +339,12 @@ fn bench_measures_an_oracle_side_by_side() {
     ]);
     let out = text(&o.stdout);
     assert!(out.contains("ratio") && out.contains("alternating"), "{out}");
-    // an oracle that fails is an I/O error
+    // an oracle that fails is an I/O error, and so is a command line that does not split
     let o = vouch(&["navfn", "bench", SUITE, "--oracle", "false", "--passes", "1", "--no-process"]);
     assert_eq!(code(&o), 2, "{}", text(&o.stderr));
+    let o = vouch(&["navfn", "bench", SUITE, "--oracle", "'unbalanced", "--no-process"]);
+    assert_eq!(code(&o), 2, "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("unbalanced quote"), "{}", text(&o.stderr));
 }
 
 #[test]
@@ -367,7 +370,17 @@ fn bench_scale_reports_explored_cells_and_memory() {
     let rows = rows.as_array().expect("rows");
     let names: Vec<&str> = rows.iter().map(|r| r["workload"].as_str().expect("name")).collect();
     assert_eq!(names[..2], ["scale navfn-astar 20x20", "scale navfn-astar 40x40"], "{names:?}");
-    assert!(names[2..].iter().all(|n| n.starts_with("scale navfn-astar 40x40 d=")), "{names:?}");
+    let (distance, process): (Vec<&str>, Vec<&str>) =
+        names[2..].iter().partition(|n| n.starts_with("scale navfn-astar 40x40 d="));
+    assert!(!distance.is_empty(), "{names:?}");
+    assert_eq!(
+        process,
+        [
+            "process navfn-astar 20x20, one process per map",
+            "process navfn-astar 40x40, one process per map"
+        ],
+        "{names:?}"
+    );
     // corner to corner on a connected random map explores cells; a longer case explores more
     assert!(rows.iter().all(|r| r["count"].as_u64().is_some_and(|c| c > 0)), "{rows:?}");
     assert!(rows[0]["vouch_peak_rss_kb"].as_u64().is_some_and(|k| k > 0));

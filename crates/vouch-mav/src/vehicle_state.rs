@@ -6,6 +6,8 @@
 //! believes what it is given: the monitor feeds it only frames from the vehicle side, from a
 //! system that side has shown to be a vehicle (the trust boundary, see `monitor`).
 
+use std::collections::HashMap;
+
 use crate::codec::MessageView;
 use crate::codec::view::{read_chars, read_field};
 use crate::dialect::{Dialect, FieldDef, MsgIndex};
@@ -38,6 +40,9 @@ pub struct VehicleState {
     pub armed: Option<bool>,
     pub custom_mode: Option<u32>,
     pub mav_type: Option<u8>,
+    /// Component id of the autopilot (the sender of its heartbeats): replies made in the
+    /// vehicle's name come from it.
+    pub autopilot_comp: Option<u8>,
     /// Altitude above home, metres (GLOBAL_POSITION_INT.relative_alt).
     pub alt_m: Option<f64>,
     /// Climb rate, metres per second, positive up (VFR_HUD.climb or −GLOBAL_POSITION_INT.vz).
@@ -55,24 +60,37 @@ struct Fields {
     param_value: Option<(MsgIndex, FieldDef, FieldDef)>,
 }
 
-/// Names of the parameters protocols refer to, interned at load time.
+/// Names of the parameters protocols refer to, interned at load time (with the whole family of
+/// an interpolated id such as `"SERVO{n}_FUNCTION"`, so that outputs chosen by number at run
+/// time are known).
 #[derive(Debug, Clone, Default)]
 pub struct ParamTable {
     pub names: Vec<String>,
+    /// Upper-case id → slot, for the lookup of every PARAM_VALUE.
+    index: HashMap<Vec<u8>, usize>,
 }
+
+/// Parameter ids have at most this many bytes (PARAM_VALUE.param_id).
+const PARAM_ID_MAX: usize = 16;
 
 impl ParamTable {
     pub fn intern(&mut self, name: &str) -> usize {
-        if let Some(i) = self.names.iter().position(|n| n == name) {
+        let key = name.as_bytes().to_ascii_uppercase();
+        if let Some(&i) = self.index.get(&key) {
             return i;
         }
         self.names.push(name.to_string());
+        self.index.insert(key, self.names.len() - 1);
         self.names.len() - 1
     }
 
     /// The slot of a parameter id, matched without regard to ASCII case (as ArduPilot does).
     pub fn find(&self, id: &[u8]) -> Option<usize> {
-        self.names.iter().position(|n| n.as_bytes().eq_ignore_ascii_case(id))
+        let mut key = [0u8; PARAM_ID_MAX];
+        let upper = key.get_mut(..id.len())?;
+        upper.copy_from_slice(id);
+        upper.make_ascii_uppercase();
+        self.index.get(&upper[..]).copied()
     }
 }
 
@@ -184,6 +202,7 @@ impl VehicleTracker {
             st.armed = Some(armed);
             st.custom_mode = Some(mode);
             st.mav_type = Some(t as u8);
+            st.autopilot_comp = Some(compid);
             return;
         }
         if let Some((idx, rel_alt, vz)) = &f.gpi

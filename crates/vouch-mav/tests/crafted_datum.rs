@@ -10,26 +10,11 @@ const ACRO: u32 = 1;
 const FLIP: u32 = 14;
 
 fn param_value(c: &mut Craft, id: &str, v: f64) {
-    c.send_full(
-        UAV,
-        "PARAM_VALUE",
-        &[("param_value", v), ("param_type", 9.0), ("param_count", 3.0)],
-        &[("param_id", id)],
-    );
+    c.param_value(id, v);
 }
 
 fn param_set(c: &mut Craft, id: &str, v: f64) {
-    c.send_full(
-        GCS,
-        "PARAM_SET",
-        &[
-            ("target_system", 1.0),
-            ("target_component", 1.0),
-            ("param_value", v),
-            ("param_type", 9.0),
-        ],
-        &[("param_id", id)],
-    );
+    c.param_set(id, v);
 }
 
 /// PX4-like pitch gains: MC_PITCH_P = 6.5, MC_PITCHRATE_FF = 0.5 (product 3.25).

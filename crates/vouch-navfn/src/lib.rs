@@ -7,7 +7,8 @@
 //! `diag` (source spans) → `core` (NavFn arrays, the IR of a plan) → `checks` (run-time
 //! properties of every plan) → `maps` (front ends, located errors, the world frame) →
 //! `planner` (nav2's `NavfnPlanner`: world coordinates, swap, tolerance) → `suite` (call
-//! sequences of the golden modes, golden text) → `picture` (PNG) → `campaign`.
+//! sequences of the golden modes, golden text) → `picture` (PNG) → `campaign` → `bench` (the
+//! harness of `vouch navfn bench`, only with the `bench` feature).
 //! The reference semantics is `shared/navfn/SEMANTICS.md`; the oracle is `shared/navfn/golden`.
 
 // The library never prints, exits or panics on its own: callers get data and typed errors.
@@ -29,6 +30,8 @@
 )]
 
 pub mod bagcheck;
+#[cfg(feature = "bench")]
+pub mod bench;
 pub mod campaign;
 pub mod checks;
 pub mod core;

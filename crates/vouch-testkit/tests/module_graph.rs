@@ -55,6 +55,7 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
             &["suite"],
             &["picture"],
             &["campaign", "bagcheck"],
+            &["bench"],
         ],
     ),
 ];

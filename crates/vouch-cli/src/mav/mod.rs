@@ -22,9 +22,13 @@ pub enum MavCmd {
     /// 1 protocol file rejected, 2 usage or I/O error, 3 violations found
     #[command(after_help = "Example:\n  vouch mav check flight.tlog --max-reports 10")]
     Check(check::CheckArgs),
-    /// Check protocol files against a dialect (the standard library if no file is given).
-    /// Exit 0 when every file is accepted, 1 when one is rejected, 2 on an I/O error
-    #[command(after_help = "Example:\n  vouch mav lint crates/vouch-mav/protocols/mission.vproto")]
+    /// Check protocol files against a dialect (the standard library if no file is given) and
+    /// warn (mav::R001) about every route to a guarded action (a command checked on one carrier,
+    /// an effect) that no loaded protocol covers. Exit 0 when every file is accepted (warnings
+    /// included), 1 when one is rejected, 2 on an I/O error
+    #[command(
+        after_help = "Example:\n  vouch mav lint crates/vouch-mav/protocols/mission.vproto\n  vouch mav lint my.vproto --with-stdlib --message-format short"
+    )]
     Lint(lint::LintArgs),
     /// MAVLink router between vehicles, ground stations and companions (any number of
     /// endpoints, mavlink-router's configuration files and routing by target) that checks every

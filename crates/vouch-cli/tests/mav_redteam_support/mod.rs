@@ -73,11 +73,16 @@ pub struct Vehicle {
 impl Vehicle {
     /// Starts `vehicle.py` with extra arguments (state, parameters).
     pub fn start(py: &Path, dir: &Path, args: &[&str]) -> Vehicle {
+        Self::start_script(py, dir, "vehicle.py", args)
+    }
+
+    /// Starts the vehicle script `name` (`vehicle.py`, `chute_vehicle.py`) with extra arguments.
+    pub fn start_script(py: &Path, dir: &Path, name: &str, args: &[&str]) -> Vehicle {
         let port = free_udp_port();
         let summary = dir.join("vehicle.json");
         let stop = dir.join("vehicle.stop");
         let child = Command::new(py)
-            .arg(script("vehicle.py"))
+            .arg(script(name))
             .args(["--port", &port.to_string()])
             .arg("--summary")
             .arg(&summary)
@@ -203,18 +208,31 @@ impl Guard {
 
 /// Runs `gcs.py --scenario NAME ARGS` against the guard and returns its summary.
 pub fn gcs(py: &Path, dir: &Path, guard: &Guard, scenario: &str, args: &[&str]) -> Value {
+    gcs_at(py, dir, &guard.gcs_url, scenario, args, &guard.log())
+}
+
+/// Runs `gcs.py --scenario NAME ARGS` against `url` (the guard, or a vehicle directly) and
+/// returns its summary; `context` goes into the failure message.
+pub fn gcs_at(
+    py: &Path,
+    dir: &Path,
+    url: &str,
+    scenario: &str,
+    args: &[&str],
+    context: &str,
+) -> Value {
     let summary = dir.join(format!("gcs-{scenario}.json"));
     let _ = std::fs::remove_file(&summary);
     let status = Command::new(py)
         .arg(script("gcs.py"))
-        .args(["--guard", &guard.gcs_url, "--scenario", scenario])
+        .args(["--guard", url, "--scenario", scenario])
         .arg("--summary")
         .arg(&summary)
         .args(args)
         .stdin(Stdio::null())
         .status()
         .expect("gcs.py runs");
-    assert!(status.success(), "gcs.py {scenario} failed ({status}); guard: {}", guard.log());
+    assert!(status.success(), "gcs.py {scenario} failed ({status}); {context}");
     read_json(&summary, "gcs.py")
 }
 
@@ -313,28 +331,7 @@ pub fn mavproxy(
     expect: &[&str],
     timeout: Duration,
 ) -> String {
-    let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
-    let mut child = Command::new(py)
-        .arg(mavproxy)
-        .arg(format!("--master={}", guard.gcs_url))
-        .args(["--target-system=1", "--target-component=1"])
-        .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("MAVProxy starts");
-    let (tx, rx) = std::sync::mpsc::channel::<String>();
-    let out = child.stdout.take().expect("stdout");
-    std::thread::spawn(move || {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    let mut stdin = child.stdin.take().expect("stdin");
-    let _mp = Proc(child);
+    let (_mp, mut stdin, rx) = spawn_mavproxy(py, dir, guard, &[]);
     let end = Instant::now() + timeout;
     let mut text = String::new();
     let mut pending: Vec<&str> = commands.to_vec();
@@ -356,4 +353,75 @@ pub fn mavproxy(
     }
     let _ = writeln!(stdin, "exit");
     text
+}
+
+/// MAVProxy (target 1/1) with the guard as its master and `extra` arguments: the process, its
+/// standard input and its console lines as they come.
+fn spawn_mavproxy(
+    py: &Path,
+    dir: &Path,
+    guard: &Guard,
+    extra: &[String],
+) -> (Proc, std::process::ChildStdin, std::sync::mpsc::Receiver<String>) {
+    let mavproxy = py.parent().expect("venv bin").join("mavproxy.py");
+    let mut child = Command::new(py)
+        .arg(mavproxy)
+        .arg(format!("--master={}", guard.gcs_url))
+        .args(extra)
+        .args(["--target-system=1", "--target-component=1"])
+        .arg(format!("--state-basedir={}", dir.join("mavproxy").display()))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("MAVProxy starts");
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    let out = child.stdout.take().expect("stdout");
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let stdin = child.stdin.take().expect("stdin");
+    (Proc(child), stdin, rx)
+}
+
+/// MAVProxy (a real ground station) connected to the guard as its master and relaying to a
+/// client on `out` (`udpout:…`), running until dropped. Its console lines arrive on the channel.
+pub struct MavProxyRelay {
+    _proc: Proc,
+    /// Kept open: MAVProxy ends at the end of its input.
+    _stdin: std::process::ChildStdin,
+    lines: std::sync::mpsc::Receiver<String>,
+    text: String,
+}
+
+impl MavProxyRelay {
+    pub fn start(py: &Path, dir: &Path, guard: &Guard, out: &str) -> Option<MavProxyRelay> {
+        let (proc, stdin, lines) = spawn_mavproxy(py, dir, guard, &[format!("--out={out}")]);
+        let mut relay = MavProxyRelay { _proc: proc, _stdin: stdin, lines, text: String::new() };
+        relay.wait_for("Detected vehicle", Duration::from_secs(30)).then_some(relay)
+    }
+
+    /// Reads console lines until one contains `what` (true) or `timeout` passes (false).
+    pub fn wait_for(&mut self, what: &str, timeout: Duration) -> bool {
+        let end = Instant::now() + timeout;
+        while Instant::now() < end {
+            if self.text.contains(what) {
+                return true;
+            }
+            if let Ok(line) = self.lines.recv_timeout(Duration::from_millis(50)) {
+                self.text += &line;
+                self.text.push('\n');
+            }
+        }
+        self.text.contains(what)
+    }
+
+    /// Everything MAVProxy printed so far.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
 }

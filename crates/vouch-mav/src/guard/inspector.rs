@@ -21,7 +21,7 @@ use super::Inspector;
 use crate::codec::frame::{MAGIC_V2, V1_HEADER_LEN, V2_HEADER_LEN, is_magic};
 use crate::codec::{Frame, FrameRef, InvalidKind, Parse, parse_frame};
 use crate::dialect::Dialect;
-use crate::monitor::{Monitor, Verdict};
+use crate::monitor::{Monitor, Reply, Verdict, Violation};
 use crate::side::Side;
 
 /// Judges frames with a [`Monitor`] (built with [`MonitorSpec`](crate::monitor::MonitorSpec)).
@@ -87,6 +87,43 @@ fn known_id_header(rest: &[u8], dialect: &Dialect) -> bool {
     id.is_some_and(|id| dialect.index_of_id(id).is_some())
 }
 
+/// Makes every answer to the ground come from a vehicle the guard knows. A protocol's reply is
+/// sent in the name of the peer the refused message addressed; a command to system 0 (broadcast)
+/// or component 0 names no sender, and ground stations (MAVProxy, QGroundControl) attribute
+/// messages by their source, so an answer from system 0 belongs to no vehicle and is never
+/// seen. Such an answer is sent once from each vehicle the guard knows (from its autopilot's
+/// component), and not at all when it knows none; one from component 0 of a vehicle comes from
+/// that vehicle's autopilot.
+fn address_replies(monitor: &Monitor, v: &mut Violation) {
+    let vehicles: Vec<(u8, u8)> = monitor
+        .vehicles()
+        .states()
+        .map(|(sys, st)| (sys, st.autopilot_comp.unwrap_or(AUTOPILOT_COMP)))
+        .collect();
+    let mut out: Vec<Reply> = Vec::new();
+    for r in v.replies() {
+        if r.to != Side::Gcs || (r.from_sys != 0 && r.from_comp != 0) {
+            out.push(r.clone());
+            continue;
+        }
+        let senders: Vec<(u8, u8)> = if r.from_sys == 0 {
+            vehicles.clone()
+        } else {
+            let comp = vehicles.iter().find(|(s, _)| *s == r.from_sys).map(|(_, c)| *c);
+            vec![(r.from_sys, comp.unwrap_or(AUTOPILOT_COMP))]
+        };
+        for (sys, comp) in senders {
+            out.push(Reply { from_sys: sys, from_comp: comp, ..r.clone() });
+        }
+    }
+    let mut replies = out.into_iter();
+    v.reply = replies.next();
+    v.more_replies = replies.collect();
+}
+
+/// MAV_COMP_ID_AUTOPILOT1: the autopilot's component when its heartbeat was not seen.
+const AUTOPILOT_COMP: u8 = 1;
+
 fn now_us() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_micros() as u64).unwrap_or(0)
 }
@@ -98,6 +135,10 @@ impl Inspector for MonitorInspector {
 
     fn inspect(&mut self, from: Side, frame: FrameRef<'_>) -> Result<Verdict, InvalidKind> {
         let f = self.verify(frame)?;
-        Ok(self.monitor.on_frame(&f, Some(from), now_us()))
+        let mut verdict = self.monitor.on_frame(&f, Some(from), now_us());
+        if let Verdict::Violation(v) = &mut verdict {
+            address_replies(&self.monitor, v);
+        }
+        Ok(verdict)
     }
 }

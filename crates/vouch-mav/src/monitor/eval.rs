@@ -4,7 +4,7 @@
 
 use crate::codec::view::read_prim;
 use crate::protocol::ast::BinOp;
-use crate::protocol::ir::{Builtin, Expr, FieldLoc, Pred, VehicleAttr};
+use crate::protocol::ir::{Builtin, Expr, FieldLoc, InterpIR, Pred, VehicleAttr};
 use crate::vehicle_state::VehicleState;
 
 /// Text values are compared on at most this many bytes (param_id has 16).
@@ -120,6 +120,7 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
             _ => Val::Unknown,
         },
         Expr::Call(f, a) => call(*f, eval(a, env)),
+        Expr::Interp(parts) => interpolate(parts, env),
         Expr::Not(a) => match eval(a, env) {
             Val::Bool(b) => Val::Bool(!b),
             _ => Val::Unknown,
@@ -135,6 +136,7 @@ pub fn eval(e: &Expr, env: &Env) -> Val {
 /// A built-in function on a value; anything it is not defined for is unknown.
 pub fn call(f: Builtin, v: Val) -> Val {
     match (f, v) {
+        (Builtin::Known, v) => Val::Bool(v != Val::Unknown),
         (Builtin::Int { bits, signed }, Val::Num(x)) => {
             let t = x.trunc();
             let (lo, hi) = if signed {
@@ -157,6 +159,55 @@ pub fn call(f: Builtin, v: Val) -> Val {
         }
         _ => Val::Unknown,
     }
+}
+
+/// Text with whole numbers written into it; unknown when a number is unknown or not whole, or
+/// the text is longer than [`TEXT_MAX`].
+fn interpolate(parts: &[InterpIR], env: &Env) -> Val {
+    let mut buf = [0u8; TEXT_MAX];
+    let mut n = 0;
+    for p in parts {
+        let mut digits = [0u8; 24];
+        let piece: &[u8] = match p {
+            InterpIR::Text(t) => t,
+            InterpIR::Num(e) => match eval(e, env) {
+                Val::Num(x) if x.fract() == 0.0 && x.abs() < 1e15 => {
+                    let len = write_whole(x as i64, &mut digits);
+                    &digits[..len]
+                }
+                _ => return Val::Unknown,
+            },
+        };
+        let Some(dst) = buf.get_mut(n..n + piece.len()) else { return Val::Unknown };
+        dst.copy_from_slice(piece);
+        n += piece.len();
+    }
+    Val::Text(buf, n as u8)
+}
+
+/// `v` in decimal into `out`; the number of bytes written.
+fn write_whole(v: i64, out: &mut [u8; 24]) -> usize {
+    let mut tmp = [0u8; 24];
+    let mut k = 0;
+    let mut m = v.unsigned_abs();
+    loop {
+        tmp[k] = b'0' + (m % 10) as u8;
+        k += 1;
+        m /= 10;
+        if m == 0 {
+            break;
+        }
+    }
+    let mut len = 0;
+    if v < 0 {
+        out[0] = b'-';
+        len = 1;
+    }
+    for i in (0..k).rev() {
+        out[len] = tmp[i];
+        len += 1;
+    }
+    len
 }
 
 fn bin(op: BinOp, a: &Expr, b: &Expr, env: &Env) -> Val {

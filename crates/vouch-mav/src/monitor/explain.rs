@@ -7,7 +7,7 @@ use super::report::{Reply, Violation, ViolationKind};
 use super::session::{Arrival, Session, key_values, session_ids, vehicle_sys};
 use super::step::StepResult;
 use crate::codec::MessageView;
-use crate::protocol::ir::{Conjunct, FieldLoc, Protocol, ReplyIR};
+use crate::protocol::ir::{Conjunct, FieldLoc, Protocol, Refusal, ReplyIR};
 
 impl Monitor {
     pub(super) fn violation_for(
@@ -24,11 +24,11 @@ impl Monitor {
         let (ti, kind, conj) = match r {
             StepResult::Refused { transition, conjunct } => {
                 let t = &st.transitions[transition];
-                (
-                    transition,
-                    ViolationKind::Refinement,
-                    t.where_.as_ref().and_then(|w| w.conjuncts.get(conjunct)),
-                )
+                let kind = match t.refusal {
+                    Refusal::Violation => ViolationKind::Refinement,
+                    Refusal::Unverifiable => ViolationKind::Unverifiable,
+                };
+                (transition, kind, t.where_.as_ref().and_then(|w| w.conjuncts.get(conjunct)))
             }
             StepResult::Invariant { transition, rec, conjunct } => (
                 transition,
@@ -69,6 +69,12 @@ impl Monitor {
                     _ => String::new(),
                 };
                 format!("invariant of `rec {rec}` broken after branch `{}`", t.label)
+            }
+            ViolationKind::Unverifiable => {
+                format!(
+                    "branch `{}` cannot be verified: the vehicle has not reported what it needs",
+                    t.label
+                )
             }
             _ if is_start => format!("refinement of the opening step `{}` failed", t.label),
             _ => format!("refinement of branch `{}` failed", t.label),

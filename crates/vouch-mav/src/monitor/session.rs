@@ -2,7 +2,7 @@
 //! failed steps into violation reports.
 
 use super::eval::{Env, Val, holds, read_loc};
-use super::report::Violation;
+use super::report::{Violation, ViolationKind};
 use super::step::{StepInput, StepResult, step};
 use super::{Monitor, Verdict};
 use crate::codec::MessageView;
@@ -237,16 +237,26 @@ impl Monitor {
             }
         }
         if !violations.is_empty() {
+            // A message is what is worst about it: violations before unverifiable findings.
+            violations.sort_by_key(|v| v.kind == ViolationKind::Unverifiable);
             let mut first = violations.remove(0);
-            for v in &violations {
+            for v in violations.iter().chain(std::iter::once(&first)) {
                 if let Some(p) = self.stats.iter_mut().find(|s| s.name == v.protocol) {
-                    p.violations += 1;
+                    if v.kind == ViolationKind::Unverifiable {
+                        p.unverifiable += 1;
+                    } else {
+                        p.violations += 1;
+                    }
                 }
             }
-            if let Some(p) = self.stats.iter_mut().find(|s| s.name == first.protocol) {
-                p.violations += 1;
-            }
             first.others = violations;
+            let passes = first.kind == ViolationKind::Unverifiable
+                && self.set.protocols.iter().any(|p| {
+                    p.name == first.protocol && p.unverifiable == UnverifiablePolicy::Pass
+                });
+            if passes {
+                return Verdict::Unverifiable(Box::new(first));
+            }
             return Verdict::Violation(Box::new(first));
         }
         if accepted {

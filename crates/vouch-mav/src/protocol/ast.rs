@@ -62,10 +62,20 @@ pub enum ExprKind {
     Param(Ident),
     /// `param[EXPR]`: last known value of the parameter whose id is the text EXPR.
     ParamOf(Box<Expr>),
-    /// `FUNCTION(EXPR)`: a conversion (`int`, `uint16`, `float`, …) or test (`finite`, `upper`).
+    /// `FUNCTION(EXPR)`: a conversion (`int`, `uint16`, `float`, …) or test (`finite`, `upper`,
+    /// `known`).
     Call(Ident, Box<Expr>),
+    /// `"SERVO{n}_FUNCTION"`: text with whole numbers written into it.
+    Interp(Vec<InterpPart>),
     Unary(UnOp, Box<Expr>),
     Binary(BinOp, Box<Expr>, Box<Expr>),
+}
+
+/// A piece of an interpolated text: literal text, or an expression between braces.
+#[derive(Debug, Clone)]
+pub enum InterpPart {
+    Text(String),
+    Expr(Expr),
 }
 
 #[derive(Debug, Clone)]
@@ -145,8 +155,70 @@ pub struct ReplyDecl {
     /// `on violation by ROLE reply …`: only when ROLE sent the violating message.
     pub by: Option<Ident>,
     pub to: Ident,
+    /// The messages sent, in order: `MSG(field = expr, …), MSG(…)`.
+    pub messages: Vec<ReplyMessage>,
+}
+
+/// One message of a reply declaration.
+#[derive(Debug, Clone)]
+pub struct ReplyMessage {
     pub message: Ident,
     pub fields: Vec<(Ident, Expr)>,
+}
+
+/// The kinds of vehicle outputs an effect may be performed through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputKind {
+    /// A servo output (`SERVOn_…`), driven by DO_SET_SERVO and DO_REPEAT_SERVO.
+    Servo,
+    /// A relay, driven by DO_SET_RELAY and DO_REPEAT_RELAY.
+    Relay,
+    /// An RC input channel, driven by RC_CHANNELS_OVERRIDE.
+    Rc,
+}
+
+/// `command MAV_CMD_X [when EXPR];` of an effect.
+#[derive(Debug, Clone)]
+pub struct EffectCommand {
+    pub command: Ident,
+    /// The arguments that make the command this effect (fields of the carrying message).
+    pub when: Option<Expr>,
+    pub span: Span,
+}
+
+/// `servo N when EXPR [driven when EXPR];`, `relay …`, `rc N in A..B when …` of an effect.
+#[derive(Debug, Clone)]
+pub struct EffectOutput {
+    pub kind: OutputKind,
+    /// The name of the output number in the expressions.
+    pub var: Ident,
+    /// Channel range (`rc` only), inclusive.
+    pub range: Option<(u32, u32)>,
+    /// Configuration that makes output N this effect's (parameters).
+    pub when: Expr,
+    /// The values that perform it (`value` = what the route sets); any value when absent.
+    pub driven: Option<Expr>,
+    pub span: Span,
+}
+
+/// `effect NAME { … }`: an action of the vehicle and what makes the vehicle perform it.
+#[derive(Debug, Clone)]
+pub struct EffectDecl {
+    pub name: Ident,
+    pub commands: Vec<EffectCommand>,
+    pub outputs: Vec<EffectOutput>,
+    pub span: Span,
+}
+
+/// `guard EFFECT by ROUTE, … (where EXPR | refuse);` in a protocol.
+#[derive(Debug, Clone)]
+pub struct GuardDecl {
+    pub effect: Ident,
+    /// Route classes: `command`, `mission`, `rc`.
+    pub routes: Vec<Ident>,
+    /// The precondition under which the effect may happen; `None` with `refuse`.
+    pub where_: Option<Expr>,
+    pub span: Span,
 }
 
 #[derive(Debug, Clone)]
@@ -168,6 +240,8 @@ pub struct ProtocolDecl {
     /// `unverifiable pass;` / `unverifiable drop;`.
     pub unverifiable: Option<(Ident, Span)>,
     pub consts: Vec<ConstDecl>,
+    /// `guard` declarations: steps generated for every route to an effect.
+    pub guards: Vec<GuardDecl>,
     pub body: Vec<Stmt>,
     pub span: Span,
 }
@@ -175,5 +249,51 @@ pub struct ProtocolDecl {
 #[derive(Debug, Clone, Default)]
 pub struct FileAst {
     pub consts: Vec<ConstDecl>,
+    pub effects: Vec<EffectDecl>,
     pub protocols: Vec<ProtocolDecl>,
+}
+
+impl Expr {
+    /// A name with this expression's span.
+    pub fn name_at(name: &str, span: Span) -> Expr {
+        Expr { kind: ExprKind::Name(name.to_string()), span }
+    }
+
+    /// A number with this expression's span.
+    pub fn num_at(value: f64, span: Span) -> Expr {
+        Expr { kind: ExprKind::Num(value), span }
+    }
+
+    /// `f(arg)` at `span`.
+    pub fn call_at(f: &str, arg: Expr, span: Span) -> Expr {
+        let f = Ident { name: f.to_string(), span };
+        Expr { kind: ExprKind::Call(f, Box::new(arg)), span }
+    }
+
+    /// This expression with every name in `map` replaced by its expression (effects are
+    /// instantiated per route this way: the output number, the value the route sets).
+    pub fn substitute(&self, map: &[(&str, &Expr)]) -> Expr {
+        let sub = |e: &Expr| Box::new(e.substitute(map));
+        let kind = match &self.kind {
+            ExprKind::Name(n) => match map.iter().find(|(k, _)| k == n) {
+                Some((_, with)) => return (*with).clone(),
+                None => ExprKind::Name(n.clone()),
+            },
+            ExprKind::ParamOf(a) => ExprKind::ParamOf(sub(a)),
+            ExprKind::Call(f, a) => ExprKind::Call(f.clone(), sub(a)),
+            ExprKind::Interp(parts) => ExprKind::Interp(
+                parts
+                    .iter()
+                    .map(|p| match p {
+                        InterpPart::Text(t) => InterpPart::Text(t.clone()),
+                        InterpPart::Expr(e) => InterpPart::Expr(e.substitute(map)),
+                    })
+                    .collect(),
+            ),
+            ExprKind::Unary(op, a) => ExprKind::Unary(*op, sub(a)),
+            ExprKind::Binary(op, a, b) => ExprKind::Binary(*op, sub(a), sub(b)),
+            k => k.clone(),
+        };
+        Expr { kind, span: self.span }
+    }
 }

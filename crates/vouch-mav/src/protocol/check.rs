@@ -18,6 +18,9 @@ impl<'a> Compiler<'a> {
         for c in &file.consts {
             self.const_decl(c)?;
         }
+        for e in &file.effects {
+            self.effect_decl(e)?;
+        }
         for p in &file.protocols {
             for c in &p.consts {
                 self.const_decl(c)?;
@@ -80,11 +83,61 @@ impl<'a> Compiler<'a> {
         })
     }
 
-    #[expect(
-        clippy::expect_used,
-        reason = "`protocol` sets `self.proto` before compiling a body and takes it back at the end"
-    )]
     fn protocol(&mut self, p: &ast::ProtocolDecl) -> CResult<Protocol> {
+        let roles = self.roles(p)?;
+        self.keys = p.keys.iter().map(|k| k.name.clone()).collect();
+        self.proto = Protocol {
+            name: p.name.name.clone(),
+            roles,
+            timeout_us: Some(p.timeout_ms.map(|(ms, _)| ms).unwrap_or(30_000) * 1000),
+            unverifiable: self.unverifiable_policy(p)?,
+            ..Protocol::default()
+        };
+        if p.guards.is_empty() {
+            match p.body.first() {
+                Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
+                Some(_) => {
+                    return self.err(
+                        ErrorKind::Structure,
+                        p.name.span,
+                        "a protocol must start with a message step or a choice",
+                    );
+                }
+                None => {
+                    return self.err(
+                        ErrorKind::Structure,
+                        p.name.span,
+                        "empty protocol: it needs at least one message step or a `guard`",
+                    );
+                }
+            }
+            let mut scope = Scope::default();
+            self.state_for(&p.body, &mut scope)?;
+        } else {
+            if let Some(s) = p.body.first() {
+                return self.err(
+                    ErrorKind::Structure,
+                    super::flow::stmt_span(s),
+                    "a protocol with `guard` has no steps of its own: put them in another protocol",
+                );
+            }
+            self.proto.states.push(State::default());
+            for g in &p.guards {
+                self.guard(g)?;
+            }
+        }
+        for s in &p.strict {
+            self.strict(s)?;
+        }
+        self.alphabet_and_keys(p)?;
+        for r in &p.replies {
+            self.reply_decl(r)?;
+        }
+        Ok(std::mem::take(&mut self.proto))
+    }
+
+    /// The two roles: a ground station and a vehicle.
+    fn roles(&self, p: &ast::ProtocolDecl) -> CResult<Vec<(String, Side)>> {
         if p.roles.len() != 2 {
             return self.err(
                 ErrorKind::Structure,
@@ -97,9 +150,16 @@ impl<'a> Compiler<'a> {
             let kind = match r.name.as_str() {
                 "gcs" | "ground" => Side::Gcs,
                 "uav" | "vehicle" | "autopilot" => Side::Vehicle,
-                _ => return self.err(ErrorKind::UnknownName, r.span, format!("unknown role `{}`", r.name)).map_err(|e| {
-                    e.with_help("roles are `gcs` (ground station) and `uav` (vehicle; also `vehicle`, `autopilot`)")
-                }),
+                _ => {
+                    return self
+                        .err(ErrorKind::UnknownName, r.span, format!("unknown role `{}`", r.name))
+                        .map_err(|e| {
+                            e.with_help(
+                                "roles are `gcs` (ground station) and `uav` (vehicle; also \
+                                 `vehicle`, `autopilot`)",
+                            )
+                        });
+                }
             };
             roles.push((r.name.clone(), kind));
         }
@@ -110,60 +170,30 @@ impl<'a> Compiler<'a> {
                 "the two roles must be a ground station and a vehicle",
             );
         }
-        self.keys = p.keys.iter().map(|k| k.name.clone()).collect();
-        self.proto = Some(Protocol {
-            name: p.name.name.clone(),
-            roles,
-            keys: vec![],
-            timeout_us: Some(p.timeout_ms.map(|(ms, _)| ms).unwrap_or(30_000) * 1000),
-            strict: vec![],
-            replies: vec![],
-            unverifiable: self.unverifiable_policy(p)?,
-            states: vec![],
-            recs: vec![],
-            var_names: vec![],
-            alphabet: vec![],
-        });
-        match p.body.first() {
-            Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
-            Some(_) => {
-                return self.err(
-                    ErrorKind::Structure,
-                    p.name.span,
-                    "a protocol must start with a message step or a choice",
-                );
-            }
-            None => {
-                return self.err(
-                    ErrorKind::Structure,
-                    p.name.span,
-                    "empty protocol: it needs at least one message step",
-                );
-            }
+        Ok(roles)
+    }
+
+    fn strict(&mut self, s: &ast::StrictDecl) -> CResult<()> {
+        let from = self.role(&s.from)?;
+        let to = self.role(&s.to)?;
+        if from == to {
+            return self.err(ErrorKind::Structure, s.to.span, "sender and receiver must differ");
         }
-        let mut scope = Scope::default();
-        self.state_for(&p.body, &mut scope)?;
-        for s in &p.strict {
-            let from = self.role(&s.from)?;
-            let to = self.role(&s.to)?;
-            if from == to {
-                return self.err(
-                    ErrorKind::Structure,
-                    s.to.span,
-                    "sender and receiver must differ",
-                );
-            }
-            let msgs = self.messages(&s.labels)?;
-            let text = format!(
-                "{} -> {} : {}",
-                s.from.name,
-                s.to.name,
-                s.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ")
-            );
-            let answer = !self.proto_mut().states[0].transitions.iter().any(|t| t.from == from);
-            self.proto_mut().strict.push(StrictIR { from, msgs, text, answer });
-        }
-        let mut proto = self.proto.take().expect("protocol under construction");
+        let msgs = self.messages(&s.labels)?;
+        let text = format!(
+            "{} -> {} : {}",
+            s.from.name,
+            s.to.name,
+            s.labels.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" | ")
+        );
+        let answer = !self.proto.states[0].transitions.iter().any(|t| t.from == from);
+        self.proto.strict.push(StrictIR { from, msgs, text, answer });
+        Ok(())
+    }
+
+    /// Every message the protocol mentions, and where its keys are in each of them.
+    fn alphabet_and_keys(&mut self, p: &ast::ProtocolDecl) -> CResult<()> {
+        let proto = &self.proto;
         let mut alphabet: Vec<MsgIndex> = proto
             .states
             .iter()
@@ -184,22 +214,28 @@ impl<'a> Compiler<'a> {
                     format!("key `{}` is a field of none of the protocol's messages", k.name),
                 );
             }
-            proto.keys.push(KeyIR { name: k.name.clone(), locs });
+            self.proto.keys.push(KeyIR { name: k.name.clone(), locs });
         }
-        proto.alphabet = alphabet;
-        self.proto = Some(proto);
-        for r in &p.replies {
-            let reply = self.reply(r)?;
-            if self.proto_mut().replies.iter().any(|q| q.to == reply.to && q.by == reply.by) {
-                return self.err(
-                    ErrorKind::Duplicate,
-                    r.to.span,
-                    format!("a second violation reply to `{}`", r.to.name),
-                );
-            }
-            self.proto_mut().replies.push(reply);
+        self.proto.alphabet = alphabet;
+        Ok(())
+    }
+
+    /// `on violation [by ROLE] reply ROLE : MSG(…), …;` (one declaration per addressed role).
+    fn reply_decl(&mut self, r: &ast::ReplyDecl) -> CResult<()> {
+        let by = r.by.as_ref().map(|b| self.role(b)).transpose()?;
+        let to = self.role(&r.to)?;
+        if self.proto.replies.iter().any(|q| q.to == to && q.by == by) {
+            return self.err(
+                ErrorKind::Duplicate,
+                r.to.span,
+                format!("a second violation reply to `{}`", r.to.name),
+            );
         }
-        Ok(self.proto.take().expect("protocol under construction"))
+        for m in &r.messages {
+            let reply = self.reply(by, to, m)?;
+            self.proto.replies.push(reply);
+        }
+        Ok(())
     }
 
     fn unverifiable_policy(&self, p: &ast::ProtocolDecl) -> CResult<UnverifiablePolicy> {
@@ -217,21 +253,8 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    #[expect(
-        clippy::expect_used,
-        reason = "`protocol` sets `self.proto` before compiling a body and takes it back at the end"
-    )]
-    pub(super) fn proto_mut(&mut self) -> &mut Protocol {
-        self.proto.as_mut().expect("protocol under construction")
-    }
-
-    #[expect(
-        clippy::expect_used,
-        reason = "`protocol` sets `self.proto` before compiling a body and takes it back at the end"
-    )]
     pub(super) fn role(&self, r: &ast::Ident) -> CResult<usize> {
-        let proto = self.proto.as_ref().expect("protocol under construction");
-        match proto.roles.iter().position(|(n, _)| *n == r.name) {
+        match self.proto.roles.iter().position(|(n, _)| *n == r.name) {
             Some(i) => Ok(i),
             None => self.err(
                 ErrorKind::UnknownName,
@@ -255,29 +278,26 @@ impl<'a> Compiler<'a> {
             .collect()
     }
 
-    fn reply(&mut self, r: &ast::ReplyDecl) -> CResult<ReplyIR> {
-        let by = r.by.as_ref().map(|b| self.role(b)).transpose()?;
-        let to = self.role(&r.to)?;
-        let msg = self.messages(std::slice::from_ref(&r.message))?[0];
+    fn reply(&mut self, by: Option<usize>, to: usize, m: &ast::ReplyMessage) -> CResult<ReplyIR> {
+        let msg = self.messages(std::slice::from_ref(&m.message))?[0];
         let def = self.dialect.message(msg);
         let mut fields = vec![];
-        self.in_reply = true;
-        for (f, e) in &r.fields {
+        for (f, e) in &m.fields {
             let Some(loc) = loc_of(def, &f.name) else {
-                self.in_reply = false;
                 return self.err(
                     ErrorKind::UnknownName,
                     f.span,
                     format!("message {} has no field `{}`", def.name, f.name),
                 );
             };
-            let mut scope = Scope::default();
-            let mut shows = vec![];
-            let (x, ty) = self.expr(e, &mut scope, None, &mut shows)?;
+            let (mut scope, mut shows) = (Scope::default(), vec![]);
+            self.in_reply = true;
+            let compiled = self.expr(e, &mut scope, None, &mut shows);
+            self.in_reply = false;
+            let (x, ty) = compiled?;
             self.expect_compatible(&ty_of_loc(&loc), &ty, e.span)?;
             fields.push((f.name.clone(), x));
         }
-        self.in_reply = false;
         Ok(ReplyIR { by, to, msg, fields })
     }
 }

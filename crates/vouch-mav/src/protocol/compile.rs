@@ -4,9 +4,11 @@
 
 use super::error::{ErrorKind, ProtocolError, Span};
 use super::ir::*;
+use super::routes::Carriers;
 use crate::dialect::{Dialect, MessageDef, MsgIndex, PrimType};
 
 /// Field context of the step being compiled: which messages, which field slots.
+#[derive(Clone)]
 pub(super) struct StepCx {
     pub(super) msgs: Vec<MsgIndex>,
     pub(super) names: Vec<String>,
@@ -27,7 +29,12 @@ pub(crate) struct Compiler<'a> {
     pub dialect: &'a Dialect,
     pub src: &'a str,
     pub set: &'a mut ProtocolSet,
-    pub(super) proto: Option<Protocol>,
+    /// Index of the file being compiled among the loaded sources (for [`Origin`]s).
+    pub(super) file: usize,
+    /// The protocol under construction (taken out when it is complete).
+    pub(super) proto: Protocol,
+    /// The messages of the dialect that make a vehicle act (routes to effects).
+    pub(super) carriers: Carriers,
     /// Key names of the protocol being compiled (usable in reply expressions).
     pub(super) keys: Vec<String>,
     pub(super) in_reply: bool,
@@ -76,9 +83,23 @@ impl Ty {
 }
 
 impl<'a> Compiler<'a> {
-    /// A compiler adding what it compiles from `src` to `set`.
-    pub fn new(dialect: &'a Dialect, src: &'a str, set: &'a mut ProtocolSet) -> Self {
-        Compiler { dialect, src, set, proto: None, keys: vec![], in_reply: false }
+    /// A compiler adding what it compiles from `src`, the `file`-th loaded source, to `set`.
+    pub fn new(dialect: &'a Dialect, src: &'a str, file: usize, set: &'a mut ProtocolSet) -> Self {
+        Compiler {
+            dialect,
+            src,
+            set,
+            file,
+            proto: Protocol::default(),
+            carriers: Carriers::of(dialect),
+            keys: vec![],
+            in_reply: false,
+        }
+    }
+
+    /// Where `span` is in the file being compiled.
+    pub(super) fn origin(&self, span: Span) -> Origin {
+        Origin { file: self.file, span }
     }
 
     pub(super) fn err<T>(&self, kind: ErrorKind, span: Span, msg: impl Into<String>) -> CResult<T> {

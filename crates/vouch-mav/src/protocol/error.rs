@@ -66,9 +66,10 @@ impl ErrorKind {
     }
 }
 
-/// An error in a protocol file, with its kind and location.
+/// What a protocol error says: its kind, message, location and hint (the fields of
+/// [`ProtocolError`], reached through `Deref`).
 #[derive(Debug)]
-pub struct ProtocolError {
+pub struct ErrorDetails {
     /// What kind of mistake.
     pub kind: ErrorKind,
     /// One sentence saying what is wrong.
@@ -83,6 +84,20 @@ pub struct ProtocolError {
     pub line: usize,
     /// 1-based column (in characters) of the span start.
     pub col: usize,
+}
+
+/// An error in a protocol file, with its kind and location. The details live behind one box so
+/// that `Result<_, ProtocolError>` stays a pointer wide on the compiler's many fallible paths
+/// (the source text it carries for miette is large, and errors are cold).
+#[derive(Debug)]
+pub struct ProtocolError(Box<ErrorDetails>);
+
+impl std::ops::Deref for ProtocolError {
+    type Target = ErrorDetails;
+
+    fn deref(&self) -> &ErrorDetails {
+        &self.0
+    }
 }
 
 impl ProtocolError {
@@ -103,7 +118,7 @@ impl ProtocolError {
         let before = &src[..start];
         let line = before.matches('\n').count() + 1;
         let col = before.rsplit('\n').next().map(|l| l.chars().count()).unwrap_or(0) + 1;
-        ProtocolError {
+        ProtocolError(Box::new(ErrorDetails {
             kind,
             message: message.into(),
             src: NamedSource::new(name, src.to_string()),
@@ -111,20 +126,20 @@ impl ProtocolError {
             help: None,
             line,
             col,
-        }
+        }))
     }
 
     /// Adds a hint.
     pub fn with_help(mut self, help: impl Into<String>) -> Self {
-        self.help = Some(help.into());
+        self.0.help = Some(help.into());
         self
     }
 
     /// Re-attaches the error to a named file (errors are built before the name is known).
     pub fn in_file(self, name: &str, src: &str) -> Self {
-        let help = self.help.clone();
-        let mut e = Self::named(self.kind, name, src, self.span, self.message);
-        e.help = help;
+        let ErrorDetails { kind, message, span, help, .. } = *self.0;
+        let mut e = Self::named(kind, name, src, span, message);
+        e.0.help = help;
         e
     }
 

@@ -10,9 +10,8 @@ use super::ir::*;
 
 impl Compiler<'_> {
     fn new_var(&mut self, name: &str) -> Slot {
-        let p = self.proto_mut();
-        p.var_names.push(name.to_string());
-        p.var_names.len() - 1
+        self.proto.var_names.push(name.to_string());
+        self.proto.var_names.len() - 1
     }
 
     /// Continuation of the statements `stmts`, compiled in the context of the step just taken.
@@ -20,7 +19,7 @@ impl Compiler<'_> {
         &mut self,
         stmts: &[Stmt],
         scope: &mut Scope,
-        mut step: Option<&mut StepCx>,
+        step: Option<&mut StepCx>,
     ) -> CResult<Cont> {
         let Some(first) = stmts.first() else {
             return Ok(Cont::End);
@@ -42,99 +41,11 @@ impl Compiler<'_> {
             }
             Stmt::Continue { name, assigns, .. } => {
                 trailing(self, "`continue`")?;
-                let Some((_, rec, vars)) =
-                    scope.recs.iter().rev().find(|(n, _, _)| *n == name.name).cloned()
-                else {
-                    return self.err(
-                        ErrorKind::Structure,
-                        name.span,
-                        format!("`continue {}` outside of `rec {}`", name.name, name.name),
-                    );
-                };
-                if assigns.len() > MAX_CONTINUE_ASSIGNS {
-                    return self.err(ErrorKind::Limit, name.span, format!("at most {MAX_CONTINUE_ASSIGNS} variables can be updated by one `continue`"));
-                }
-                let mut out = vec![];
-                for (v, e) in assigns {
-                    let Some((_, slot)) = vars.iter().find(|(n, _)| *n == v.name) else {
-                        return self.err(
-                            ErrorKind::UnknownName,
-                            v.span,
-                            format!("`{}` is not a variable of `rec {}`", v.name, name.name),
-                        );
-                    };
-                    let want = scope
-                        .vars
-                        .iter()
-                        .rev()
-                        .find(|(_, s, _)| s == slot)
-                        .map(|(_, _, t)| t.clone());
-                    let mut shows = vec![];
-                    let (x, ty) = self.expr(e, scope, step.as_deref_mut(), &mut shows)?;
-                    if let Some(want) = want {
-                        self.expect_compatible(&want, &ty, e.span)?;
-                    }
-                    out.push((*slot, x));
-                }
-                Ok(Cont::Continue { rec, assigns: out })
+                self.continue_to(name, assigns, scope, step)
             }
             Stmt::Rec { name, vars, invariant, body } => {
                 trailing(self, "a `rec` block (end its body with `end` or `continue`)")?;
-                let rec = self.proto_mut().recs.len();
-                self.proto_mut().recs.push(Rec {
-                    name: name.name.clone(),
-                    invariant: None,
-                    entry: 0,
-                });
-                let mut assigns = vec![];
-                let mut rec_vars = vec![];
-                let mark = scope.vars.len();
-                for v in vars {
-                    let mut shows = vec![];
-                    let (x, ty) = self.expr(&v.init, scope, step.as_deref_mut(), &mut shows)?;
-                    let ty = match v.ty {
-                        None => ty,
-                        Some(t) => {
-                            let want = match t {
-                                ast::TypeName::Int | ast::TypeName::Float => Ty::num(),
-                                ast::TypeName::Bool => Ty::Bool,
-                                ast::TypeName::Str => Ty::Str,
-                            };
-                            self.expect_compatible(&want, &ty, v.init.span)?;
-                            ty
-                        }
-                    };
-                    let slot = self.new_var(&v.name.name);
-                    assigns.push((slot, x));
-                    rec_vars.push((v.name.name.clone(), slot, ty));
-                }
-                for (n, s, t) in &rec_vars {
-                    scope.vars.push((n.clone(), *s, t.clone()));
-                }
-                scope.recs.push((
-                    name.name.clone(),
-                    rec,
-                    rec_vars.iter().map(|(n, s, _)| (n.clone(), *s)).collect(),
-                ));
-                if let Some(inv) = invariant {
-                    let pred = self.pred(inv, scope, None)?;
-                    self.proto_mut().recs[rec].invariant = Some(pred);
-                }
-                match body.first() {
-                    Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. }) => {}
-                    _ => {
-                        return self.err(
-                            ErrorKind::Structure,
-                            name.span,
-                            "the body of a `rec` must start with a message step or a choice",
-                        );
-                    }
-                }
-                let then = self.state_for(body, scope)?;
-                self.proto_mut().recs[rec].entry = then;
-                scope.recs.pop();
-                scope.vars.truncate(mark);
-                Ok(Cont::Enter { rec, assigns, then })
+                self.enter_rec(name, vars, invariant.as_ref(), body, scope, step)
             }
             Stmt::Step { .. } | Stmt::Choice { .. } => {
                 Ok(Cont::Goto(self.state_for(stmts, scope)?))
@@ -142,10 +53,110 @@ impl Compiler<'_> {
         }
     }
 
+    /// `continue NAME(v = e, …)`: the new values, checked against the variables of its `rec`.
+    fn continue_to(
+        &mut self,
+        name: &ast::Ident,
+        assigns: &[(ast::Ident, ast::Expr)],
+        scope: &mut Scope,
+        mut step: Option<&mut StepCx>,
+    ) -> CResult<Cont> {
+        let Some((_, rec, vars)) =
+            scope.recs.iter().rev().find(|(n, _, _)| *n == name.name).cloned()
+        else {
+            return self.err(
+                ErrorKind::Structure,
+                name.span,
+                format!("`continue {}` outside of `rec {}`", name.name, name.name),
+            );
+        };
+        if assigns.len() > MAX_CONTINUE_ASSIGNS {
+            return self.err(
+                ErrorKind::Limit,
+                name.span,
+                format!(
+                    "at most {MAX_CONTINUE_ASSIGNS} variables can be updated by one `continue`"
+                ),
+            );
+        }
+        let mut out = vec![];
+        for (v, e) in assigns {
+            let Some((_, slot)) = vars.iter().find(|(n, _)| *n == v.name) else {
+                return self.err(
+                    ErrorKind::UnknownName,
+                    v.span,
+                    format!("`{}` is not a variable of `rec {}`", v.name, name.name),
+                );
+            };
+            let want =
+                scope.vars.iter().rev().find(|(_, s, _)| s == slot).map(|(_, _, t)| t.clone());
+            let mut shows = vec![];
+            let (x, ty) = self.expr(e, scope, step.as_deref_mut(), &mut shows)?;
+            if let Some(want) = want {
+                self.expect_compatible(&want, &ty, e.span)?;
+            }
+            out.push((*slot, x));
+        }
+        Ok(Cont::Continue { rec, assigns: out })
+    }
+
+    /// `rec NAME(v: T = e, …) where INV { body }`: its variables, invariant and entry state.
+    fn enter_rec(
+        &mut self,
+        name: &ast::Ident,
+        vars: &[ast::VarDecl],
+        invariant: Option<&ast::Expr>,
+        body: &[Stmt],
+        scope: &mut Scope,
+        mut step: Option<&mut StepCx>,
+    ) -> CResult<Cont> {
+        let rec = self.proto.recs.len();
+        self.proto.recs.push(Rec { name: name.name.clone(), invariant: None, entry: 0 });
+        let mut assigns = vec![];
+        let mut rec_vars = vec![];
+        let mark = scope.vars.len();
+        for v in vars {
+            let mut shows = vec![];
+            let (x, ty) = self.expr(&v.init, scope, step.as_deref_mut(), &mut shows)?;
+            if let Some(t) = v.ty {
+                let want = match t {
+                    ast::TypeName::Int | ast::TypeName::Float => Ty::num(),
+                    ast::TypeName::Bool => Ty::Bool,
+                    ast::TypeName::Str => Ty::Str,
+                };
+                self.expect_compatible(&want, &ty, v.init.span)?;
+            }
+            let slot = self.new_var(&v.name.name);
+            assigns.push((slot, x));
+            rec_vars.push((v.name.name.clone(), slot, ty));
+        }
+        for (n, s, t) in &rec_vars {
+            scope.vars.push((n.clone(), *s, t.clone()));
+        }
+        let slots = rec_vars.iter().map(|(n, s, _)| (n.clone(), *s)).collect();
+        scope.recs.push((name.name.clone(), rec, slots));
+        if let Some(inv) = invariant {
+            let pred = self.pred(inv, scope, None)?;
+            self.proto.recs[rec].invariant = Some(pred);
+        }
+        if !matches!(body.first(), Some(Stmt::Step { .. }) | Some(Stmt::Choice { .. })) {
+            return self.err(
+                ErrorKind::Structure,
+                name.span,
+                "the body of a `rec` must start with a message step or a choice",
+            );
+        }
+        let then = self.state_for(body, scope)?;
+        self.proto.recs[rec].entry = then;
+        scope.recs.pop();
+        scope.vars.truncate(mark);
+        Ok(Cont::Enter { rec, assigns, then })
+    }
+
     /// A state whose transitions are the step or choice at the head of `stmts`.
     pub(super) fn state_for(&mut self, stmts: &[Stmt], scope: &mut Scope) -> CResult<StateId> {
-        let id = self.proto_mut().states.len();
-        self.proto_mut().states.push(State::default());
+        let id = self.proto.states.len();
+        self.proto.states.push(State::default());
         let mut transitions = vec![];
         let mut complete = None;
         match &stmts[0] {
@@ -201,7 +212,7 @@ impl Compiler<'_> {
                 );
             }
         }
-        let st = &mut self.proto_mut().states[id];
+        let st = &mut self.proto.states[id];
         st.transitions = transitions;
         st.complete_when = complete;
         Ok(id)
@@ -244,6 +255,9 @@ impl Compiler<'_> {
             Some(e) => Some(self.pred(e, scope, Some(&mut step))?),
             None => None,
         };
+        if let (Some(w), Some(_)) = (&when, &where_) {
+            self.note_checked_commands(from, &msgs, w, &step.names, head.span);
+        }
         let cont = self.seq(rest, scope, Some(&mut step))?;
         scope.vars.truncate(mark);
         let msgs =
@@ -259,6 +273,7 @@ impl Compiler<'_> {
             where_,
             cont,
             text: format!("{} -> {} : {}", head.from.name, head.to.name, label_text),
+            refusal: Refusal::Violation,
         })
     }
 
@@ -302,7 +317,7 @@ impl Compiler<'_> {
     }
 }
 
-fn stmt_span(s: &Stmt) -> Span {
+pub(super) fn stmt_span(s: &Stmt) -> Span {
     match s {
         Stmt::Step { head, .. } => head.span,
         Stmt::Choice { span, .. } => *span,

@@ -1,6 +1,7 @@
 //! Compiled protocols: names resolved to slots, fields to byte offsets, messages to dialect indices.
 //! This is what the monitor executes; it knows nothing of the source text except report strings.
 
+use super::error::Span;
 use crate::dialect::{MsgIndex, PrimType};
 use crate::side::Side;
 use crate::vehicle_state::ParamTable;
@@ -51,6 +52,9 @@ pub enum Builtin {
     /// Text in ASCII upper case (parameter names are matched without regard to case by
     /// ArduPilot).
     Upper,
+    /// Whether a value is known (never unknown itself): `known(param.X)` is false until the
+    /// vehicle reported X.
+    Known,
 }
 
 impl Builtin {
@@ -67,13 +71,14 @@ impl Builtin {
             "float" => Some(Builtin::Float32),
             "finite" => Some(Builtin::Finite),
             "upper" => Some(Builtin::Upper),
+            "known" => Some(Builtin::Known),
             _ => None,
         }
     }
 
     /// Names of all built-in functions, for error messages.
     pub const NAMES: &'static str =
-        "int, int8, int16, int32, uint8, uint16, uint32, float, finite, upper";
+        "int, int8, int16, int32, uint8, uint16, uint32, float, finite, upper, known";
 }
 
 #[derive(Debug, Clone)]
@@ -91,11 +96,21 @@ pub enum Expr {
     ParamOf(Box<Expr>),
     /// A built-in function applied to one argument.
     Call(Builtin, Box<Expr>),
+    /// Text with whole numbers written into it (`"SERVO{n}_FUNCTION"`).
+    Interp(Vec<InterpIR>),
     /// Value of session key `i`.
     Key(usize),
     Not(Box<Expr>),
     Neg(Box<Expr>),
     Bin(crate::protocol::ast::BinOp, Box<Expr>, Box<Expr>),
+}
+
+/// A piece of an interpolated text.
+#[derive(Debug, Clone)]
+pub enum InterpIR {
+    Text(Box<[u8]>),
+    /// A number, written as a whole decimal number (unknown when it is not whole).
+    Num(Expr),
 }
 
 /// One conjunct of a refinement, with its source text and the names whose values a report shows.
@@ -149,6 +164,17 @@ pub struct Transition {
     pub cont: Cont,
     /// `from -> to : LABELS` for reports.
     pub text: String,
+    /// What a failed refinement of this branch is.
+    pub refusal: Refusal,
+}
+
+/// What a message whose refinement fails is: a violation, or (for a branch that only selects
+/// messages whose safety depends on vehicle configuration the monitor has not seen) unverifiable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Refusal {
+    #[default]
+    Violation,
+    Unverifiable,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -186,12 +212,13 @@ pub struct StrictIR {
 
 /// What the guard in enforce mode does with a frame the monitor cannot verify (an answer to a
 /// session whose opener it did not see).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum UnverifiablePolicy {
     /// Forward it (and report it as unverifiable).
     Pass,
     /// Drop it like a violation (fail closed). The default.
+    #[default]
     Drop,
 }
 
@@ -204,7 +231,7 @@ pub struct ReplyIR {
     pub fields: Vec<(String, Expr)>,
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Protocol {
     pub name: String,
     pub roles: Vec<(String, Side)>,
@@ -220,6 +247,84 @@ pub struct Protocol {
     pub var_names: Vec<String>,
     /// Every message index the protocol mentions (steps and strict rules).
     pub alphabet: Vec<MsgIndex>,
+    /// The routes to actions that its steps check (for the route check of `vouch mav lint`).
+    pub covers: Vec<Route>,
+}
+
+/// Where a declaration is: its file (index among the loaded sources) and span.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Origin {
+    pub file: usize,
+    pub span: Span,
+}
+
+/// How a route brings the vehicle to act.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RouteClass {
+    /// A command performed when it arrives (COMMAND_LONG, COMMAND_INT).
+    Command,
+    /// An item of an uploaded mission, performed when the mission reaches it (MISSION_ITEM,
+    /// MISSION_ITEM_INT).
+    Mission,
+    /// An RC input channel overridden from the ground (RC_CHANNELS_OVERRIDE).
+    Rc,
+}
+
+impl RouteClass {
+    /// The word of the protocol language (`guard E by command, mission, rc`).
+    pub fn word(self) -> &'static str {
+        match self {
+            RouteClass::Command => "command",
+            RouteClass::Mission => "mission",
+            RouteClass::Rc => "rc",
+        }
+    }
+}
+
+/// One route to an action: a message from the ground and, for messages that carry a MAV_CMD, the
+/// command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Route {
+    pub class: RouteClass,
+    pub msg: MsgIndex,
+    pub command: Option<u32>,
+}
+
+/// A route to an effect compiled against its carrier message: the selector of the messages that
+/// perform the effect, and for outputs the selector of those whose output configuration is not
+/// known (unverifiable) with the conjunct that says so.
+#[derive(Debug, Clone)]
+pub struct EffectRoute {
+    pub route: Route,
+    /// `MAV_CMD_…` or `RC_CHANNELS_OVERRIDE`, for branch labels.
+    pub label: String,
+    /// Field slots used by the selectors (names, locations in the carrier).
+    pub field_names: Vec<String>,
+    pub fields: Vec<FieldLoc>,
+    pub effect: Pred,
+    pub unknown: Option<(Pred, Pred)>,
+    /// The effect clause this route comes from.
+    pub origin: Origin,
+}
+
+/// An effect: every route by which the vehicle can be made to perform it, compiled.
+#[derive(Debug, Clone)]
+pub struct EffectIR {
+    pub name: String,
+    pub routes: Vec<EffectRoute>,
+    pub origin: Origin,
+}
+
+/// Routes that must be guarded because something loaded guards part of them: a command that a
+/// protocol checks on one carrier (all carriers of that command), or a route of an effect.
+#[derive(Debug, Clone)]
+pub struct Demand {
+    /// What is guarded: `MAV_CMD_…` or `effect NAME`.
+    pub subject: String,
+    pub routes: Vec<Route>,
+    /// Where the need comes from (a step that checks the command, an effect clause).
+    pub origin: Origin,
 }
 
 /// A constant: its name, value and where it was declared (file-level or protocol-level).
@@ -235,4 +340,7 @@ pub struct ProtocolSet {
     pub protocols: Vec<Protocol>,
     pub consts: Vec<ConstIR>,
     pub params: ParamTable,
+    pub effects: Vec<EffectIR>,
+    /// Routes the loaded declarations say must be guarded (checked by [`super::routes`]).
+    pub demands: Vec<Demand>,
 }

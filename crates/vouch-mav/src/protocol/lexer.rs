@@ -19,13 +19,19 @@ pub struct Token {
 }
 
 const SYMS: &[&str] = &[
-    "->", "==", "!=", "<=", ">=", "&&", "||", "=>", "{", "}", "(", ")", "[", "]", ",", ";", ":",
-    "|", "=", "<", ">", "!", "+", "-", "*", "/", ".",
+    "->", "==", "!=", "<=", ">=", "&&", "||", "=>", "..", "{", "}", "(", ")", "[", "]", ",", ";",
+    ":", "|", "=", "<", ">", "!", "+", "-", "*", "/", ".",
 ];
 
 pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
-    let b = src.as_bytes();
-    let mut i = 0;
+    lex_range(src, 0, src.len())
+}
+
+/// Tokens of `src[start..end]` (e.g. the expression between the braces of an interpolated text),
+/// with spans into the whole of `src`.
+pub fn lex_range(src: &str, start: usize, end: usize) -> Result<Vec<Token>, ProtocolError> {
+    let b = &src.as_bytes()[..end];
+    let mut i = start;
     let mut out = Vec::new();
     while i < b.len() {
         let c = b[i];
@@ -52,39 +58,9 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             continue;
         }
         if c.is_ascii_digit() {
-            if c == b'0' && matches!(b.get(i + 1), Some(b'x') | Some(b'X')) {
-                i += 2;
-                while i < b.len() && b[i].is_ascii_hexdigit() {
-                    i += 1;
-                }
-                let v = u64::from_str_radix(&src[start + 2..i], 16).map_err(|_| {
-                    ProtocolError::at(
-                        ErrorKind::Lex,
-                        src,
-                        Span::new(start, i - start),
-                        "invalid hexadecimal number",
-                    )
-                })?;
-                out.push(Token { tok: Tok::Num(v as f64), span: Span::new(start, i - start) });
-                continue;
-            }
-            while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
-                // `1..` is not a thing here, but keep `x.y` field access unambiguous: a dot must be
-                // followed by a digit to belong to the number.
-                if b[i] == b'.' && !b.get(i + 1).is_some_and(u8::is_ascii_digit) {
-                    break;
-                }
-                i += 1;
-            }
-            let v: f64 = src[start..i].parse().map_err(|_| {
-                ProtocolError::at(
-                    ErrorKind::Lex,
-                    src,
-                    Span::new(start, i - start),
-                    "invalid number",
-                )
-            })?;
-            out.push(Token { tok: Tok::Num(v), span: Span::new(start, i - start) });
+            let (tok, next) = number(src, b, start)?;
+            out.push(tok);
+            i = next;
             continue;
         }
         if c == b'"' {
@@ -107,7 +83,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             });
             continue;
         }
-        let rest = &src[i..];
+        let rest = &src[i..end];
         match SYMS.iter().find(|s| rest.starts_with(**s)) {
             Some(s) => {
                 i += s.len();
@@ -124,6 +100,33 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ProtocolError> {
             }
         }
     }
-    out.push(Token { tok: Tok::Eof, span: Span::new(src.len(), 0) });
+    out.push(Token { tok: Tok::Eof, span: Span::new(end, 0) });
     Ok(out)
+}
+
+/// The number starting at `start` (decimal, or hexadecimal after `0x`) and the index after it.
+fn number(src: &str, b: &[u8], start: usize) -> Result<(Token, usize), ProtocolError> {
+    let mut i = start;
+    let bad = |i: usize, what: &str| {
+        ProtocolError::at(ErrorKind::Lex, src, Span::new(start, i - start), what.to_string())
+    };
+    if b[i] == b'0' && matches!(b.get(i + 1), Some(b'x') | Some(b'X')) {
+        i += 2;
+        while i < b.len() && b[i].is_ascii_hexdigit() {
+            i += 1;
+        }
+        let v = u64::from_str_radix(&src[start + 2..i], 16)
+            .map_err(|_| bad(i, "invalid hexadecimal number"))?;
+        return Ok((Token { tok: Tok::Num(v as f64), span: Span::new(start, i - start) }, i));
+    }
+    while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
+        // A dot belongs to the number only when a digit follows: `1..16` is a range, and `x.y`
+        // stays a member access.
+        if b[i] == b'.' && !b.get(i + 1).is_some_and(u8::is_ascii_digit) {
+            break;
+        }
+        i += 1;
+    }
+    let v: f64 = src[start..i].parse().map_err(|_| bad(i, "invalid number"))?;
+    Ok((Token { tok: Tok::Num(v), span: Span::new(start, i - start) }, i))
 }

@@ -5,21 +5,21 @@
 //! (declarations), `flow` (statements) and `typing` (expressions). Errors are located and typed
 //! ([`ProtocolError`], [`ErrorKind`]).
 
-// Protocol errors carry their source text for miette; they are cold, so their size is fine.
-#![allow(clippy::result_large_err)]
-
 pub mod ast;
 mod check;
 mod compile;
+mod effect;
 pub mod error;
 mod flow;
 pub mod ir;
 pub mod lexer;
+mod parse_expr;
 pub mod parser;
+pub mod routes;
 pub mod stdlib;
 mod typing;
 
-pub use error::{ErrorKind, ProtocolError, Span};
+pub use error::{ErrorDetails, ErrorKind, ProtocolError, Span};
 pub use ir::ProtocolSet;
 
 use crate::dialect::Dialect;
@@ -32,9 +32,9 @@ pub fn load_protocols(
     overrides: &[(String, f64)],
 ) -> Result<ProtocolSet, ProtocolError> {
     let mut set = ProtocolSet::default();
-    for (name, text) in sources {
+    for (file, (name, text)) in sources.iter().enumerate() {
         let ast = parser::parse(text).map_err(|e| e.in_file(name, text))?;
-        let mut c = compile::Compiler::new(dialect, text, &mut set);
+        let mut c = compile::Compiler::new(dialect, text, file, &mut set);
         c.file(&ast).map_err(|e| e.in_file(name, text))?;
     }
     for (name, value) in overrides {

@@ -1,9 +1,28 @@
 //! Typing and compilation of expressions and predicates (part of the compiler, see `compile`).
 
-use super::ast::{self, BinOp, ExprKind, UnOp};
+use super::ast::{self, BinOp, ExprKind, InterpPart, UnOp};
 use super::compile::{CResult, Compiler, Scope, StepCx, Ty, ty_of_loc};
 use super::error::{ErrorKind, ProtocolError, Span};
 use super::ir::*;
+
+/// Names whose values a violation report shows, with their compiled expression and enum.
+pub(super) type Shows = Vec<(String, Expr, Option<String>)>;
+
+/// Parameter ids have at most 16 characters (PARAM_VALUE.param_id).
+const PARAM_ID_LEN: usize = 16;
+/// The numbers a parameter family (`param["SERVO{n}_FUNCTION"]`) is tracked for: the autopilots
+/// number outputs, relays and RC channels from 0 or 1 up to 32 at most.
+pub(super) const FAMILY_INDICES: std::ops::RangeInclusive<u32> = 0..=32;
+
+fn show(shows: &mut Shows, name: &str, x: &Expr, t: &Ty) {
+    if !shows.iter().any(|(s, _, _)| s == name) {
+        let en = match t {
+            Ty::Num { enum_ } => enum_.clone(),
+            _ => None,
+        };
+        shows.push((name.to_string(), x.clone(), en));
+    }
+}
 
 impl<'a> Compiler<'a> {
     pub(super) fn expect_compatible(&self, want: &Ty, got: &Ty, span: Span) -> CResult<()> {
@@ -35,19 +54,34 @@ impl<'a> Compiler<'a> {
         let mut conjuncts = vec![];
         for p in parts {
             let mut shows = vec![];
-            let (x, ty) = self.expr(p, scope, step.as_deref_mut(), &mut shows)?;
-            if ty != Ty::Bool {
-                return self.err(
-                    ErrorKind::Type,
-                    p.span,
-                    format!("a condition must be a boolean, this is {}", ty.describe()),
-                );
-            }
-            let text =
-                self.src.get(p.span.start..p.span.start + p.span.len).unwrap_or("").to_string();
-            conjuncts.push(Conjunct { expr: x, text, shows });
+            let x = self.condition(p, scope, step.as_deref_mut(), &mut shows)?;
+            conjuncts.push(Conjunct { expr: x, text: self.text_of(p.span), shows });
         }
         Ok(Pred { conjuncts })
+    }
+
+    /// A boolean expression (a condition).
+    pub(super) fn condition(
+        &mut self,
+        e: &ast::Expr,
+        scope: &mut Scope,
+        step: Option<&mut StepCx>,
+        shows: &mut Shows,
+    ) -> CResult<Expr> {
+        let (x, ty) = self.expr(e, scope, step, shows)?;
+        if ty != Ty::Bool {
+            return self.err(
+                ErrorKind::Type,
+                e.span,
+                format!("a condition must be a boolean, this is {}", ty.describe()),
+            );
+        }
+        Ok(x)
+    }
+
+    /// The source text of a span (for reports).
+    pub(super) fn text_of(&self, span: Span) -> String {
+        self.src.get(span.start..span.start + span.len).unwrap_or("").to_string()
     }
 
     /// Compiles an expression, resolving names: variables in scope, fields of the current
@@ -57,91 +91,25 @@ impl<'a> Compiler<'a> {
         e: &ast::Expr,
         scope: &mut Scope,
         mut step: Option<&mut StepCx>,
-        shows: &mut Vec<(String, Expr, Option<String>)>,
+        shows: &mut Shows,
     ) -> CResult<(Expr, Ty)> {
-        let show = |shows: &mut Vec<(String, Expr, Option<String>)>, n: &str, x: &Expr, t: &Ty| {
-            if !shows.iter().any(|(s, _, _)| s == n) {
-                let en = match t {
-                    Ty::Num { enum_ } => enum_.clone(),
-                    _ => None,
-                };
-                shows.push((n.to_string(), x.clone(), en));
-            }
-        };
         Ok(match &e.kind {
             ExprKind::Num(n) => (Expr::Num(*n), Ty::num()),
             ExprKind::Str(s) => (Expr::Str(s.as_bytes().into()), Ty::Str),
             ExprKind::Bool(b) => (Expr::Bool(*b), Ty::Bool),
             ExprKind::Name(n) => {
-                let r = if let Some((_, slot, ty)) =
-                    scope.vars.iter().rev().find(|(v, _, _)| v == n)
-                {
-                    (Expr::Var(*slot), ty.clone())
-                } else if self.in_reply
-                    && self.proto.as_ref().is_some_and(|p| p.var_names.contains(n))
-                {
-                    let slot = self
-                        .proto
-                        .as_ref()
-                        .and_then(|p| p.var_names.iter().rposition(|v| v == n))
-                        .unwrap_or(0);
-                    (Expr::Var(slot), Ty::num())
-                } else if let Some(i) =
-                    self.keys.iter().position(|k| k == n).filter(|_| self.in_reply)
-                {
-                    let loc = self.proto.as_ref().and_then(|p| p.keys.get(i)?.locs.first());
-                    (Expr::Key(i), loc.map_or_else(Ty::num, |(_, l)| ty_of_loc(l)))
-                } else if let Some(st) = step.as_deref_mut().filter(|st| {
-                    st.msgs.iter().any(|&m| self.dialect.message(m).field(n).is_some())
-                }) {
-                    let (slot, ty) = self.field_slot(st, n, e.span)?;
-                    (Expr::Field(slot), ty)
-                } else if let Some(i) = self.set.consts.iter().position(|k| &k.name == n) {
-                    (Expr::Const(i), Ty::num())
-                } else if let Some((en, v)) = self.dialect.enum_entry(n) {
-                    return Ok((Expr::Num(v as f64), Ty::Num { enum_: Some(en.to_string()) }));
-                } else {
-                    let mut err = ProtocolError::at(
-                        ErrorKind::UnknownName,
-                        self.src,
-                        e.span,
-                        format!("unbound name `{n}`"),
-                    );
-                    err = err.with_help(match &step {
-                        Some(st) => format!(
-                            "not a variable in scope, a field of {}, a constant or an enum entry of the dialect",
-                            st.label_text
-                        ),
-                        None => "not a variable in scope, a constant or an enum entry of the dialect".to_string(),
-                    });
-                    return Err(err);
-                };
+                let r = self.name(n, e.span, scope, step)?;
                 show(shows, n, &r.0, &r.1);
                 r
             }
             ExprKind::Vehicle(m) => {
-                let (attr, ty) = match m.name.as_str() {
-                    "armed" => (VehicleAttr::Armed, Ty::Bool),
-                    "mode" => (VehicleAttr::Mode, Ty::num()),
-                    "alt" => (VehicleAttr::Alt, Ty::num()),
-                    "climb" => (VehicleAttr::Climb, Ty::num()),
-                    "type" => (VehicleAttr::Type, Ty::Num { enum_: Some("MAV_TYPE".into()) }),
-                    _ => {
-                        return Err(ProtocolError::at(
-                            ErrorKind::UnknownName,
-                            self.src,
-                            m.span,
-                            format!("unknown vehicle attribute `{}`", m.name),
-                        )
-                        .with_help("vehicle attributes: armed, mode, alt, climb, type"));
-                    }
-                };
+                let (attr, ty) = self.vehicle_attr(m)?;
                 let x = Expr::Vehicle(attr);
                 show(shows, &format!("vehicle.{}", m.name), &x, &ty);
                 (x, ty)
             }
             ExprKind::Param(m) => {
-                if m.name.len() > 16 {
+                if m.name.len() > PARAM_ID_LEN {
                     return self.err(
                         ErrorKind::Limit,
                         m.span,
@@ -153,29 +121,12 @@ impl<'a> Compiler<'a> {
                 (x, Ty::num())
             }
             ExprKind::ParamOf(a) => {
-                let (x, t) = self.expr(a, scope, step, shows)?;
-                self.expect_compatible(&Ty::Str, &t, a.span)?;
-                (Expr::ParamOf(Box::new(x)), Ty::num())
+                let x = self.param_of(a, scope, step, shows)?;
+                show(shows, &format!("param[{}]", self.text_of(a.span)), &x, &Ty::num());
+                (x, Ty::num())
             }
-            ExprKind::Call(f, a) => {
-                let Some(b) = Builtin::named(&f.name) else {
-                    return Err(ProtocolError::at(
-                        ErrorKind::UnknownName,
-                        self.src,
-                        f.span,
-                        format!("unknown function `{}`", f.name),
-                    )
-                    .with_help(format!("functions: {}", Builtin::NAMES)));
-                };
-                let (x, t) = self.expr(a, scope, step, shows)?;
-                let (arg, result) = match b {
-                    Builtin::Int { .. } | Builtin::Float32 => (Ty::num(), Ty::num()),
-                    Builtin::Finite => (Ty::num(), Ty::Bool),
-                    Builtin::Upper => (Ty::Str, Ty::Str),
-                };
-                self.expect_compatible(&arg, &t, a.span)?;
-                (Expr::Call(b, Box::new(x)), result)
-            }
+            ExprKind::Interp(parts) => (self.interpolation(parts, scope, step, shows)?, Ty::Str),
+            ExprKind::Call(f, a) => self.call(f, a, scope, step, shows)?,
             ExprKind::Unary(op, a) => {
                 let (x, t) = self.expr(a, scope, step, shows)?;
                 match op {
@@ -196,6 +147,195 @@ impl<'a> Compiler<'a> {
                 (Expr::Bin(*op, Box::new(xa), Box::new(xb)), ty)
             }
         })
+    }
+
+    /// A name: a variable in scope, in a reply a session variable or key, a field of the current
+    /// message, a constant or an enum entry.
+    fn name(
+        &mut self,
+        n: &str,
+        span: Span,
+        scope: &mut Scope,
+        step: Option<&mut StepCx>,
+    ) -> CResult<(Expr, Ty)> {
+        let label = step.as_ref().map(|st| st.label_text.clone());
+        if let Some((_, slot, ty)) = scope.vars.iter().rev().find(|(v, _, _)| v == n) {
+            return Ok((Expr::Var(*slot), ty.clone()));
+        }
+        if self.in_reply
+            && let Some(slot) = self.proto.var_names.iter().rposition(|v| v == n)
+        {
+            return Ok((Expr::Var(slot), Ty::num()));
+        }
+        if self.in_reply
+            && let Some(i) = self.keys.iter().position(|k| k == n)
+        {
+            let loc = self.proto.keys.get(i).and_then(|k| k.locs.first());
+            return Ok((Expr::Key(i), loc.map_or_else(Ty::num, |(_, l)| ty_of_loc(l))));
+        }
+        if let Some(st) = step
+            && st.msgs.iter().any(|&m| self.dialect.message(m).field(n).is_some())
+        {
+            let (slot, ty) = self.field_slot(st, n, span)?;
+            return Ok((Expr::Field(slot), ty));
+        }
+        if let Some(i) = self.set.consts.iter().position(|k| k.name == n) {
+            return Ok((Expr::Const(i), Ty::num()));
+        }
+        if let Some((en, v)) = self.dialect.enum_entry(n) {
+            return Ok((Expr::Num(v as f64), Ty::Num { enum_: Some(en.to_string()) }));
+        }
+        let help = match &label {
+            Some(label) => format!(
+                "not a variable in scope, a field of {label}, a constant or an enum entry of the dialect"
+            ),
+            None => {
+                "not a variable in scope, a constant or an enum entry of the dialect".to_string()
+            }
+        };
+        Err(ProtocolError::at(
+            ErrorKind::UnknownName,
+            self.src,
+            span,
+            format!("unbound name `{n}`"),
+        )
+        .with_help(help))
+    }
+
+    fn vehicle_attr(&self, m: &ast::Ident) -> CResult<(VehicleAttr, Ty)> {
+        Ok(match m.name.as_str() {
+            "armed" => (VehicleAttr::Armed, Ty::Bool),
+            "mode" => (VehicleAttr::Mode, Ty::num()),
+            "alt" => (VehicleAttr::Alt, Ty::num()),
+            "climb" => (VehicleAttr::Climb, Ty::num()),
+            "type" => (VehicleAttr::Type, Ty::Num { enum_: Some("MAV_TYPE".into()) }),
+            _ => {
+                return Err(ProtocolError::at(
+                    ErrorKind::UnknownName,
+                    self.src,
+                    m.span,
+                    format!("unknown vehicle attribute `{}`", m.name),
+                )
+                .with_help("vehicle attributes: armed, mode, alt, climb, type"));
+            }
+        })
+    }
+
+    /// `param[EXPR]`. A constant id is looked up at load time; an interpolated id with one
+    /// number in it (`"SERVO{n}_FUNCTION"`) makes the whole family tracked.
+    fn param_of(
+        &mut self,
+        a: &ast::Expr,
+        scope: &mut Scope,
+        step: Option<&mut StepCx>,
+        shows: &mut Shows,
+    ) -> CResult<Expr> {
+        let (x, t) = self.expr(a, scope, step, shows)?;
+        self.expect_compatible(&Ty::Str, &t, a.span)?;
+        match &x {
+            Expr::Str(id) if id.len() <= PARAM_ID_LEN => {
+                let name = String::from_utf8_lossy(id).into_owned();
+                return Ok(Expr::Param(self.set.params.intern(&name)));
+            }
+            Expr::Interp(parts) => {
+                if let [InterpIR::Text(prefix), InterpIR::Num(_), InterpIR::Text(suffix)] =
+                    &parts[..]
+                {
+                    self.track_family(prefix, suffix);
+                } else if let [InterpIR::Text(prefix), InterpIR::Num(_)] = &parts[..] {
+                    self.track_family(prefix, &[]);
+                }
+            }
+            _ => {}
+        }
+        Ok(Expr::ParamOf(Box::new(x)))
+    }
+
+    fn track_family(&mut self, prefix: &[u8], suffix: &[u8]) {
+        for i in FAMILY_INDICES {
+            let name = format!(
+                "{}{i}{}",
+                String::from_utf8_lossy(prefix),
+                String::from_utf8_lossy(suffix)
+            );
+            if name.len() <= PARAM_ID_LEN {
+                self.set.params.intern(&name);
+            }
+        }
+    }
+
+    /// `"…{EXPR}…"`: the numbers are written as whole decimal numbers. Folded to a text when every
+    /// part is a literal.
+    fn interpolation(
+        &mut self,
+        parts: &[InterpPart],
+        scope: &mut Scope,
+        mut step: Option<&mut StepCx>,
+        shows: &mut Shows,
+    ) -> CResult<Expr> {
+        let mut out: Vec<InterpIR> = vec![];
+        for p in parts {
+            match p {
+                InterpPart::Text(t) => out.push(InterpIR::Text(t.as_bytes().into())),
+                InterpPart::Expr(e) => {
+                    let (x, t) = self.expr(e, scope, step.as_deref_mut(), shows)?;
+                    self.expect_compatible(&Ty::num(), &t, e.span)?;
+                    match x {
+                        Expr::Num(v) if v.fract() == 0.0 && v.abs() < 1e15 => {
+                            out.push(InterpIR::Text(format!("{}", v as i64).into_bytes().into()))
+                        }
+                        x => out.push(InterpIR::Num(x)),
+                    }
+                }
+            }
+        }
+        // Adjacent texts are merged, so that a folded number joins its neighbours.
+        let mut merged: Vec<InterpIR> = vec![];
+        for p in out {
+            match (merged.last_mut(), p) {
+                (Some(InterpIR::Text(a)), InterpIR::Text(b)) => {
+                    let mut v = a.to_vec();
+                    v.extend_from_slice(&b);
+                    *a = v.into();
+                }
+                (_, p) => merged.push(p),
+            }
+        }
+        Ok(match &merged[..] {
+            [] => Expr::Str(Box::default()),
+            [InterpIR::Text(t)] => Expr::Str(t.clone()),
+            _ => Expr::Interp(merged),
+        })
+    }
+
+    fn call(
+        &mut self,
+        f: &ast::Ident,
+        a: &ast::Expr,
+        scope: &mut Scope,
+        step: Option<&mut StepCx>,
+        shows: &mut Shows,
+    ) -> CResult<(Expr, Ty)> {
+        let Some(b) = Builtin::named(&f.name) else {
+            return Err(ProtocolError::at(
+                ErrorKind::UnknownName,
+                self.src,
+                f.span,
+                format!("unknown function `{}`", f.name),
+            )
+            .with_help(format!("functions: {}", Builtin::NAMES)));
+        };
+        let (x, t) = self.expr(a, scope, step, shows)?;
+        let (arg, result) = match b {
+            Builtin::Int { .. } | Builtin::Float32 => (Some(Ty::num()), Ty::num()),
+            Builtin::Finite => (Some(Ty::num()), Ty::Bool),
+            Builtin::Upper => (Some(Ty::Str), Ty::Str),
+            Builtin::Known => (None, Ty::Bool),
+        };
+        if let Some(arg) = arg {
+            self.expect_compatible(&arg, &t, a.span)?;
+        }
+        Ok((Expr::Call(b, Box::new(x)), result))
     }
 
     fn binary_type(&self, op: BinOp, a: &Ty, b: &Ty, span: Span) -> CResult<Ty> {

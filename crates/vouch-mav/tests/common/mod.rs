@@ -88,6 +88,27 @@ impl Craft {
         self.send(UAV, name, &f);
     }
 
+    /// The vehicle reports parameter `id` = `v` (PARAM_VALUE, REAL32).
+    pub fn param_value(&mut self, id: &str, v: f64) {
+        self.send_full(
+            UAV,
+            "PARAM_VALUE",
+            &[("param_value", v), ("param_type", 9.0), ("param_count", 3.0)],
+            &[("param_id", id)],
+        );
+    }
+
+    /// The GCS writes parameter `id` = `v` on vehicle 1/1 (PARAM_SET, REAL32).
+    pub fn param_set(&mut self, id: &str, v: f64) {
+        let f = [
+            ("target_system", 1.0),
+            ("target_component", 1.0),
+            ("param_value", v),
+            ("param_type", 9.0),
+        ];
+        self.send_full(GCS, "PARAM_SET", &f, &[("param_id", id)]);
+    }
+
     pub fn wait_ms(&mut self, ms: u64) {
         self.t += ms * 1000;
     }

@@ -51,30 +51,35 @@ def write(buf):
 
 m.write = write
 out = {"connected": False, "command_acks": [], "param_values": [], "statustext": [], "mission_acks": [],
-       "mission_items": [], "notes": []}
+       "mission_items": [], "notes": [], "acks_from": []}
 
 
 def finite(x):
     return x if not isinstance(x, float) or math.isfinite(x) else repr(x)
 
 
+def record(msg):
+    """Notes what came back (answers, alerts) in the summary."""
+    t = msg.get_type()
+    if t == "COMMAND_ACK":
+        out["command_acks"].append([msg.command, msg.result])
+        out["acks_from"].append([msg.command, msg.result, msg.get_srcSystem(), msg.get_srcComponent()])
+    elif t == "PARAM_VALUE":
+        out["param_values"].append([msg.param_id, finite(msg.param_value)])
+    elif t == "STATUSTEXT":
+        out["statustext"].append(msg.text)
+    elif t == "MISSION_ACK":
+        out["mission_acks"].append(msg.type)
+    elif t == "MISSION_ITEM_INT":
+        out["mission_items"].append(msg.seq)
+
+
 def collect(seconds):
     end = time.time() + seconds
     while time.time() < end:
         msg = m.recv_match(blocking=True, timeout=0.05)
-        if msg is None:
-            continue
-        t = msg.get_type()
-        if t == "COMMAND_ACK":
-            out["command_acks"].append([msg.command, msg.result])
-        elif t == "PARAM_VALUE":
-            out["param_values"].append([msg.param_id, finite(msg.param_value)])
-        elif t == "STATUSTEXT":
-            out["statustext"].append(msg.text)
-        elif t == "MISSION_ACK":
-            out["mission_acks"].append(msg.type)
-        elif t == "MISSION_ITEM_INT":
-            out["mission_items"].append(msg.seq)
+        if msg is not None:
+            record(msg)
 
 
 def connect():
@@ -378,7 +383,173 @@ def random_bytes():
             time.sleep(0.001)
 
 
-SCENARIOS = {"fractional": fractional, "spoof": spoof, "random": random_bytes, "stray": stray,
+# ---- routes to the parachute release (the vehicle is chute_vehicle.py) ----------------------
+
+HOME = (C.MAV_CMD_NAV_WAYPOINT, 0, 0)
+WAYPOINT = (C.MAV_CMD_NAV_WAYPOINT, 0, 0)
+LOITER = (C.MAV_CMD_NAV_LOITER_UNLIM, 0, 0)
+CHUTE = (C.MAV_CMD_DO_PARACHUTE, C.PARACHUTE_RELEASE, 0)
+AUX_CHUTE = (C.MAV_CMD_DO_AUX_FUNCTION, 22, 2)
+
+
+def item(seq, cmd, mtype=0, use_int=True):
+    """One mission item (command, param1, param2) at seq, as MISSION_ITEM_INT or MISSION_ITEM."""
+    command, p1, p2 = cmd
+    if use_int:
+        return m.mav.mission_item_int_encode(1, 1, seq, C.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command, 0, 1,
+                                             p1, p2, 0, 0, 473977420, 85455940, 20.0, mtype)
+    return m.mav.mission_item_encode(1, 1, seq, C.MAV_FRAME_GLOBAL_RELATIVE_ALT, command, 0, 1, p1, p2, 0, 0,
+                                     47.397742, 8.545594, 20.0, mtype)
+
+
+def upload(items, mtype=0, use_int=True, partial=None, timeout=5.0):
+    """Uploads `items` (a list of (command, param1, param2)) as the vehicle requests them; with
+    `partial` = (start, end) as a partial write of those indices. Returns the MISSION_ACK type, or
+    None when none came."""
+    if partial is None:
+        m.mav.mission_count_send(1, 1, len(items), mtype)
+    else:
+        m.mav.mission_write_partial_list_send(1, 1, partial[0], partial[1], mtype)
+    end = time.time() + timeout
+    while time.time() < end:
+        msg = m.recv_match(blocking=True, timeout=0.05)
+        if msg is None:
+            continue
+        record(msg)
+        t = msg.get_type()
+        if t == "MISSION_ACK":
+            return msg.type
+        if t in ("MISSION_REQUEST_INT", "MISSION_REQUEST") and msg.seq < len(items):
+            m.mav.send(item(msg.seq, items[msg.seq], mtype, use_int))
+    return None
+
+
+def command(cmd, p1=0.0, p2=0.0, target=(1, 1)):
+    m.mav.command_long_send(target[0], target[1], cmd, 0, p1, p2, 0, 0, 0, 0, 0)
+
+
+def mission_start():
+    """A two-item mission whose item 2 is DO_PARACHUTE RELEASE, then MAV_CMD_MISSION_START."""
+    out["notes"].append(upload([HOME, WAYPOINT, CHUTE]))
+    command(C.MAV_CMD_MISSION_START)
+    collect(1.5)
+
+
+def mission_item_auto():
+    """The same mission as MISSION_ITEM (float coordinates), started by SET_MODE AUTO."""
+    out["notes"].append(upload([HOME, WAYPOINT, CHUTE], use_int=False))
+    m.mav.set_mode_send(1, C.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, 3)
+    collect(1.5)
+
+
+def mission_partial():
+    """A harmless three-item mission, then a partial write of item 2 with DO_PARACHUTE RELEASE
+    (MISSION_WRITE_PARTIAL_LIST), then MAV_CMD_MISSION_START."""
+    out["notes"].append(upload([HOME, WAYPOINT, WAYPOINT]))
+    out["notes"].append(upload([HOME, WAYPOINT, CHUTE], partial=(2, 2)))
+    command(C.MAV_CMD_MISSION_START)
+    collect(1.5)
+
+
+def mission_set_current():
+    """A mission that loiters at item 1 with the release as item 2, AUTO (MAV_CMD_DO_SET_MODE),
+    then MISSION_SET_CURRENT to item 2."""
+    out["notes"].append(upload([HOME, LOITER, CHUTE]))
+    command(C.MAV_CMD_DO_SET_MODE, C.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, 3)
+    collect(0.5)
+    m.mav.mission_set_current_send(1, 1, 2)
+    collect(1.0)
+
+
+def mission_do_set_current():
+    """As mission_set_current, with MAV_CMD_DO_SET_MISSION_CURRENT."""
+    out["notes"].append(upload([HOME, LOITER, CHUTE]))
+    command(C.MAV_CMD_DO_SET_MODE, C.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, 3)
+    collect(0.5)
+    command(C.MAV_CMD_DO_SET_MISSION_CURRENT, 2)
+    collect(1.0)
+
+
+def mission_do_jump():
+    """A mission whose item 1 is DO_JUMP to item 3, the release, past a loiter at item 2."""
+    out["notes"].append(upload([HOME, (C.MAV_CMD_DO_JUMP, 3, 1), LOITER, CHUTE]))
+    command(C.MAV_CMD_MISSION_START)
+    collect(1.5)
+
+
+def mission_progress():
+    """The vehicle already flies AUTO; a new mission whose item 2 is the release is uploaded and
+    the vehicle reaches it by itself."""
+    out["notes"].append(upload([HOME, WAYPOINT, CHUTE]))
+    collect(1.5)
+
+
+def mission_aux():
+    """A mission item MAV_CMD_DO_AUX_FUNCTION 22 (parachute release) high, then mission start."""
+    out["notes"].append(upload([HOME, WAYPOINT, AUX_CHUTE]))
+    command(C.MAV_CMD_MISSION_START)
+    collect(1.5)
+
+
+def plan_types():
+    """The release as item 1 of a fence plan and of a rally plan (mission_type 1 and 2), after a
+    genuine fence vertex / rally point."""
+    fence_vertex = (C.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, 3, 0)
+    rally_point = (C.MAV_CMD_NAV_RALLY_POINT, 0, 0)
+    for mtype, first in ((1, fence_vertex), (2, rally_point)):
+        out["notes"].append(upload([first, CHUTE], mtype=mtype))
+    collect(0.5)
+
+
+def aux_function():
+    """MAV_CMD_DO_AUX_FUNCTION 22 (parachute release) in the high position, as a command."""
+    command(C.MAV_CMD_DO_AUX_FUNCTION, 22, 2)
+    collect(0.5)
+
+
+def servo():
+    """DO_SET_SERVO and DO_REPEAT_SERVO on the parachute servo (`--value` = its number)."""
+    ch = floats()[0]
+    command(C.MAV_CMD_DO_SET_SERVO, ch, 1900)
+    command(C.MAV_CMD_DO_REPEAT_SERVO, ch, 1900)
+    collect(0.5)
+
+
+def relay():
+    """DO_SET_RELAY on, then DO_REPEAT_RELAY, on the relay numbered `--value`."""
+    r = floats()[0]
+    command(C.MAV_CMD_DO_SET_RELAY, r, 1)
+    time.sleep(0.1)
+    command(C.MAV_CMD_DO_REPEAT_RELAY, r, 3)
+    collect(0.5)
+
+
+def rc_override():
+    """RC_CHANNELS_OVERRIDE with channel `--value` high (1900 µs), the others ignored."""
+    ch = int(floats()[0])
+    chans = [65535] * 8 + [0] * 10
+    chans[ch - 1] = 1900
+    for _ in range(3):
+        m.mav.rc_channels_override_send(1, 1, *chans)
+        time.sleep(0.05)
+    collect(0.5)
+
+
+def broadcast_release():
+    """DO_PARACHUTE RELEASE to system 0 (broadcast) and to component 0."""
+    command(C.MAV_CMD_DO_PARACHUTE, 2, 0, target=(0, 0))
+    time.sleep(0.2)
+    command(C.MAV_CMD_DO_PARACHUTE, 2, 0, target=(1, 0))
+    collect(0.8)
+
+
+SCENARIOS = {"mission_start": mission_start, "mission_item_auto": mission_item_auto,
+             "mission_partial": mission_partial, "mission_set_current": mission_set_current,
+             "mission_do_set_current": mission_do_set_current, "mission_do_jump": mission_do_jump,
+             "mission_progress": mission_progress, "mission_aux": mission_aux, "plan_types": plan_types,
+             "aux_function": aux_function, "servo": servo, "relay": relay, "rc_override": rc_override,
+             "broadcast_release": broadcast_release,
+             "fractional": fractional, "spoof": spoof, "random": random_bytes, "stray": stray,
              "signed_commands": signed_commands, "replay": replay, "forms": forms, "identity": identity,
              "params": params, "signature_games": signature_games, "slow": slow, "oversized": oversized,
              "flood": flood, "midstream": midstream, "mix": mix, "none": lambda: None}

@@ -1,30 +1,35 @@
 //! Deterministic pseudo-random numbers for the map generators.
 //!
-//! Why hand-written instead of the `rand` crate: a generated suite must be byte-identical for a
-//! given seed across vouch versions and platforms, forever. `rand`'s `StdRng` explicitly reserves
-//! the right to change its algorithm between releases, so we pin the algorithm here:
-//! SplitMix64 (Steele, Lea, Flood 2014), 64-bit state, integer-only arithmetic.
+//! A generated suite must be byte-identical for a given seed across vouch versions and
+//! platforms, forever. `rand`'s `StdRng` explicitly reserves the right to change its algorithm
+//! between releases, so the algorithm is pinned by name: SplitMix64 (Steele, Lea, Flood 2014),
+//! 64-bit state, integer-only arithmetic, from `rand_xoshiro` (the reference outputs are
+//! tested below). The reductions to a range are written here: they are part of what a seed
+//! means, and `rand`'s own range sampling may change between releases.
+
+use rand_xoshiro::rand_core::{Rng, SeedableRng};
+
+use crate::core::numeric::Fnv1a;
 
 /// SplitMix64 generator. Same seed → same sequence on every platform.
 #[derive(Clone, Debug)]
 pub struct SplitMix64 {
-    state: u64,
+    inner: rand_xoshiro::SplitMix64,
 }
 
 impl SplitMix64 {
+    /// The generator whose state is `seed`.
     pub fn new(seed: u64) -> Self {
-        SplitMix64 { state: seed }
+        SplitMix64 { inner: rand_xoshiro::SplitMix64::seed_from_u64(seed) }
     }
 
     /// A generator for one sub-stream (e.g. one map of one category), derived from the suite
     /// seed and a label, so that selecting fewer categories does not shift the other maps.
     pub fn derive(seed: u64, label: &str, index: u64) -> Self {
         // FNV-1a over the label bytes, mixed with the seed and the index.
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for b in label.bytes() {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0100_0000_01b3);
-        }
+        let mut fnv = Fnv1a::default();
+        fnv.bytes(label.as_bytes());
+        let h = fnv.0;
         let mut g =
             SplitMix64::new(seed ^ h.rotate_left(17) ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         // Discard one output so that nearby seeds decorrelate immediately.
@@ -32,12 +37,16 @@ impl SplitMix64 {
         g
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.inner.next_u64()
+    }
+
+    /// SplitMix64's output function alone (the finaliser of MurmurHash3's mixer): `z` with
+    /// every input bit spread over every output bit.
+    pub fn mix(z: u64) -> u64 {
+        // one step from state `z − γ` outputs the finaliser of `z`
+        SplitMix64::new(z.wrapping_sub(0x9e37_79b9_7f4a_7c15)).next_u64()
     }
 
     /// Uniform integer in `lo..=hi` (requires `lo <= hi`). Uses the widening-multiply reduction;

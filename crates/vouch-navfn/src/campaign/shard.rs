@@ -178,10 +178,8 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 /// The SplitMix64 finaliser: every input bit reaches the low bits the modulo keeps.
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
+fn mix(z: u64) -> u64 {
+    super::rng::SplitMix64::mix(z)
 }
 
 #[cfg(test)]

@@ -1,4 +1,4 @@
-//! Storage of the per-cell arrays the propagation sweeps: potential, cost, pending flags.
+//! Storage of the per-cell arrays the propagation sweeps: potential, cost, blocked flags.
 //!
 //! Corner to corner on a large map the propagation front crosses every row, and each update
 //! reads three rows of three arrays: with 4 KiB pages the front's working set is thousands

@@ -3,9 +3,10 @@
 //!
 //! Memory layout: one flat array per quantity (`cost` bytes, `pot` floats, the gradient
 //! pairs `grad: Vec<[f32; 2]>` (x and y side by side: path extraction reads them together),
-//! `pending` flags as bytes) and three priority buffers of fixed capacity. The three arrays
-//! the propagation sweeps live on huge pages when they are large (`cells.rs`). Nothing is
-//! allocated during a plan; a [`NavFn`] keeps its arrays between plans of the same map size.
+//! `blocked` flags as bytes: upstream's `pending` merged with the obstacle test of its push)
+//! and three priority buffers of fixed capacity. The three arrays the propagation sweeps live
+//! on huge pages when they are large (`cells.rs`). Nothing is allocated during a plan; a
+//! [`NavFn`] keeps its arrays between plans of the same map size.
 //!
 //! Float discipline: every operation is written in the exact order and width of
 //! SEMANTICS.md §4–6; `f64` appears only where the C++ evaluates in double. No `mul_add`.
@@ -113,8 +114,10 @@ pub struct NavFn {
     pub(crate) pot: CellArray<f32>,
     /// Cached normalised gradient `(gx, gy)` of each cell (`gradx`/`grady` upstream).
     pub(crate) grad: Vec<[f32; 2]>,
-    /// 1 while a cell is queued (`pending` upstream); bytes so that they can be mapped.
-    pub(crate) pending: CellArray<u8>,
+    /// 1 while a cell may not be queued: it is queued already (`pending` upstream) or it is an
+    /// obstacle (cost ≥ 254, the other half of upstream's push test). Set up from the costs
+    /// by `setup`; bytes so that they can be mapped.
+    pub(crate) blocked: CellArray<u8>,
     /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
     pub(crate) grad_touched: Vec<u32>,
     pub(crate) cur: PriorityBuf,
@@ -143,7 +146,7 @@ impl NavFn {
             cost: CellArray::filled(ns, COST_NEUTRAL),
             pot: CellArray::filled(ns, POT_HIGH),
             grad: vec![[0.0; 2]; ns],
-            pending: CellArray::zeroed(ns),
+            blocked: CellArray::zeroed(ns),
             grad_touched: Vec::new(),
             cur: PriorityBuf::new(),
             next: PriorityBuf::new(),
@@ -169,12 +172,12 @@ impl NavFn {
         self.nx = nx;
         self.ny = ny;
         self.ns = ns;
-        // fresh zeroed allocations rather than a fill: pages of the gradient and `pending`
-        // arrays that a plan never touches then take no memory (most of them on large maps)
+        // fresh zeroed allocations rather than a fill: pages of the gradient array that a plan
+        // never touches then take no memory (most of them on large maps)
         self.pot = CellArray::filled(ns, POT_HIGH);
         self.grad = vec![[0.0; 2]; ns];
         self.cost = CellArray::filled(ns, COST_NEUTRAL);
-        self.pending = CellArray::zeroed(ns);
+        self.blocked = CellArray::zeroed(ns);
         self.grad_touched.clear();
         self.cur.clear();
         self.next.clear();

@@ -201,6 +201,30 @@ pub fn path_fnv(path: &[[f32; 2]]) -> u64 {
     h.0
 }
 
+/// `n / d` and `n % d` for the map width, by a multiplication (Lemire, Kaser, Kurz 2019:
+/// `M = ⌊(2^64−1)/d⌋ + 1`, quotient = high 64 bits of `M·n`, exact for every 32-bit `n` and
+/// `2 ≤ d < 2^32`); the A* update and path extraction need a cell's column and row, and a
+/// hardware division per update costs more than the rest of the index arithmetic.
+#[derive(Clone, Copy)]
+pub(crate) struct WidthDiv {
+    d: u64,
+    m: u64,
+}
+
+impl WidthDiv {
+    pub(crate) fn new(d: usize) -> Self {
+        let d = d as u64;
+        WidthDiv { d, m: if d >= 2 { u64::MAX / d + 1 } else { 0 } }
+    }
+    /// `(n % d, n / d)` for `n < 2^32`.
+    #[inline(always)]
+    pub(crate) fn col_row(self, n: usize) -> (u64, u64) {
+        let n = n as u64;
+        let q = if self.d >= 2 { ((self.m as u128 * n as u128) >> 64) as u64 } else { n };
+        (n - q * self.d, q)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -223,15 +247,19 @@ mod tests {
 
     /// The run-skipping hash equals byte-wise FNV-1a on arrays mixing runs of every length
     /// with other values (including 1e10's neighbours in float order).
-    #[test]
-    fn run_skipping_fnv_equals_bytewise() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
+    /// Marsaglia's xorshift64: test inputs, fixed by the seed.
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             state
-        };
+        }
+    }
+
+    #[test]
+    fn run_skipping_fnv_equals_bytewise() {
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
         let high = f32::from_bits(POT_HIGH_BITS);
         for _ in 0..300 {
             let mut pot = Vec::new();
@@ -259,5 +287,22 @@ mod tests {
     #[test]
     fn fnv_of_empty_is_offset_basis() {
         assert_eq!(path_fnv(&[]), 0xcbf29ce484222325);
+    }
+
+    /// The multiplication gives the hardware quotient and remainder (widths and indices at the
+    /// ends of their ranges, and a sample in between).
+    #[test]
+    fn width_division_is_exact() {
+        let mut rnd = xorshift(0x2545_f491_4f6c_dd1d);
+        let mut widths: Vec<usize> = (1..=70).chain([4095, 4096, 4097, 46_340, 65_535]).collect();
+        widths.extend((0..200).map(|_| 1 + (rnd() % (i32::MAX as u64)) as usize));
+        for d in widths {
+            let w = WidthDiv::new(d);
+            let mut ns: Vec<usize> = (0..300).chain([i32::MAX as usize - 1, d, d - 1]).collect();
+            ns.extend((0..300).map(|_| (rnd() % (i32::MAX as u64)) as usize));
+            for n in ns {
+                assert_eq!(w.col_row(n), ((n % d) as u64, (n / d) as u64), "{n} / {d}");
+            }
+        }
     }
 }

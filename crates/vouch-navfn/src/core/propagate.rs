@@ -1,7 +1,18 @@
 //! Set-up and potential propagation (`setupNavFn`, `updateCell`, `updateCellAstar`,
 //! `propNavFnDijkstra`, `propNavFnAstar`), SEMANTICS.md §4.
+//!
+//! The update order and every rounding are the C++'s; what differs is how the work is laid
+//! out for the processor:
+//! * the push test of navfn.cpp (`!pending[n] && costarr[n] < COST_OBS`) reads one byte array,
+//!   `blocked` (1 while a cell is queued or an obstacle), kept apart from the read-only costs so
+//!   that the cost loads of an update never wait on the flag stores of the previous one;
+//! * one propagation cycle (`sweep`) holds the lengths of the buffers it fills in locals, and
+//!   an update whose buffer has room for its four candidates pushes them without a capacity
+//!   test each (the common case; a nearly full buffer takes the tested path, same result);
+//! * the four pushes of an update are computed without branches (their tests are
+//!   data-dependent and mispredict often).
 
-use super::numeric::astar_heuristic;
+use super::numeric::{WidthDiv, astar_heuristic};
 use super::observer::{CycleView, PropagationEnd, PropagationEndView, SearchObserver};
 use super::{COST_OBS, CUR_T_INIT, NavFn, POT_HIGH, PRIORITY_BUF_SIZE};
 use prefetch_index::prefetch_index;
@@ -9,6 +20,11 @@ use prefetch_index::prefetch_index;
 /// `INVSQRT2` of navfn.cpp: a double literal, not exactly 1/√2 (hence not `FRAC_1_SQRT_2`).
 #[allow(clippy::approx_constant)]
 const INVSQRT2: f64 = 0.707106781;
+
+/// Capacity of a priority buffer, and its storage: four slots of slack so that an update can
+/// store its four candidates before it is known which of them count.
+const CAP: usize = PRIORITY_BUF_SIZE;
+const SLOTS: usize = CAP + 4;
 
 /// `f32(INVSQRT2 · f64(f32(cost)))` for every cost byte: the neighbour thresholds
 /// `le, re, ue, de` of `updateCell`, computed once instead of per update (same roundings).
@@ -22,21 +38,20 @@ static EDGE: [f32; 256] = {
     t
 };
 
-/// One of the three priority buffers: `PRIORITY_BUF_SIZE` cells plus one slot of slack, so that
-/// a push can store its cell before it is known whether the push counts (no branch per test).
+/// One of the three priority buffers (`pb1..pb3` with their end counters upstream).
 pub(crate) struct PriorityBuf {
-    cells: Box<[i32]>,
+    cells: Box<[i32; SLOTS]>,
     len: usize,
 }
 
 impl PriorityBuf {
     pub(crate) fn new() -> Self {
-        PriorityBuf { cells: vec![0; PRIORITY_BUF_SIZE + 1].into_boxed_slice(), len: 0 }
+        PriorityBuf { cells: Box::new([0; SLOTS]), len: 0 }
     }
     /// The queued cells, in order.
     #[inline(always)]
     pub(crate) fn as_slice(&self) -> &[i32] {
-        &self.cells[..self.len]
+        &self.cells[..self.len.min(CAP)]
     }
     #[inline(always)]
     pub(crate) fn clear(&mut self) {
@@ -46,72 +61,59 @@ impl PriorityBuf {
     fn is_empty(&self) -> bool {
         self.len == 0
     }
-
-    /// The push macros of navfn.cpp (`push_cur/next/over`) guarded by the update's own test:
-    /// append iff `test`, the cell is not pending, its cost is < 254 and the buffer has room; a
-    /// push into a full buffer is silently dropped, as upstream. Computed without branches (the
-    /// tests are data-dependent and mispredict often). The caller guarantees `n` is inside the
-    /// arrays (upstream tests `0 ≤ n < ns` here; only the goal's neighbours at set-up can fall
-    /// outside, and set-up tests that itself).
-    #[inline(always)]
-    fn push_if(&mut self, test: bool, pending: &mut [u8], cost: &[u8], n: usize) {
-        let ok = test & (pending[n] == 0) & (cost[n] < COST_OBS) & (self.len < PRIORITY_BUF_SIZE);
-        self.cells[self.len] = n as i32;
-        self.len += ok as usize;
-        pending[n] |= ok as u8;
-    }
 }
 
-/// `n / d` and `n % d` for the map width, by a multiplication (Lemire, Kaser, Kurz 2019:
-/// `M = ⌊(2^64−1)/d⌋ + 1`, quotient = high 64 bits of `M·n`, exact for every 32-bit `n` and
-/// `2 ≤ d < 2^32`); the A* update needs the cell's column and row, and a hardware division per
-/// update costs more than the rest of the index arithmetic.
-#[derive(Clone, Copy)]
-pub(crate) struct WidthDiv {
-    d: u64,
-    m: u64,
-}
-
-impl WidthDiv {
-    pub(crate) fn new(d: usize) -> Self {
-        let d = d as u64;
-        WidthDiv { d, m: if d >= 2 { u64::MAX / d + 1 } else { 0 } }
-    }
-    /// `(n % d, n / d)` for `n < 2^32`.
-    #[inline(always)]
-    pub(crate) fn col_row(self, n: usize) -> (u64, u64) {
-        let n = n as u64;
-        let q = if self.d >= 2 { ((self.m as u128 * n as u128) >> 64) as u64 } else { n };
-        (n - q * self.d, q)
-    }
-}
-
-/// The arrays one propagation cycle works on (disjoint borrows of a [`NavFn`]).
-struct Grid<'a> {
-    pot: &'a mut [f32],
-    cost: &'a [u8],
-    pending: &'a mut [u8],
-    nx: usize,
-}
-
-/// How many queued cells ahead of the one being updated the loop prefetches.
-const PREFETCH_AHEAD: usize = 6;
-
-impl Grid<'_> {
-    /// Asks the cache for the lines of the rows above and below cell `n` that its update
-    /// reads, in the three arrays (its own row's lines were read by the neighbour update that
-    /// queued it, and are mostly still cached). On a large map the queue jumps along the
-    /// propagation front, so these lines are often out of the first cache levels; the update
-    /// waits for them, and a prefetch a few cells ahead overlaps the waits. A hint only: it
-    /// never faults and changes no value (hence no bounds: an index past the array is fine).
-    #[inline(always)]
-    fn prefetch(&self, n: usize) {
-        for i in [n.wrapping_sub(self.nx), n.wrapping_add(self.nx)] {
-            prefetch_index(&*self.pot, i);
-            prefetch_index(self.cost, i);
-            prefetch_index(&*self.pending, i);
+/// The push macros of navfn.cpp (`push_next`/`push_over`) for the four candidates of one
+/// update, `n-1, n+1, n-nx, n+nx` in that order: candidate `k` is appended iff the update's
+/// own test `neighbour[k] > priority + edge[k]` holds, it is not blocked (queued or an
+/// obstacle) and the buffer has room; a push into a full buffer is dropped, as upstream. Each
+/// test is made just before its push, so that only floats wait in registers. The caller
+/// guarantees the candidates are inside the arrays (upstream tests `0 ≤ n < ns`; only the
+/// goal's neighbours at set-up can fall outside, and set-up tests that itself).
+#[inline(always)]
+fn push4(
+    cells: &mut [i32; SLOTS],
+    len: &mut usize,
+    blocked: &mut [u8],
+    candidates: [usize; 4],
+    priority: f32,
+    neighbour: [f32; 4],
+    edge: [f32; 4],
+) {
+    let base = *len;
+    if base <= CAP - 4 {
+        // room for all four: the capacity test cannot fail
+        let slots = &mut cells[base..base + 4];
+        let mut pushed = 0usize;
+        for k in 0..4 {
+            let m = candidates[k];
+            let b = blocked[m];
+            let ok = (neighbour[k] > priority + edge[k]) & (b == 0);
+            slots[pushed & 3] = m as i32;
+            pushed += ok as usize;
+            blocked[m] = b | ok as u8;
         }
+        *len = base + pushed;
+    } else {
+        let mut end = base;
+        for k in 0..4 {
+            let m = candidates[k];
+            let b = blocked[m];
+            let ok = (neighbour[k] > priority + edge[k]) & (b == 0) & (end < CAP);
+            cells[end.min(CAP)] = m as i32;
+            end += ok as usize;
+            blocked[m] = b | ok as u8;
+        }
+        *len = end;
     }
+}
+
+/// The two buffers a cycle fills, their lengths in locals.
+struct Outputs<'a> {
+    next: &'a mut [i32; SLOTS],
+    next_len: usize,
+    over: &'a mut [i32; SLOTS],
+    over_len: usize,
 }
 
 /// What the A* update adds (unused by Dijkstra).
@@ -122,120 +124,150 @@ struct Heuristic {
     start_y: i64,
 }
 
-/// `updateCell` (ASTAR = false) and `updateCellAstar` (ASTAR = true) for a queued cell `n`.
-/// Queued cells have cost < 254, hence are never on the border ring, so the four neighbour
-/// indices are in range.
+/// How many queued cells ahead of the one being updated A* prefetches.
+const PREFETCH_AHEAD: usize = 6;
+
+/// Asks the cache for the lines of the rows above and below cell `n` that its update reads,
+/// in the three arrays (its own row's lines were read by the neighbour update that queued it,
+/// and are mostly still cached). A* updates most cells once or twice, and on a large map its
+/// queue jumps along the front, so these lines are often out of the first cache levels; a
+/// prefetch a few cells ahead overlaps the waits. Dijkstra re-updates the cells of its front
+/// several times while they are cached, and gains nothing from it. A hint only: it never
+/// faults and changes no value (hence no bounds: an index past the array is fine).
 #[inline(always)]
-fn update_cell<const ASTAR: bool>(
-    g: &mut Grid<'_>,
-    n: usize,
+fn prefetch_rows(pot: &[f32], cost: &[u8], blocked: &[u8], nx: usize, n: usize) {
+    for i in [n.wrapping_sub(nx), n.wrapping_add(nx)] {
+        prefetch_index(pot, i);
+        prefetch_index(cost, i);
+        prefetch_index(blocked, i);
+    }
+}
+
+/// One propagation cycle: `updateCell` (ASTAR = false) or `updateCellAstar` (ASTAR = true) on
+/// every queued cell in order, pushing into `out`. The arrays come as plain slices and the
+/// update is written out in the loop: the compiler then keeps the addresses and both buffer
+/// lengths in registers (a struct of slices, or a helper returning the update's result,
+/// measurably did not: 10 % slower on a random 1000² map).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn sweep<const ASTAR: bool>(
+    pot: &mut [f32],
+    cost: &[u8],
+    blocked: &mut [u8],
+    nx: usize,
+    queued: &[i32],
     cur_t: f32,
     heuristic: Heuristic,
-    next: &mut PriorityBuf,
-    over: &mut PriorityBuf,
+    out: &mut Outputs<'_>,
 ) {
-    let nx = g.nx;
-    let ns = g.pot.len();
-    // Never true for a queued cell; stating it lets the compiler drop the bounds checks of
-    // the neighbour reads below (a measurable share of the update).
-    if n <= nx || n + nx >= ns || g.cost.len() != ns || g.pending.len() != ns {
-        return;
+    let ns = pot.len();
+    if cost.len() != ns || blocked.len() != ns {
+        return; // never: the three arrays have the map's size
     }
-    let l = g.pot[n - 1];
-    let r = g.pot[n + 1];
-    let u = g.pot[n - nx];
-    let d = g.pot[n + nx];
-    let tc = if l < r { l } else { r };
-    let mut ta = if u < d { u } else { d };
-    let c = g.cost[n];
-    if c >= COST_OBS {
-        return;
-    }
-    let hf = c as f32;
-    let mut dc = tc - ta;
-    if dc < 0.0 {
-        dc = -dc;
-        ta = tc;
-    }
-    // float division, then the quadratic in double with double literals, in the
-    // C++ evaluation order ((-a*q)*q + b*q) + c; one rounding to float at the end.
-    let quadratic = || {
-        let q = (dc / hf) as f64;
-        let v = ((-0.2301 * q) * q + 0.5307 * q) + 0.7040;
-        ta + hf * (v as f32)
-    };
-    let mut pot = if ASTAR {
-        // A* expands whole random maps, where which candidate applies is a coin toss and a
-        // mispredicted branch also discards the loads of the following updates (about a tenth
-        // of the time on a 500² random map): both are computed and one is selected. The
-        // unused candidate has no effect (no float traps; 0/0 when `hf` is 0 only yields a
-        // NaN that is not selected). Dijkstra keeps the branch: on the paper suite's maps it
-        // predicts well, and computing both cost it 15 %.
-        std::hint::select_unpredictable(dc >= hf, ta + hf, quadratic())
-    } else if dc >= hf {
-        ta + hf
-    } else {
-        quadratic()
-    };
-    if pot < g.pot[n] {
-        let le = EDGE[g.cost[n - 1] as usize];
-        let re = EDGE[g.cost[n + 1] as usize];
-        let ue = EDGE[g.cost[n - nx] as usize];
-        let de = EDGE[g.cost[n + nx] as usize];
-        g.pot[n] = pot;
-        if ASTAR {
-            let (x, y) = heuristic.width.col_row(n);
-            let h = astar_heuristic(x as i64 - heuristic.start_x, y as i64 - heuristic.start_y);
-            pot = pot + h;
+    for (i, &c) in queued.iter().enumerate() {
+        if ASTAR && let Some(&ahead) = queued.get(i + PREFETCH_AHEAD) {
+            prefetch_rows(pot, cost, blocked, nx, ahead as usize);
         }
-        let buf = if pot < cur_t { next } else { over };
-        let (pending, cost) = (&mut *g.pending, g.cost);
-        buf.push_if(l > pot + le, pending, cost, n - 1);
-        buf.push_if(r > pot + re, pending, cost, n + 1);
-        buf.push_if(u > pot + ue, pending, cost, n - nx);
-        buf.push_if(d > pot + de, pending, cost, n + nx);
+        let n = c as usize;
+        // Never true for a queued cell (its cost is < 254, so it is not on the border ring);
+        // stating it lets the compiler drop the bounds checks of the neighbour reads. For the
+        // same reason navfn.cpp's own obstacle test on the cell always holds.
+        if n <= nx || n + nx >= ns {
+            continue;
+        }
+        let l = pot[n - 1];
+        let r = pot[n + 1];
+        let u = pot[n - nx];
+        let d = pot[n + nx];
+        let tc = if l < r { l } else { r };
+        let mut ta = if u < d { u } else { d };
+        let hf = cost[n] as f32;
+        let mut dc = tc - ta;
+        if dc < 0.0 {
+            dc = -dc;
+            ta = tc;
+        }
+        // float division, then the quadratic in double with double literals, in the
+        // C++ evaluation order ((-a*q)*q + b*q) + c; one rounding to float at the end.
+        let quadratic = || {
+            let q = (dc / hf) as f64;
+            let v = ((-0.2301 * q) * q + 0.5307 * q) + 0.7040;
+            ta + hf * (v as f32)
+        };
+        let mut p = if ASTAR {
+            // A* expands whole random maps, where which candidate applies is a coin toss and
+            // a mispredicted branch also discards the loads of the following updates: both
+            // are computed and one is selected. The unused candidate has no effect (no float
+            // traps; 0/0 when `hf` is 0 only yields a NaN that is not selected). Dijkstra
+            // keeps the branch: on the paper suite's maps it predicts well.
+            std::hint::select_unpredictable(dc >= hf, ta + hf, quadratic())
+        } else if dc >= hf {
+            ta + hf
+        } else {
+            quadratic()
+        };
+        if p < pot[n] {
+            let le = EDGE[cost[n - 1] as usize];
+            let re = EDGE[cost[n + 1] as usize];
+            let ue = EDGE[cost[n - nx] as usize];
+            let de = EDGE[cost[n + nx] as usize];
+            pot[n] = p;
+            if ASTAR {
+                let (x, y) = heuristic.width.col_row(n);
+                p = p + astar_heuristic(x as i64 - heuristic.start_x, y as i64 - heuristic.start_y);
+            }
+            let (cand, near, edge) =
+                ([n - 1, n + 1, n - nx, n + nx], [l, r, u, d], [le, re, ue, de]);
+            if p < cur_t {
+                push4(out.next, &mut out.next_len, blocked, cand, p, near, edge);
+            } else {
+                push4(out.over, &mut out.over_len, blocked, cand, p, near, edge);
+            }
+        }
     }
 }
 
 impl NavFn {
     /// `setupNavFn(keepit=true)`: reset potentials and gradients, force the border ring to 254,
-    /// empty the buffers, put the goal at potential 0 and queue its four neighbours.
+    /// empty the buffers (no cell queued: `blocked` = obstacle), put the goal at potential 0
+    /// and queue its four neighbours.
     pub fn setup(&mut self) {
-        self.pot.fill(POT_HIGH);
+        let (nx, ny, ns) = (self.nx, self.ny, self.ns);
+        let goal = self.goal_index();
+        let NavFn { pot, cost, blocked, grad, grad_touched, cur, next, over, .. } = self;
+        let (pot, cost, blocked) = (&mut pot[..], &mut cost[..], &mut blocked[..]);
+        pot.fill(POT_HIGH);
         // gradients: only the cells the last path extraction cached are non-zero
-        for &n in &self.grad_touched {
-            self.grad[n as usize] = [0.0; 2];
-        }
-        self.grad_touched.clear();
-        let (nx, ny) = (self.nx, self.ny);
-        self.cost[..nx].fill(COST_OBS);
-        self.cost[(ny - 1) * nx..].fill(COST_OBS);
-        for row in 0..ny {
-            self.cost[row * nx] = COST_OBS;
-            self.cost[row * nx + nx - 1] = COST_OBS;
-        }
-        self.cur_t = CUR_T_INIT;
-        // `pending` is true exactly for the cells still in a buffer (the loop clears the
-        // current buffer's flags before processing it), so clearing those suffices
-        for b in [&self.cur, &self.next, &self.over] {
-            for &n in b.as_slice() {
-                self.pending[n as usize] = 0;
+        for &n in grad_touched.iter() {
+            if let Some(g) = grad.get_mut(n as usize) {
+                *g = [0.0; 2];
             }
         }
-        debug_assert!(self.pending.iter().all(|&p| p == 0));
-        self.cur.clear();
-        self.next.clear();
-        self.over.clear();
-        self.last_path_cost = POT_HIGH;
-        let k = self.goal_index() as i64;
-        self.pot[k as usize] = 0.0;
-        let nx = nx as i64;
-        for n in [k + 1, k - 1, k - nx, k + nx] {
+        grad_touched.clear();
+        cost[..nx].fill(COST_OBS);
+        cost[(ny - 1) * nx..].fill(COST_OBS);
+        for row in cost.chunks_exact_mut(nx) {
+            row[0] = COST_OBS;
+            row[nx - 1] = COST_OBS;
+        }
+        for (b, &c) in blocked.iter_mut().zip(cost.iter()) {
+            *b = (c >= COST_OBS) as u8;
+        }
+        next.clear();
+        over.clear();
+        pot[goal] = 0.0;
+        let mut len = 0;
+        for n in [goal.wrapping_add(1), goal.wrapping_sub(1), goal.wrapping_sub(nx), goal + nx] {
             // the goal may sit on the border, so its neighbours need the range test
-            if n >= 0 && (n as usize) < self.ns {
-                self.cur.push_if(true, &mut self.pending, &self.cost, n as usize);
+            if n < ns && blocked[n] == 0 {
+                cur.cells[len] = n as i32;
+                len += 1;
+                blocked[n] = 1;
             }
         }
+        cur.len = len;
+        self.cur_t = CUR_T_INIT;
+        self.last_path_cost = POT_HIGH;
     }
 
     /// The shared main loop. `stop_at_start` is `atStart` for Dijkstra and always true for A*.
@@ -254,8 +286,8 @@ impl NavFn {
         };
         let pri_inc = self.pri_inc;
         let mut cur_t = self.cur_t;
-        let NavFn { pot, cost, pending, cur, next, over, nx, .. } = self;
-        let mut g = Grid { pot: &mut pot[..], cost: &cost[..], pending: &mut pending[..], nx: *nx };
+        let NavFn { pot, cost, blocked, cur, next, over, nx, .. } = self;
+        let (pot, cost, blocked, nx) = (&mut pot[..], &cost[..], &mut blocked[..], *nx);
         let mut cycle = 0;
         let mut end = PropagationEnd::CycleLimit;
         while cycle < cycles {
@@ -265,23 +297,27 @@ impl NavFn {
                 current: cur.as_slice(),
                 next: next.as_slice(),
                 overflow: over.as_slice(),
-                potential: g.pot,
+                potential: pot,
             });
             // (the upstream cancel hook every 5,000 cycles has no numeric effect)
             if cur.is_empty() && next.is_empty() {
                 end = PropagationEnd::QueuesEmpty;
                 break;
             }
+            // the current cells are no longer pending (queued cells are never obstacles)
             for &c in cur.as_slice() {
-                g.pending[c as usize] = 0;
-            }
-            let queued = cur.as_slice();
-            for (i, &c) in queued.iter().enumerate() {
-                if let Some(&ahead) = queued.get(i + PREFETCH_AHEAD) {
-                    g.prefetch(ahead as usize);
+                if let Some(b) = blocked.get_mut(c as usize) {
+                    *b = 0;
                 }
-                update_cell::<ASTAR>(&mut g, c as usize, cur_t, heuristic, next, over);
             }
+            let mut out = Outputs {
+                next: &mut next.cells,
+                next_len: next.len,
+                over: &mut over.cells,
+                over_len: over.len,
+            };
+            sweep::<ASTAR>(pot, cost, blocked, nx, cur.as_slice(), cur_t, heuristic, &mut out);
+            (next.len, over.len) = (out.next_len, out.over_len);
             // next becomes current; the old current storage becomes the empty next
             std::mem::swap(cur, next);
             next.clear();
@@ -290,7 +326,7 @@ impl NavFn {
                 std::mem::swap(cur, over);
                 over.clear();
             }
-            if stop_at_start && g.pot[start_cell] < POT_HIGH {
+            if stop_at_start && pot[start_cell] < POT_HIGH {
                 end = PropagationEnd::StartReached;
                 break;
             }
@@ -303,7 +339,7 @@ impl NavFn {
             current: cur.as_slice(),
             next: next.as_slice(),
             overflow: over.as_slice(),
-            potential: g.pot,
+            potential: pot,
         });
         self.cur_t = cur_t;
         (cycle, end)
@@ -330,33 +366,5 @@ impl NavFn {
         self.propagate::<true, O>(cycles, true, obs);
         self.last_path_cost = self.pot[self.start_index()];
         self.last_path_cost < POT_HIGH
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::WidthDiv;
-
-    /// The multiplication gives the hardware quotient and remainder (widths and indices at the
-    /// ends of their ranges, and a sample in between).
-    #[test]
-    fn width_division_is_exact() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        let mut widths: Vec<usize> = (1..=70).chain([4095, 4096, 4097, 46_340, 65_535]).collect();
-        widths.extend((0..200).map(|_| 1 + (rnd() % (i32::MAX as u64)) as usize));
-        for d in widths {
-            let w = WidthDiv::new(d);
-            let mut ns: Vec<usize> = (0..300).chain([i32::MAX as usize - 1, d, d - 1]).collect();
-            ns.extend((0..300).map(|_| (rnd() % (i32::MAX as u64)) as usize));
-            for n in ns {
-                assert_eq!(w.col_row(n), ((n % d) as u64, (n / d) as u64), "{n} / {d}");
-            }
-        }
     }
 }

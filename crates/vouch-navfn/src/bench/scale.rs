@@ -5,10 +5,11 @@
 
 use std::path::{Path, PathBuf};
 
-use vouch_navfn::campaign::rng::SplitMix64;
+use super::BenchError;
+use crate::campaign::rng::SplitMix64;
 
 /// One generated test file.
-pub struct ScaleInput {
+pub(crate) struct ScaleInput {
     /// What the row is called.
     pub label: String,
     /// The `test.txt`.
@@ -27,12 +28,17 @@ fn random_map(side: usize, seed: u64) -> Vec<u8> {
     map
 }
 
-fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
+fn write(path: &Path, bytes: &[u8]) -> Result<(), BenchError> {
+    std::fs::write(path, bytes).map_err(|e| BenchError::io(path, e))
 }
 
-fn test_file(dir: &Path, side: usize, map: &str, cases: &[[usize; 4]]) -> Result<PathBuf, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+fn test_file(
+    dir: &Path,
+    side: usize,
+    map: &str,
+    cases: &[[usize; 4]],
+) -> Result<PathBuf, BenchError> {
+    std::fs::create_dir_all(dir).map_err(|e| BenchError::io(dir, e))?;
     let mut text = format!("{side} {side}\n{map}\n\n");
     for c in cases {
         text.push_str(&format!("{} {} {} {}\n", c[0], c[1], c[2], c[3]));
@@ -44,16 +50,16 @@ fn test_file(dir: &Path, side: usize, map: &str, cases: &[[usize; 4]]) -> Result
 
 /// Writes the maps of `sides` below `root`: `size_N/` with the corner-to-corner case, and
 /// `explore_N_dD/` (cases from the centre of the map of side `explore_side` to `D` cells right).
-pub fn generate(
+pub(crate) fn generate(
     root: &Path,
     sides: &[usize],
     explore_side: Option<usize>,
     seed: u64,
-) -> Result<(Vec<ScaleInput>, Vec<ScaleInput>), String> {
+) -> Result<(Vec<ScaleInput>, Vec<ScaleInput>), BenchError> {
     let mut by_size = Vec::new();
     for &side in sides {
         let dir = root.join(format!("size_{side}"));
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(&dir).map_err(|e| BenchError::io(&dir, e))?;
         write(&dir.join("map.bin"), &random_map(side, seed))?;
         let test = test_file(&dir, side, "map.bin", &[[1, 1, side - 2, side - 2]])?;
         by_size.push(ScaleInput { label: format!("{side}x{side}"), test });
