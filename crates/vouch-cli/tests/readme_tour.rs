@@ -85,7 +85,9 @@ fn the_quick_tour_runs_as_written() {
                 step.exit
             ));
         }
-        if let Some(sign) = WARNING_SIGNS.iter().find(|s| stderr.contains(**s)) {
+        // A line the README itself quotes in the step's comment is explained, not a surprise.
+        let unexplained = |s: &&&str| stderr.contains(**s) && !step.says.contains(**s);
+        if let Some(sign) = WARNING_SIGNS.iter().find(unexplained) {
             failed.push(format!("`{}` warns (`{sign}`):\n{stderr}", step.line));
         }
     }

@@ -12,7 +12,8 @@
 //!   mission-level warnings on the AST;
 //! * [`emit`] and [`graph`], the back ends: the C header, upstream's dump, the SVG block graph;
 //! * [`evidence`] and [`model_check`]: translation validation of the C against the semantics,
-//!   the static work bound, model checking of the plan's state space;
+//!   the static work bound, model checking of the plan's state space; [`diff`], the behaviour of
+//!   two versions of a plan compared on the product of their state spaces;
 //! * [`pipeline`]: whole-file conveniences (parse, then compile; many plans in parallel);
 //! * [`aircraft`]: Paparazzi's `conf/conf.xml` and where `gen_aircraft` writes a plan's outputs.
 //!
@@ -40,6 +41,7 @@
 pub mod aircraft;
 pub mod ast;
 pub mod diag;
+pub mod diff;
 pub mod emit;
 pub mod evidence;
 pub mod expr;

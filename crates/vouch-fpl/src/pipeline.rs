@@ -23,6 +23,17 @@ pub fn compile_file(path: &Path, opts: &EmitOptions) -> Result<String, Diagnosti
     compile_plan(&plan, &o).map_err(|e| e.to_diagnostics(&plan.sources))
 }
 
+/// The warnings `compile` gives for a parsed plan (upstream's notices and warnings, the
+/// announced corrections), located; for `vouch fpl lint`, so that it reports what `compile`
+/// warns about. A plan the back end rejects gives its error.
+pub fn generator_warnings(
+    plan: &crate::ast::FlightPlan,
+    opts: &EmitOptions,
+) -> Result<Vec<Diagnostic>, Diagnostics> {
+    let e = compile_plan_full(plan, opts).map_err(|e| e.to_diagnostics(&plan.sources))?;
+    Ok(e.notices.into_iter().chain(e.corrections).collect())
+}
+
 /// What to build for a plan.
 #[derive(Debug, Clone, Default)]
 pub struct Request {

@@ -28,7 +28,7 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
             &["passes"],
             &["semantics", "lint"],
             &["emit", "graph"],
-            &["evidence", "model_check"],
+            &["evidence", "model_check", "diff"],
             &["pipeline"],
             &["aircraft"],
         ],

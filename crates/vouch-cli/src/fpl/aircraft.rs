@@ -47,7 +47,8 @@ pub struct AircraftArgs {
     /// Both of the above (gen_aircraft's -all for the flight-plan part)
     #[arg(long)]
     all: bool,
-    /// Print exactly what upstream prints, its known mistakes included
+    /// Print exactly what upstream prints, its known mistakes included, procedures searched
+    /// in upstream's order, and upstream's "No SRTM data found to check altitude." line
     #[arg(long)]
     upstream_compat: bool,
 }
@@ -76,9 +77,13 @@ pub fn aircraft(a: AircraftArgs, ctx: &mut Ctx) -> CmdResult {
             paparazzi_home: Some(home.clone()),
             ..EmitOptions::default()
         },
+        front: vouch_fpl::front::Options {
+            upstream_includes: a.upstream_compat,
+            upstream_flight_plans: vouch_fpl::front::upstream_flight_plans(Some(&home)),
+            ..Default::default()
+        },
         dump: fp,
         settings,
-        ..Request::default()
     };
     let built = build(&ac.flight_plan, &req).map_err(rejected)?;
     super::report_built(ctx, &built, a.upstream_compat);

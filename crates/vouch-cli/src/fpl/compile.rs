@@ -58,7 +58,10 @@ pub struct CompileArgs {
     settings_header: Option<PathBuf>,
     /// Print exactly what upstream's generator prints, its known mistakes included
     ///
-    /// EGM96 heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates.
+    /// EGM96 heights where the geoid is negative, WAYPOINTS_GLOBAL for "D M S" coordinates;
+    /// included procedures searched in upstream's order (the plan's directory, then
+    /// $PAPARAZZI_HOME/conf/flight_plans); upstream's own stderr line "No SRTM data found to
+    /// check altitude." when no SRTM terrain tile covers the reference (-v says why).
     #[arg(long)]
     upstream_compat: bool,
     /// Paparazzi home for the geoid grid and conf/abi.xml (default: $PAPARAZZI_HOME)
@@ -116,6 +119,10 @@ fn request(a: &CompileArgs) -> Request {
     Request {
         front: vouch_fpl::front::Options {
             search_dirs: a.include_dirs.clone(),
+            upstream_includes: a.upstream_compat,
+            upstream_flight_plans: vouch_fpl::front::upstream_flight_plans(
+                emit.paparazzi_home.as_deref(),
+            ),
             ..Default::default()
         },
         emit,

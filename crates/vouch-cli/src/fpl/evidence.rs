@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use vouch_fpl::emit::EmitOptions;
 use vouch_fpl::evidence::validate::{self, ValidateError};
 use vouch_fpl::model_check::{self, CheckError, Spec};
 
@@ -154,19 +155,42 @@ pub fn validate(a: ValidateArgs, ctx: &mut Ctx) -> CmdResult {
 pub fn lint(a: LintArgs, ctx: &mut Ctx) -> CmdResult {
     let plan = a.plan.load(ctx, true)?;
     let warnings = vouch_fpl::lint::lint(&plan);
+    // What `compile` warns about (upstream's notices, corrections) is reported too, on stderr
+    // like compile does; a plan the generator rejects is still linted.
+    let generator = match vouch_fpl::pipeline::generator_warnings(&plan, &EmitOptions::default()) {
+        Ok(list) => list,
+        Err(e) => {
+            ctx.note(format_args!(
+                "note: the generator rejects this plan ({}); `vouch fpl compile` locates it",
+                e.items.first().map_or("", |d| d.message.as_str())
+            ));
+            Vec::new()
+        }
+    };
+    for w in &generator {
+        ctx.warn(w);
+    }
     if a.json {
         ctx.out.json(&warnings)?;
     } else {
         ctx.out.write_all(vouch_fpl::lint::render(&plan, &warnings).as_bytes())?;
-        let counts: Vec<String> = vouch_fpl::lint::counts(&warnings)
+        let mut counts: Vec<String> = vouch_fpl::lint::counts(&warnings)
             .into_iter()
             .filter(|c| c.1 > 0)
             .map(|(rule, n)| format!("{}: {n}", rule.code()))
             .collect();
+        let mut codes: Vec<String> = generator.iter().map(|d| d.kind.code().to_string()).collect();
+        codes.sort();
+        for code in codes.iter().collect::<std::collections::BTreeSet<_>>() {
+            let n = codes.iter().filter(|c| *c == code).count();
+            counts.push(format!("{code}: {n} (generator)"));
+        }
         let sep = if counts.is_empty() { "" } else { " — " };
-        writeln!(ctx.out, "{} warning(s){sep}{}", warnings.len(), counts.join(", "))?;
+        let total = warnings.len() + generator.len();
+        writeln!(ctx.out, "{total} warning(s){sep}{}", counts.join(", "))?;
     }
-    Ok(if a.strict && !warnings.is_empty() { Exit::Findings } else { Exit::Ok })
+    let any = !warnings.is_empty() || !generator.is_empty();
+    Ok(if a.strict && any { Exit::Findings } else { Exit::Ok })
 }
 
 /// `vouch fpl check`: model checking of the plan's state space.

@@ -5,6 +5,7 @@
 mod aircraft;
 mod bench;
 mod compile;
+mod diff;
 mod evidence;
 mod sim;
 
@@ -71,7 +72,9 @@ pub enum FplCmd {
         "0 agree, 1 plan rejected, 2 usage, I/O or C compiler error, 3 disagreement"
     ))]
     Validate(evidence::ValidateArgs),
-    /// Mission-level warnings (fpl::W001…), located in the XML
+    /// Mission-level warnings (fpl::W001…) and compile's warnings, located in the XML
+    ///
+    /// The warnings `compile` gives (upstream's notices, fpl::W02x) are printed too, on stderr.
     #[command(after_help = after_help!(
         ["vouch fpl lint examples/fpl/demo.xml --strict"],
         "0 no warning (or warnings without --strict), 1 plan rejected, 2 usage or I/O error, \
@@ -91,6 +94,19 @@ pub enum FplCmd {
          3 a property fails"
     ))]
     Check(evidence::CheckArgs),
+    /// Compare two versions of a plan by behaviour
+    ///
+    /// Equivalent, or the shortest run that tells them apart, side by side and located in both
+    /// files; a structural summary first (blocks, stages, exceptions, waypoints).
+    #[command(after_help = after_help!(
+        [
+            "vouch fpl diff old.xml new.xml",
+            "vouch fpl diff --git HEAD~1 conf/flight_plans/mission.xml",
+            "vouch fpl diff --git main --json"
+        ],
+        "0 equivalent, 1 a plan rejected, 2 usage or I/O error (git), 3 different or undecided"
+    ))]
+    Diff(diff::DiffArgs),
     /// Draw the block graph as SVG
     ///
     /// Edges: next, deroute, return, exception; forbidden deroutes marked.
@@ -121,6 +137,7 @@ pub fn run(cmd: FplCmd, ctx: &mut Ctx) -> CmdResult {
         FplCmd::Lint(a) => evidence::lint(a, ctx),
         FplCmd::Check(a) => evidence::check(a, ctx),
         FplCmd::Graph(a) => evidence::graph(a, ctx),
+        FplCmd::Diff(a) => diff::diff(a, ctx),
         FplCmd::BenchParse(a) => bench::bench_parse(a, ctx),
     }
 }
@@ -142,6 +159,7 @@ impl PlanArgs {
         let opts = vouch_fpl::front::Options {
             search_dirs: self.include_dirs.clone(),
             allow_forbidden_deroutes,
+            ..Default::default()
         };
         let plan = vouch_fpl::front::parse_file_with(&self.plan, &opts).map_err(rejected)?;
         for w in &plan.warnings {
@@ -174,8 +192,17 @@ fn lowered(plan: &FlightPlan) -> Result<Fp, Failure> {
 fn report_built(ctx: &Ctx, built: &vouch_fpl::pipeline::Built, upstream_compat: bool) {
     use vouch_fpl::emit::terrain::Coverage;
     match &built.terrain {
-        Coverage::NoTile { .. } if upstream_compat => {
+        Coverage::NoTile { name, searched } if upstream_compat => {
             ctx.note("No SRTM data found to check altitude.");
+            if ctx.verbosity == Verbosity::Verbose {
+                let dirs: Vec<String> = searched.iter().map(|d| d.display().to_string()).collect();
+                ctx.note(format_args!(
+                    "note: the line above is upstream's generator's own stderr line, printed as \
+                     upstream prints it under --upstream-compat: no SRTM tile {name} (searched \
+                     {}), so the terrain is not checked",
+                    dirs.join(", ")
+                ));
+            }
         }
         Coverage::NoTile { name, searched } if ctx.verbosity == Verbosity::Verbose => {
             let dirs: Vec<String> = searched.iter().map(|d| d.display().to_string()).collect();

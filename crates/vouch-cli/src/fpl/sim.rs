@@ -20,6 +20,10 @@ pub struct SimArgs {
     /// File of answers: integers, one consumed per condition (odd = true) or value (n/2)
     #[arg(long, value_name = "FILE", conflicts_with = "seed")]
     conditions: Option<PathBuf>,
+    /// The answers inline, as in a --conditions file (`--answers '0 1 1'`; what `vouch fpl
+    /// diff` prints to replay a run)
+    #[arg(long, value_name = "NUMBERS", conflicts_with_all = ["conditions", "seed"])]
+    answers: Option<String>,
     /// Seed of the random oracle
     #[arg(long)]
     seed: Option<u64>,
@@ -27,6 +31,9 @@ pub struct SimArgs {
     /// before that call (the jumps of a `vouch fpl validate` counterexample)
     #[arg(long, value_name = "FILE")]
     jumps: Option<PathBuf>,
+    /// One operator jump inline, CALL:BLOCK (repeatable; added to those of --jumps)
+    #[arg(long = "jump", value_name = "CALL:BLOCK")]
+    jump: Vec<String>,
     /// Percentage of true conditions for --seed
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(0..=100))]
     percent_true: u64,
@@ -43,6 +50,10 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
     let plan = a.plan.load(ctx, true)?;
     let fp = lowered(&plan)?;
     let mut oracle: Box<dyn Oracle> = match (&a.conditions, a.seed) {
+        _ if a.answers.is_some() => {
+            let text = a.answers.as_deref().unwrap_or_default();
+            Box::new(Scripted::parse(text).map_err(Failure::rejected)?)
+        }
         (Some(path), _) => {
             let text = std::fs::read_to_string(path).map_err(|e| Failure::io(path, &e))?;
             Box::new(Scripted::parse(&text).map_err(Failure::rejected)?)
@@ -50,13 +61,17 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
         (None, Some(s)) => Box::new(Seeded::new(s, a.percent_true)),
         (None, None) => Box::new(Scripted::default()),
     };
-    let jumps = match &a.jumps {
+    let mut jumps = match &a.jumps {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| Failure::io(path, &e))?;
             sim::parse_jumps(&text, fp.blocks.len()).map_err(Failure::rejected)?
         }
         None => Vec::new(),
     };
+    for j in &a.jump {
+        let text = j.replace(':', " ");
+        jumps.extend(sim::parse_jumps(&text, fp.blocks.len()).map_err(Failure::rejected)?);
+    }
     let run = sim::simulate_with_jumps(&fp, oracle.as_mut(), a.steps, &jumps)
         .map_err(Failure::rejected)?;
     if a.json {

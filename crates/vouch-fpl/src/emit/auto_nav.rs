@@ -251,10 +251,7 @@ fn nav(w: &mut Writer, n: &NavStage) {
     body(w, &n.before);
     match &n.approach {
         Some((cond, wp)) => {
-            let printed = match &n.approach_upstream {
-                Some(upstream) if w.compat => upstream,
-                _ => cond,
-            };
+            let printed = w.compat.compat.pick(cond, n.approach_upstream.as_ref().unwrap_or(cond));
             let c = w.cond(printed);
             w.line(&format!("if ({c}) {{"));
             w.right();

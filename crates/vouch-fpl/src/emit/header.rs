@@ -7,8 +7,9 @@ use crate::expr::ocaml_float_text;
 use crate::passes::size::Fps;
 use crate::passes::{CompileError, lower};
 
+use super::compat::GeoidUse;
 use super::geo::{self, Geo, Utm};
-use super::{EmitOptions, Flavor, GeoidUse, HEADER_MARKER, Writer};
+use super::{EmitOptions, Flavor, HEADER_MARKER, Writer};
 use crate::front::values::ocaml_float;
 
 /// One row of the waypoint tables (the implicit `dummy` waypoint is row 0).
@@ -252,7 +253,8 @@ pub(super) fn top(
     w.raw(&format!("#define NAV_LAT0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lat)));
     w.raw(&format!("#define NAV_LON0 {} /* 1e7deg */", geo::e7_of_rad(ref_geo.lon)));
     w.raw(&format!("#define NAV_ALT0 {:.0} /* mm above msl */", 1000.0 * ground));
-    let msl0 = w.geoid_height(ref_geo, plan.lat0.text.span, GeoidUse::Reference);
+    let node = w.geoid_node(ref_geo);
+    let msl0 = w.compat.geoid_height(node, plan.lat0.text.span, GeoidUse::Reference);
     w.raw(&format!(
         "#define NAV_MSL0 {:.0} /* mm, EGM96 geoid-height (msl) over ellipsoid */",
         1000.0 * msl0
@@ -371,7 +373,8 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], utm0: Utm, ecef0: [f64; 3]) {
         w.raw(&format!("#define {name} {{ \\"));
         for r in wps {
             let g = geo_of(r);
-            let geoid = w.geoid_height(g, r.span, GeoidUse::Row(above_ellipsoid));
+            let node = w.geoid_node(g);
+            let geoid = w.compat.geoid_height(node, r.span, GeoidUse::Row(above_ellipsoid));
             let (alt, datum) = if above_ellipsoid {
                 (r.alt + geoid, "above WGS84 ref ellipsoid".to_string())
             } else {
@@ -388,7 +391,7 @@ fn waypoint_tables(w: &mut Writer, wps: &[WpRow], utm0: Utm, ecef0: [f64; 3]) {
     }
     w.raw("#define WAYPOINTS_GLOBAL { \\");
     for r in wps {
-        let global = w.global_flag(r.global, r.global_upstream, &r.name, r.span);
+        let global = w.compat.global_flag(r.global, r.global_upstream, &r.name, r.span);
         w.raw(if global { " TRUE, \\" } else { " FALSE, \\" });
     }
     w.raw("};");

@@ -11,6 +11,7 @@
 
 pub mod abi;
 mod auto_nav;
+pub mod compat;
 pub mod dump;
 pub mod geo;
 pub mod geoid;
@@ -28,8 +29,8 @@ use crate::ast::FlightPlan;
 use crate::diag::Diagnostic;
 use crate::passes::CompileError;
 use crate::passes::size::Fps;
-use crate::span::Span;
 
+pub use compat::Compat;
 use geo::Geo;
 use geoid::Geoid;
 
@@ -78,6 +79,11 @@ impl EmitOptions {
         }
     }
 
+    /// [`EmitOptions::upstream_compat`] as the one value the emitter is handed.
+    pub fn compat(&self) -> Compat {
+        if self.upstream_compat { Compat::Upstream } else { Compat::Corrected }
+    }
+
     /// Where SRTM tiles are searched: upstream's directories for the Paparazzi home.
     pub fn srtm_search(&self) -> srtm::SearchPath {
         srtm::SearchPath::of_home(self.paparazzi_home.as_deref())
@@ -99,15 +105,6 @@ pub struct Emitted {
     pub terrain: terrain::Coverage,
 }
 
-/// Which printed value a geoid height goes into (for the correction messages).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum GeoidUse {
-    /// `NAV_MSL0`.
-    Reference,
-    /// A `WAYPOINTS_LLA` row (`false`) or a `WAYPOINTS_LLA_WGS84` row (`true`).
-    Row(bool),
-}
-
 /// The marker that replaces the `<header>` text in the instrumented flavour.
 pub const HEADER_MARKER: &str = "/* FP_HEADER */";
 
@@ -123,20 +120,21 @@ pub fn emit_header(
     let layout = header::Layout::of(plan)?;
     let terrain = terrain::check(plan, &layout.points(), &opts.srtm_search())?;
     let coverage = terrain.coverage.clone();
-    let notices = notices::notices(plan, terrain, opts.upstream_compat)?;
-    let mut w = Writer::new(opts.flavor);
+    // The upstream-compatibility choice, made once and handed to every part of the emitter.
+    let compat = opts.compat();
+    let notices = notices::notices(plan, terrain, compat)?;
+    let mut w = Writer::new(opts.flavor, compat);
     w.geoid = Some(opts.geoid()?);
     if let Some(home) = &opts.paparazzi_home {
         w.abi = abi::AbiTable::of_home(home)?;
     }
-    w.compat = opts.upstream_compat;
     header::top(&mut w, plan, fps, opts, &layout)?;
     auto_nav::functions(&mut w, plan, fps);
     header::bottom(&mut w);
     if let Some(e) = w.geoid_error.take() {
         return Err(CompileError::environment(e.to_string()));
     }
-    let corrections = w.corrections();
+    let corrections = w.compat.corrections();
     Ok(Emitted { header: w.out, corrections, notices, terrain: coverage })
 }
 
@@ -148,106 +146,38 @@ pub(crate) struct Writer {
     geoid: Option<Arc<Geoid>>,
     /// ABI message field types (`conf/abi.xml`).
     pub abi: Arc<abi::AbiTable>,
-    compat: bool,
-    /// Geoid nodes where upstream prints a wrong height: (use, true metres, span) in order.
-    geoid_fixes: Vec<(GeoidUse, f64, f64, Span)>,
-    /// Waypoints given in "D M S": (name, span).
-    global_fixes: Vec<(String, Span)>,
+    /// What to print where upstream's output is known to be wrong, and the corrections made.
+    pub compat: compat::Choices,
     /// A grid that ended before a node that was needed.
     geoid_error: Option<geoid::GeoidError>,
 }
 
 impl Writer {
-    fn new(flavor: Flavor) -> Self {
+    fn new(flavor: Flavor, compat: Compat) -> Self {
         Writer {
             out: String::with_capacity(64 * 1024),
             margin: 0,
             flavor,
             geoid: None,
             abi: abi::AbiTable::builtin(),
-            compat: false,
-            geoid_fixes: Vec::new(),
-            global_fixes: Vec::new(),
+            compat: compat::Choices::new(compat),
             geoid_error: None,
         }
     }
 
-    /// The geoid height printed for `g`: upstream's reading in compatibility mode, else the
-    /// true one (and the difference is remembered for [`Writer::corrections`]).
-    pub fn geoid_height(&mut self, g: Geo, span: Span, used: GeoidUse) -> f64 {
+    /// The geoid node of `g` in the grid (or the model); a grid that ends early is remembered
+    /// as the run's error and reads as 0.
+    pub fn geoid_node(&mut self, g: Geo) -> geoid::Node {
         let looked_up = match &self.geoid {
             Some(geoid) => geoid.node(g.lat, g.lon),
             None => Geoid::model().node(g.lat, g.lon),
         };
-        let node = match looked_up {
-            Ok(n) => n,
-            Err(e) => {
-                self.geoid_error.get_or_insert(e);
-                geoid::Node { raw: 0 }
-            }
-        };
-        if self.compat {
-            return node.upstream();
-        }
-        if node.upstream_is_wrong() {
-            self.geoid_fixes.push((used, node.metres(), node.upstream(), span));
-        }
-        node.metres()
+        looked_up.unwrap_or_else(|e| {
+            self.geoid_error.get_or_insert(e);
+            geoid::Node { raw: 0 }
+        })
     }
 
-    /// The `WAYPOINTS_GLOBAL` flag printed: upstream's in compatibility mode, else the true one.
-    pub fn global_flag(&mut self, global: bool, upstream: bool, name: &str, span: Span) -> bool {
-        if self.compat {
-            return upstream;
-        }
-        if global != upstream {
-            self.global_fixes.push((name.to_string(), span));
-        }
-        global
-    }
-
-    /// The announced corrections, as located warnings.
-    fn corrections(&self) -> Vec<Diagnostic> {
-        let mut out = Vec::new();
-        for (used, true_m, up_m, span) in &self.geoid_fixes {
-            if *used == GeoidUse::Reference {
-                out.push(Diagnostic::correction(
-                    format!(
-                        "NAV_MSL0 is {:.0} mm: the EGM96 geoid height at the reference is {true_m:.2} m; \
-                         upstream prints {:.0} ({up_m:.2} m, 655.36 m too high)",
-                        1000.0 * true_m,
-                        1000.0 * up_m
-                    ),
-                    *span,
-                    GEOID_WHY,
-                ));
-            }
-        }
-        let rows: Vec<_> = self.geoid_fixes.iter().filter(|f| f.0 != GeoidUse::Reference).collect();
-        if let Some((_, true_m, up_m, span)) = rows.first() {
-            out.push(Diagnostic::correction(
-                format!(
-                    "{} rows of WAYPOINTS_LLA (local msl) and WAYPOINTS_LLA_WGS84 (.alt) lie where the EGM96 \
-                     geoid height is negative (here {true_m:.2} m); upstream prints {up_m:.2} m there",
-                    rows.len() / 2
-                ),
-                *span,
-                GEOID_WHY,
-            ));
-        }
-        for (name, span) in &self.global_fixes {
-            out.push(Diagnostic::correction(
-                format!(
-                    "waypoint '{name}' is given by latitude and longitude: WAYPOINTS_GLOBAL is TRUE; \
-                     upstream prints FALSE because it re-reads \"D M S\" coordinates as plain floats"
-                ),
-                *span,
-                "a FALSE flag makes the waypoint local: it moves with the local origin instead of \
-                 staying fixed on the ground; --upstream-compat prints FALSE as upstream does",
-            ));
-        }
-        out
-    }
     /// One line at the current margin.
     pub fn line(&mut self, text: &str) {
         for _ in 0..self.margin {
@@ -361,11 +291,6 @@ pub fn unwrap_instrumented(text: &str, header_text: Option<&str>) -> String {
         None => out,
     }
 }
-
-/// Why upstream's geoid heights are wrong where the geoid is negative.
-const GEOID_WHY: &str = "upstream assembles the 16-bit grid value and sign-extends it with a shift pair \
-    that does nothing on 64-bit OCaml, so negative heights come out 655.36 m too high; \
-    --upstream-compat prints upstream's value";
 
 /// Passes + emission for an already parsed plan (the corrections are dropped; see
 /// [`compile_plan_full`]).

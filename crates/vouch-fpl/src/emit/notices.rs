@@ -20,10 +20,10 @@ use super::terrain::Terrain;
 pub fn notices(
     plan: &FlightPlan,
     terrain: Terrain,
-    upstream_compat: bool,
+    compat: super::Compat,
 ) -> Result<Vec<Diagnostic>, CompileError> {
     let mut out = Vec::new();
-    let low = Low { upstream_compat, ..Low::of(plan) };
+    let low = Low { upstream_compat: compat == super::Compat::Upstream, ..Low::of(plan) };
     zone_border(plan, &mut out)?;
     low.check(plan.alt.value, "the plan's default altitude", plan.alt.text.span, &mut out);
     out.extend(terrain.reference);

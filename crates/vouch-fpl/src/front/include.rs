@@ -179,8 +179,13 @@ fn include_one(ctx: &mut Ctx, inc: &Elem, m: &mut Merged) {
 /// Finds, reads and parses the procedure file an include names (its nested includes are
 /// checked for loops, not expanded, as upstream does).
 fn load_procedure(ctx: &mut Ctx, proc_a: &RawAttr) -> Option<(FileId, Elem)> {
-    let Some(path) = find_procedure(&ctx.search, &proc_a.value) else {
-        let dirs: Vec<String> = ctx.search.iter().map(|d| d.display().to_string()).collect();
+    let search = if ctx.opts.upstream_includes { upstream_search(ctx) } else { ctx.search.clone() };
+    let found = find_procedure(&search, &proc_a.value);
+    if !ctx.opts.upstream_includes {
+        warn_other_choice(ctx, proc_a, found.as_deref());
+    }
+    let Some(path) = found else {
+        let dirs: Vec<String> = search.iter().map(|d| d.display().to_string()).collect();
         ctx.error_help(
             ErrorKind::IncludeNotFound,
             format!("procedure file '{}' not found", proc_a.value),
@@ -251,6 +256,39 @@ fn parameters(
         }
     }
     params
+}
+
+/// Upstream's search path (`fp_proc.ml`: `find_file [dir; Env.flight_plans_path]`).
+fn upstream_search(ctx: &Ctx) -> Vec<PathBuf> {
+    let mut dirs = vec![ctx.main_path.parent().map(Path::to_path_buf).unwrap_or_default()];
+    dirs.extend(ctx.opts.upstream_flight_plans.clone());
+    dirs
+}
+
+/// Where upstream's search order finds another file than vouch's: a warning naming both.
+fn warn_other_choice(ctx: &mut Ctx, proc_a: &RawAttr, ours: Option<&Path>) {
+    let Some(ours) = ours else { return };
+    let Some(theirs) = find_procedure(&upstream_search(ctx), &proc_a.value) else { return };
+    if same_file(ours, &theirs) {
+        return;
+    }
+    let same_text =
+        std::fs::read(ours).ok().is_some_and(|a| std::fs::read(&theirs).ok() == Some(a));
+    let d = crate::diag::Diagnostic::warning(
+        format!(
+            "procedure '{}': vouch includes {}, upstream's generator would include {}{}",
+            proc_a.value,
+            ours.display(),
+            theirs.display(),
+            if same_text { " (same text)" } else { "" }
+        ),
+        Some(proc_a.value_span),
+    )
+    .with_help(
+        "upstream searches the plan's directory, then $PAPARAZZI_HOME/conf/flight_plans; \
+         --upstream-compat includes what upstream does, --include-dir chooses the directory",
+    );
+    ctx.push(d);
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {

@@ -41,12 +41,38 @@ pub struct Options {
     /// Accept the VFPG `<forbidden_deroutes>` extension (default true). When false the element
     /// is rejected like upstream's DTD does.
     pub allow_forbidden_deroutes: bool,
+    /// Search included procedures exactly as upstream does (`--upstream-compat`): the plan's
+    /// directory, then [`Options::upstream_flight_plans`], and nothing else.
+    pub upstream_includes: bool,
+    /// Upstream's fallback directory for procedures: `$PAPARAZZI_HOME/conf/flight_plans`
+    /// (upstream's `$PAPARAZZI_HOME` defaults to `$HOME/paparazzi`). Without
+    /// [`Options::upstream_includes`] it is only consulted to warn when upstream would include
+    /// another file than vouch does.
+    pub upstream_flight_plans: Option<PathBuf>,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { search_dirs: Vec::new(), allow_forbidden_deroutes: true }
+        Options {
+            search_dirs: Vec::new(),
+            allow_forbidden_deroutes: true,
+            upstream_includes: false,
+            upstream_flight_plans: upstream_flight_plans(None),
+        }
     }
+}
+
+/// `conf/flight_plans` of the Paparazzi home upstream uses: `home` when given, else
+/// `$PAPARAZZI_HOME`, else `$HOME/paparazzi` (upstream's `Env.paparazzi_home`).
+pub fn upstream_flight_plans(home: Option<&Path>) -> Option<PathBuf> {
+    let home = match home {
+        Some(h) => h.to_path_buf(),
+        None => match std::env::var_os("PAPARAZZI_HOME") {
+            Some(h) => PathBuf::from(h),
+            None => PathBuf::from(std::env::var_os("HOME")?).join("paparazzi"),
+        },
+    };
+    Some(home.join("conf").join("flight_plans"))
 }
 
 /// Parses the flight plan at `path` with default [`Options`].

@@ -228,11 +228,17 @@ fn unescape(raw: &str) -> String {
     out
 }
 
-/// Text content as upstream keeps it: predefined and numeric entities decoded, unknown
-/// `&name;` kept, whitespace-only lines dropped, lines joined with `\n`.
+/// Text content as upstream keeps it. xml-light reads text a line at a time: a carriage return
+/// ends a line like a newline does (both are separators, never content), a line of blanks
+/// (spaces and tabs only) is dropped, and the lines left are joined with `\n`. So a plan saved
+/// with Windows line endings has the same text as with Unix ones. Predefined and numeric
+/// entities are decoded, an unknown `&name;` is kept.
 fn clean_text(raw: &str) -> String {
-    let decoded = decode_entities(raw);
-    decoded.split('\n').filter(|l| !l.trim().is_empty()).collect::<Vec<_>>().join("\n")
+    raw.split(['\r', '\n'])
+        .filter(|l| !l.chars().all(|c| c == ' ' || c == '\t'))
+        .map(decode_entities)
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn decode_entities(s: &str) -> String {

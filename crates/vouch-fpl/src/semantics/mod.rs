@@ -88,6 +88,16 @@ pub struct Interp<'p> {
     calls: usize,
     /// Set while an operator block change runs (it bypasses forbidden deroutes).
     forbidden_off: bool,
+    /// Where the events of the last call came from, when recorded ([`Interp::record_origins`]).
+    origins: Option<Vec<Origin>>,
+}
+
+/// The source of a call's events from `first_event` on (until the next origin): the stage,
+/// exception or block whose code produced them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Origin {
+    pub first_event: usize,
+    pub span: crate::span::Span,
 }
 
 /// Number of stage slots a stage uses (GENERATOR_FACTS.md section 6).
@@ -152,7 +162,7 @@ impl<'p> Interp<'p> {
             counters: HashMap::new(),
             last_wp: 0,
         };
-        Interp { fp, first, ends, state, calls: 0, forbidden_off: false }
+        Interp { fp, first, ends, state, calls: 0, forbidden_off: false, origins: None }
     }
 
     fn full_of(fp: &'p Fp, block: BlockIx) -> Vec<Item<'p>> {
@@ -166,6 +176,23 @@ impl<'p> Interp<'p> {
     /// The plan this interpreter runs.
     pub fn fp(&self) -> &'p Fp {
         self.fp
+    }
+
+    /// From now on, remember which stage, exception or block produced each event of a call
+    /// (read with [`Interp::origins`]); used to locate differences in the plan's files.
+    pub fn record_origins(&mut self) {
+        self.origins = Some(Vec::new());
+    }
+
+    /// The origins of the events of the last call (empty unless recorded).
+    pub fn origins(&self) -> &[Origin] {
+        self.origins.as_deref().unwrap_or(&[])
+    }
+
+    fn mark(&mut self, first_event: usize, span: crate::span::Span) {
+        if let Some(o) = &mut self.origins {
+            o.push(Origin { first_event, span });
+        }
     }
 
     /// Events of `auto_nav_init()`.
@@ -288,6 +315,7 @@ impl<'p> Interp<'p> {
         list: &'p [crate::passes::fp::FpException],
     ) -> bool {
         for e in list {
+            self.mark(ev.len(), e.span);
             if self.state.block != e.target && Self::cond(ev, oracle, &e.cond) {
                 if let Some(x) = &e.exec {
                     Self::code(ev, x);
@@ -304,6 +332,9 @@ impl<'p> Interp<'p> {
         self.calls += 1;
         let before = self.observe();
         let mut ev = Vec::new();
+        if let Some(o) = &mut self.origins {
+            o.clear();
+        }
         let fp = self.fp;
         if !self.exceptions(&mut ev, oracle, &fp.exceptions) {
             let b = self.state.block;
@@ -318,11 +349,13 @@ impl<'p> Interp<'p> {
                 });
             };
             if let Some(c) = &block.pre_call {
+                self.mark(ev.len(), block.span);
                 Self::code(&mut ev, c);
             }
             if !self.exceptions(&mut ev, oracle, &block.exceptions) {
                 self.run_stages(&mut ev, oracle, b)?;
                 if let Some(c) = &block.post_call {
+                    self.mark(ev.len(), block.span);
                     Self::code(&mut ev, c);
                 }
             }
@@ -401,6 +434,12 @@ impl<'p> Interp<'p> {
                 self.goto_block(ev, oracle, next);
                 return Ok(());
             };
+            let span = match top {
+                Item::Stage(s) | Item::ForTest(s) | Item::LoopBack(s) | Item::NavMain(s) => {
+                    s.span()
+                }
+            };
+            self.mark(ev.len(), span);
             match self.exec(ev, oracle, b, top) {
                 Flow::Continue => {}
                 Flow::Break => return Ok(()),
