@@ -127,108 +127,46 @@ pub(super) struct Arrival<'m, 'd> {
     pub time_us: u64,
 }
 
+/// What one message did to the sessions of every protocol it belongs to.
+#[derive(Default)]
+struct Outcome {
+    accepted: bool,
+    violations: Vec<Violation>,
+    /// Sessions (by serial) that had no use for the message; closed if complete once another
+    /// protocol accepts it. Four are enough: more only delays closing a finished session.
+    mismatched: [u64; 4],
+    n_mismatched: usize,
+    orphan: Option<(usize, usize)>,
+}
+
+/// What the sessions of one protocol did with a message.
+struct ProtocolStep {
+    took: bool,
+    mismatch: Option<u64>,
+}
+
 impl Monitor {
     pub(super) fn dispatch(&mut self, arrival: &Arrival) -> Verdict {
-        let Arrival { msg, from: (sysid, compid), kind, target, time_us } = *arrival;
-        let idx = usize::from(msg.index);
-        let mut accepted = false;
-        let mut violations: Vec<Violation> = Vec::new();
-        let mut mismatched: [u64; 4] = [0; 4];
-        let mut n_mismatched = 0usize;
-        let mut orphan: Option<(usize, usize)> = None;
+        let idx = usize::from(arrival.msg.index);
+        let mut out = Outcome::default();
         for k in 0..self.by_msg[idx].len() {
             let p = usize::from(self.by_msg[idx][k]);
-            let mut mismatch_here = None;
-            let mut took_here = false;
-            let mut i = 0;
-            while i < self.sessions.len() {
-                if self.sessions[i].proto != p {
-                    i += 1;
-                    continue;
-                }
-                let Some(role) = self.participant(i, sysid, compid, target, kind) else {
-                    i += 1;
-                    continue;
-                };
-                if !self.keys_match(i, msg) {
-                    i += 1;
-                    continue;
-                }
-                match self.step_session(i, role, msg) {
-                    StepResult::Took { next, .. } => {
-                        accepted = true;
-                        took_here = true;
-                        let s = &mut self.sessions[i];
-                        s.last_us = time_us;
-                        let o = 1 - role;
-                        s.ids[role] = (sysid, compid);
-                        if let Some((ts, tc)) = target {
-                            if s.ids[o].0 == 0 && ts != 0 {
-                                s.ids[o].0 = ts;
-                            }
-                            if s.ids[o].1 == 0 && tc != 0 {
-                                s.ids[o].1 = tc;
-                            }
-                        }
-                        match next {
-                            Some(st) => s.state = st,
-                            None => {
-                                self.stats[p].completed += 1;
-                                self.sessions.swap_remove(i);
-                                continue;
-                            }
-                        }
-                    }
-                    r @ (StepResult::Refused { .. } | StepResult::Invariant { .. }) => {
-                        took_here = true;
-                        violations.push(self.session_violation(i, role, msg, r, time_us));
-                    }
-                    StepResult::Mismatch => {
-                        mismatch_here = Some(self.sessions[i].serial);
-                        if n_mismatched < mismatched.len() {
-                            mismatched[n_mismatched] = self.sessions[i].serial;
-                            n_mismatched += 1;
-                        }
-                    }
-                }
-                i += 1;
-            }
+            let mut step = self.step_sessions(p, arrival, &mut out);
             // A start is tried when no session of this protocol took the message. Keyed protocols
             // keep one session per key: the new one replaces a session that had no use for the
             // message (e.g. MISSION_COUNT sent again). Unkeyed protocols may run several
             // sessions at once (e.g. outstanding parameter reads).
             if self.set.protocols[p].keys.is_empty() {
-                mismatch_here = None;
+                step.mismatch = None;
             }
-            if !took_here {
-                match self.try_start(p, arrival) {
-                    Some(Ok(started)) => {
-                        accepted = true;
-                        // A new start replaces a session of the same participants and keys that
-                        // could not use this message (e.g. MISSION_COUNT sent again).
-                        if let Some(serial) = mismatch_here
-                            && serial != started
-                            && let Some(j) = self.sessions.iter().position(|s| s.serial == serial)
-                        {
-                            self.close(j, false);
-                        }
-                    }
-                    Some(Err(v)) => violations.push(*v),
-                    None => {
-                        let proto = &self.set.protocols[p];
-                        if let Some(si) = proto.strict.iter().position(|s| {
-                            proto.roles[s.from].1 == kind && s.msgs.contains(&msg.index)
-                        }) {
-                            orphan.get_or_insert((p, si));
-                        }
-                    }
-                }
+            if !step.took {
+                self.start_or_orphan(p, arrival, step.mismatch, &mut out);
             }
         }
         // Sessions that had no use for a message another protocol accepted are over if their
         // state is complete (e.g. a download without the optional closing ACK).
-        if accepted {
-            for &serial in &mismatched[..n_mismatched] {
+        if out.accepted {
+            for &serial in &out.mismatched[..out.n_mismatched] {
                 if let Some(j) = self.sessions.iter().position(|s| s.serial == serial)
                     && self.completable(j)
                 {
@@ -236,46 +174,162 @@ impl Monitor {
                 }
             }
         }
-        if !violations.is_empty() {
-            // A message is what is worst about it: violations before unverifiable findings.
-            violations.sort_by_key(|v| v.kind == ViolationKind::Unverifiable);
-            let mut first = violations.remove(0);
-            for v in violations.iter().chain(std::iter::once(&first)) {
-                if let Some(p) = self.stats.iter_mut().find(|s| s.name == v.protocol) {
-                    if v.kind == ViolationKind::Unverifiable {
-                        p.unverifiable += 1;
-                    } else {
-                        p.violations += 1;
+        if !out.violations.is_empty() {
+            return self.worst_finding(out.violations);
+        }
+        if out.accepted {
+            return Verdict::Accept;
+        }
+        match out.orphan {
+            Some((p, si)) => self.orphan_verdict(p, si, arrival),
+            None => Verdict::Ignore,
+        }
+    }
+
+    /// Steps every session of protocol `p` whose participants and keys match the message.
+    fn step_sessions(&mut self, p: usize, arrival: &Arrival, out: &mut Outcome) -> ProtocolStep {
+        let Arrival { msg, from: (sysid, compid), kind, target, time_us } = *arrival;
+        let mut step = ProtocolStep { took: false, mismatch: None };
+        let mut i = 0;
+        while i < self.sessions.len() {
+            if self.sessions[i].proto != p {
+                i += 1;
+                continue;
+            }
+            let Some(role) = self.participant(i, sysid, compid, target, kind) else {
+                i += 1;
+                continue;
+            };
+            if !self.keys_match(i, msg) {
+                i += 1;
+                continue;
+            }
+            match self.step_session(i, role, msg) {
+                StepResult::Took { next, .. } => {
+                    out.accepted = true;
+                    step.took = true;
+                    self.learn_peers(i, role, arrival);
+                    self.sessions[i].last_us = time_us;
+                    match next {
+                        Some(st) => self.sessions[i].state = st,
+                        None => {
+                            self.stats[p].completed += 1;
+                            self.sessions.swap_remove(i);
+                            continue;
+                        }
+                    }
+                }
+                r @ (StepResult::Refused { .. } | StepResult::Invariant { .. }) => {
+                    step.took = true;
+                    out.violations.push(self.session_violation(i, role, msg, r, time_us));
+                }
+                StepResult::Mismatch => {
+                    let serial = self.sessions[i].serial;
+                    step.mismatch = Some(serial);
+                    if out.n_mismatched < out.mismatched.len() {
+                        out.mismatched[out.n_mismatched] = serial;
+                        out.n_mismatched += 1;
                     }
                 }
             }
-            first.others = violations;
-            let passes = first.kind == ViolationKind::Unverifiable
+            i += 1;
+        }
+        step
+    }
+
+    /// Records who plays each role of session `i` once a message of `role` was taken: the
+    /// sender, and the addressed peer where the session did not know it yet.
+    fn learn_peers(&mut self, i: usize, role: usize, arrival: &Arrival) {
+        let s = &mut self.sessions[i];
+        let other = 1 - role;
+        s.ids[role] = arrival.from;
+        if let Some((ts, tc)) = arrival.target {
+            if s.ids[other].0 == 0 && ts != 0 {
+                s.ids[other].0 = ts;
+            }
+            if s.ids[other].1 == 0 && tc != 0 {
+                s.ids[other].1 = tc;
+            }
+        }
+    }
+
+    /// Tries to start a session of protocol `p` with the message; remembers the first strict
+    /// message that neither a session nor a start could use.
+    fn start_or_orphan(
+        &mut self,
+        p: usize,
+        arrival: &Arrival,
+        mismatch: Option<u64>,
+        out: &mut Outcome,
+    ) {
+        match self.try_start(p, arrival) {
+            Some(Ok(started)) => {
+                out.accepted = true;
+                // A new start replaces a session of the same participants and keys that
+                // could not use this message (e.g. MISSION_COUNT sent again).
+                if let Some(serial) = mismatch
+                    && serial != started
+                    && let Some(j) = self.sessions.iter().position(|s| s.serial == serial)
+                {
+                    self.close(j, false);
+                }
+            }
+            Some(Err(v)) => out.violations.push(*v),
+            None => {
+                let proto = &self.set.protocols[p];
+                let (msg, kind) = (arrival.msg, arrival.kind);
+                if let Some(si) = proto
+                    .strict
+                    .iter()
+                    .position(|s| proto.roles[s.from].1 == kind && s.msgs.contains(&msg.index))
+                {
+                    out.orphan.get_or_insert((p, si));
+                }
+            }
+        }
+    }
+
+    /// The verdict on a message with findings: the worst one, carrying the others, counted in
+    /// the statistics of the protocols that found them.
+    fn worst_finding(&mut self, mut violations: Vec<Violation>) -> Verdict {
+        // A message is what is worst about it: violations before unverifiable findings.
+        violations.sort_by_key(|v| v.kind == ViolationKind::Unverifiable);
+        let mut first = violations.remove(0);
+        for v in violations.iter().chain(std::iter::once(&first)) {
+            if let Some(p) = self.stats.iter_mut().find(|s| s.name == v.protocol) {
+                if v.kind == ViolationKind::Unverifiable {
+                    p.unverifiable += 1;
+                } else {
+                    p.violations += 1;
+                }
+            }
+        }
+        first.others = violations;
+        let passes =
+            first.kind == ViolationKind::Unverifiable
                 && self.set.protocols.iter().any(|p| {
                     p.name == first.protocol && p.unverifiable == UnverifiablePolicy::Pass
                 });
-            if passes {
-                return Verdict::Unverifiable(Box::new(first));
-            }
-            return Verdict::Violation(Box::new(first));
+        if passes {
+            Verdict::Unverifiable(Box::new(first))
+        } else {
+            Verdict::Violation(Box::new(first))
         }
-        if accepted {
-            return Verdict::Accept;
+    }
+
+    /// The verdict on a strict message that no session of protocol `p` expected.
+    fn orphan_verdict(&mut self, p: usize, si: usize, arrival: &Arrival) -> Verdict {
+        let proto = &self.set.protocols[p];
+        let finding = Box::new(self.orphan_violation(p, si, arrival));
+        if !proto.strict[si].answer {
+            self.stats[p].violations += 1;
+            return Verdict::Violation(finding);
         }
-        if let Some((p, si)) = orphan {
-            let proto = &self.set.protocols[p];
-            let finding = Box::new(self.orphan_violation(p, si, arrival));
-            if !proto.strict[si].answer {
-                self.stats[p].violations += 1;
-                return Verdict::Violation(finding);
-            }
-            self.stats[p].unverifiable += 1;
-            return match proto.unverifiable {
-                UnverifiablePolicy::Pass => Verdict::Unverifiable(finding),
-                UnverifiablePolicy::Drop => Verdict::Violation(finding),
-            };
+        self.stats[p].unverifiable += 1;
+        match proto.unverifiable {
+            UnverifiablePolicy::Pass => Verdict::Unverifiable(finding),
+            UnverifiablePolicy::Drop => Verdict::Violation(finding),
         }
-        Verdict::Ignore
     }
 
     /// Which role of session `i` sent this message, if the message belongs to its participants.

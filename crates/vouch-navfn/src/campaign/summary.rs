@@ -35,43 +35,7 @@ pub fn summary_table(r: &Report) -> String {
         r.categories.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
     rows.push(("TOTAL".into(), r.total()));
     for (name, c) in &rows {
-        let checks_fail = c.checks.values().map(|p| p.fail).fold(0, u64::saturating_add);
-        let checks_all = c.checks.values().map(|p| p.pass.saturating_add(p.fail));
-        let checks_all = checks_all.fold(0, u64::saturating_add);
-        let rel_fail = c.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail);
-        let rel_fail = rel_fail.fold(0, u64::saturating_add);
-        let o = &c.optimality;
-        let cpu: f64 = r
-            .runs
-            .iter()
-            .filter_map(|run| match name.as_str() {
-                "TOTAL" => Some(run.cpu_seconds.values().sum::<f64>()),
-                _ => run.cpu_seconds.get(name).copied(),
-            })
-            .sum();
-        let _ = writeln!(
-            s,
-            "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7.2} {:>7.3} {:>7} {:>7} {:>8.3}",
-            name,
-            c.maps,
-            c.cases,
-            c.outcomes.found,
-            c.outcomes.start_is_goal,
-            c.outcomes.unreachable,
-            c.outcomes.cycle_limit,
-            c.outcomes.path_failed,
-            if checks_fail == 0 {
-                format!("ok{}", if checks_all == 0 { "?" } else { "" })
-            } else {
-                format!("{checks_fail}F")
-            },
-            if rel_fail == 0 { "ok".to_string() } else { format!("{rel_fail}F") },
-            o.excess_percent(),
-            o.ratio_max,
-            pct(o.obtuse_paths, c.cases),
-            pct(o.oscillating_paths, c.cases),
-            cpu,
-        );
+        category_row(&mut s, r, name, c);
     }
     let t = r.total();
     let _ = writeln!(s, "\nchecks (pass / fail):");
@@ -91,6 +55,53 @@ pub fn summary_table(r: &Report) -> String {
         let _ = writeln!(s, "oracle: {} equal, {} different", t.oracle.pass, t.oracle.fail);
     }
     optimality_lines(&mut s, &t);
+    run_lines(&mut s, r);
+    s
+}
+
+/// One row of the table: a category's (or the total's) outcomes, checks and optimality.
+fn category_row(s: &mut String, r: &Report, name: &str, c: &CategoryStats) {
+    let checks_fail = c.checks.values().map(|p| p.fail).fold(0, u64::saturating_add);
+    let checks_all = c.checks.values().map(|p| p.pass.saturating_add(p.fail));
+    let checks_all = checks_all.fold(0, u64::saturating_add);
+    let rel_fail = c.metamorphic.iter().filter(|(r, _)| r.exact()).map(|(_, p)| p.fail);
+    let rel_fail = rel_fail.fold(0, u64::saturating_add);
+    let o = &c.optimality;
+    let cpu: f64 = r
+        .runs
+        .iter()
+        .filter_map(|run| match name {
+            "TOTAL" => Some(run.cpu_seconds.values().sum::<f64>()),
+            _ => run.cpu_seconds.get(name).copied(),
+        })
+        .sum();
+    let _ = writeln!(
+        s,
+        "{:<9} {:>5} {:>7} {:>7} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>7.2} {:>7.3} {:>7} {:>7} {:>8.3}",
+        name,
+        c.maps,
+        c.cases,
+        c.outcomes.found,
+        c.outcomes.start_is_goal,
+        c.outcomes.unreachable,
+        c.outcomes.cycle_limit,
+        c.outcomes.path_failed,
+        if checks_fail == 0 {
+            format!("ok{}", if checks_all == 0 { "?" } else { "" })
+        } else {
+            format!("{checks_fail}F")
+        },
+        if rel_fail == 0 { "ok".to_string() } else { format!("{rel_fail}F") },
+        o.excess_percent(),
+        o.ratio_max,
+        pct(o.obtuse_paths, c.cases),
+        pct(o.oscillating_paths, c.cases),
+        cpu,
+    );
+}
+
+/// The shards, threads and suite identity the report covers.
+fn run_lines(s: &mut String, r: &Report) {
     let wall: f64 = r.runs.iter().map(|run| run.wall_seconds).fold(0.0, f64::max);
     let threads: Vec<usize> = r.runs.iter().map(|run| run.threads).collect();
     let sh = &r.shards;
@@ -114,7 +125,6 @@ pub fn summary_table(r: &Report) -> String {
         id.maps_total,
         r.vouch_version
     );
-    s
 }
 
 /// The optimality figures of the total row and the ratio histogram.
