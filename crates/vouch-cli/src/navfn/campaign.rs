@@ -408,8 +408,9 @@ pub struct ReportMergeArgs {
 }
 
 fn read_report(p: &Path) -> Result<Report, Failure> {
-    let text = std::fs::read_to_string(p).map_err(|e| Failure::io(p, &e))?;
-    Report::from_json(p, &text).map_err(Failure::rejected)
+    Report::read(p).map_err(|e| {
+        if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
+    })
 }
 
 /// Runs `vouch navfn report …`.

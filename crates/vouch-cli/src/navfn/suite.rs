@@ -8,12 +8,12 @@ use vouch_navfn::campaign::oracle::{EmitOptions, emit_path};
 use vouch_navfn::campaign::trace::TraceDetail;
 use vouch_navfn::checks::{PlanView, check_plan};
 use vouch_navfn::core::NoObserver;
-use vouch_navfn::maps::{SuiteFile, find_test_files, read_suite_file, read_world_params};
+use vouch_navfn::maps::{MapError, SuiteFile, find_test_files, read_suite_file, read_world_params};
 use vouch_navfn::planner::WorldParams;
 use vouch_navfn::suite::{CaseRunner, CostInput, RunMode, SuiteMode, SuiteOptions, run_file};
 
 use super::{AlgoArg, ModeArg, map_failure, parse_pair, run_mode};
-use crate::contract::{CmdResult, Ctx, Exit, Failure};
+use crate::contract::{CmdResult, Ctx, Exit};
 
 /// `--costs`: how map bytes become NavFn costs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -106,9 +106,9 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     });
     let files = find_test_files(&a.path, &name).map_err(map_failure)?;
     if files.is_empty() {
-        return Err(Failure::usage(format_args!(
-            "no `{name}` below {} (--name NAME searches for another file name)",
-            a.path.display()
+        return Err(map_failure(MapError::file(
+            &a.path,
+            format!("no `{name}` below this folder (--name NAME searches for another file name)"),
         )));
     }
     let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
@@ -145,6 +145,13 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     if a.check {
         ctx.note(format_args!("plan checks: {violations} violations"));
     }
+    if cases == 0 && errors == 0 {
+        // Every file read, none holds a case: nothing ran, so nothing passed.
+        return Err(map_failure(MapError::file(
+            &a.path,
+            "the suite holds no case: nothing to run",
+        )));
+    }
     Ok(if errors > 0 {
         Exit::Rejected
     } else if violations > 0 {
@@ -164,6 +171,12 @@ fn run_traced(a: &SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     };
     let out = &mut ctx.out;
     let n = emit_path(&a.path, &opts, |text| out.write_all(text.as_bytes()))?;
+    if n == 0 {
+        return Err(map_failure(MapError::file(
+            &a.path,
+            "the suite holds no case: nothing to run",
+        )));
+    }
     ctx.note(format_args!("{n} cases"));
     Ok(Exit::Ok)
 }

@@ -26,7 +26,7 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
         other => {
             return Err(MapError::file(
                 path,
-                format!("not a PGM image (magic `{other}`, expected P5 or P2)"),
+                format!("not a PGM image (magic `{}`, expected P5 or P2)", shown(other)),
             ));
         }
     };
@@ -72,9 +72,9 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
                     ));
                 }
             };
-            let v: usize = v
-                .parse()
-                .map_err(|_| MapError::file(path, format!("sample {i}: `{v}` is not a number")))?;
+            let v: usize = v.parse().map_err(|_| {
+                MapError::file(path, format!("sample {i}: `{}` is not a number", shown(&v)))
+            })?;
             pixels.push(u16::try_from(v).ok().filter(|&v| v as usize <= maxval).ok_or_else(
                 || MapError::file(path, format!("sample {i}: value {v} exceeds maxval {maxval}")),
             )?);
@@ -92,7 +92,16 @@ fn header_token(path: &Path, data: &[u8], pos: &mut usize) -> Result<String, Map
 
 fn header_number(path: &Path, data: &[u8], pos: &mut usize, what: &str) -> Result<usize, MapError> {
     let t = header_token(path, data, pos)?;
-    t.parse().map_err(|_| MapError::file(path, format!("PGM {what} `{t}` is not a number")))
+    t.parse()
+        .map_err(|_| MapError::file(path, format!("PGM {what} `{}` is not a number", shown(&t))))
+}
+
+/// A token of the file as an error message shows it: file bytes, so control characters
+/// escaped and at most 16 characters (a binary file's "token" can be megabytes long).
+fn shown(token: &str) -> String {
+    let head: String = token.chars().take(16).collect();
+    let more = if head.len() < token.len() { "…" } else { "" };
+    format!("{}{more}", head.escape_debug())
 }
 
 /// Next whitespace-separated token, skipping `#` comments; leaves `pos` on the byte after it.

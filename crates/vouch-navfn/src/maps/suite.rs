@@ -45,7 +45,7 @@ pub struct SuiteFile {
 
 /// Read a test file and the map file it names.
 pub fn read_suite_file(test_path: &Path) -> Result<SuiteFile, MapError> {
-    let text = std::fs::read_to_string(test_path).map_err(|e| MapError::io(test_path, e))?;
+    let text = super::error::read_text(test_path)?;
     parse_suite_text(test_path, &text, |map_path| {
         std::fs::read(map_path).map_err(|e| MapError::io(map_path, e))
     })
@@ -194,7 +194,7 @@ fn walk(dir: &Path, file_name: &str, out: &mut Vec<PathBuf>) -> Result<(), MapEr
 
 /// `params.txt` of `suite_ros/<map>/`: `--origin=X,Y --res=R`.
 pub fn read_world_params(path: &Path) -> Result<WorldParams, MapError> {
-    let text = std::fs::read_to_string(path).map_err(|e| MapError::io(path, e))?;
+    let text = super::error::read_text(path)?;
     parse_world_params(path, &text)
 }
 
