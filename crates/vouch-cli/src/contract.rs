@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use miette::Diagnostic;
 
 pub use crate::diagnostics::{MessageFormat, Severity};
+use crate::safe_text;
 
 /// Exit codes of every `vouch` command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,39 +97,54 @@ impl Out {
         Out { inner: BufWriter::with_capacity(64 * 1024, io::stdout().lock()) }
     }
 
-    /// Makes `write!(out, …)?` / `writeln!(out, …)?` return a [`Failure`].
+    /// Makes `write!(out, …)?` / `writeln!(out, …)?` return a [`Failure`]. Formatted text is
+    /// for people: control characters in it are escaped ([`safe_text::escape`]).
     pub fn write_fmt(&mut self, args: fmt::Arguments<'_>) -> Result<(), Failure> {
-        self.inner.write_fmt(args).map_err(stdout_failure)
+        let mut w = safe_text::EscapingWriter { inner: &mut self.inner, error: None };
+        match fmt::Write::write_fmt(&mut w, args) {
+            Ok(()) => Ok(()),
+            Err(_) => Err(match w.error {
+                Some(e) => stdout_failure(e),
+                None => Failure::usage("standard output: formatting failed"),
+            }),
+        }
     }
 
-    /// Writes raw bytes (e.g. a generated file sent to standard output).
+    /// Writes a text rendering for people (tables, outlines, summaries) with its control
+    /// characters escaped.
+    pub fn text(&mut self, text: &str) -> Result<(), Failure> {
+        self.write_all(safe_text::escape(text).as_bytes())
+    }
+
+    /// Writes raw bytes unchanged: a generated file sent to standard output (a header, a dump,
+    /// golden lines) is an artefact, byte for byte. Text for people goes through [`Out::text`].
     pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), Failure> {
         self.inner.write_all(bytes).map_err(stdout_failure)
     }
 
-    /// Writes one pretty-printed JSON document followed by a newline.
+    /// Writes one pretty-printed JSON document followed by a newline (DEL, C1 and bidi
+    /// controls in strings as `\uXXXX`, like the C0 controls JSON escapes itself).
     pub fn json<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
-        serde_json::to_writer_pretty(&mut self.inner, value).map_err(|e| {
-            match e.io_error_kind() {
-                Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
-                _ => Failure::usage(format_args!("standard output: {e}")),
-            }
-        })?;
+        safe_text::to_json_writer(&mut self.inner, value, true).map_err(json_failure)?;
         self.write_all(b"\n")
     }
 
     /// Writes one compact JSON value on its own line (JSON Lines streams).
     pub fn json_line<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
-        serde_json::to_writer(&mut self.inner, value).map_err(|e| match e.io_error_kind() {
-            Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
-            _ => Failure::usage(format_args!("standard output: {e}")),
-        })?;
+        safe_text::to_json_writer(&mut self.inner, value, false).map_err(json_failure)?;
         self.write_all(b"\n")
     }
 
     /// Flushes what was buffered (before a long wait, or before the process ends).
     pub fn flush(&mut self) -> Result<(), Failure> {
         self.inner.flush().map_err(stdout_failure)
+    }
+}
+
+fn json_failure(e: serde_json::Error) -> Failure {
+    match e.io_error_kind() {
+        Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
+        _ => Failure::usage(format_args!("standard output: {e}")),
     }
 }
 
@@ -163,10 +179,11 @@ impl Ctx {
         }
     }
 
-    /// Prints a plain note on stderr (summaries, progress lines), unless `-q`.
+    /// Prints a plain note on stderr (summaries, progress lines), unless `-q`; escaped like
+    /// every message.
     pub fn note(&self, msg: impl fmt::Display) {
         if self.verbosity > Verbosity::Quiet {
-            let _ = writeln!(io::stderr(), "{msg}");
+            let _ = writeln!(io::stderr(), "{}", safe_text::escape(&msg.to_string()));
         }
     }
 }

@@ -33,6 +33,7 @@ mod diagnostics;
 mod fpl;
 mod mav;
 mod navfn;
+pub mod safe_text;
 mod tooling;
 
 use contract::{CmdResult, Ctx, Exit, Failure, MessageFormat, Out, Severity, Verbosity};

@@ -173,7 +173,7 @@ pub fn lint(a: LintArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&warnings)?;
     } else {
-        ctx.out.write_all(vouch_fpl::lint::render(&plan, &warnings).as_bytes())?;
+        ctx.out.text(&vouch_fpl::lint::render(&plan, &warnings))?;
         let mut counts: Vec<String> = vouch_fpl::lint::counts(&warnings)
             .into_iter()
             .filter(|c| c.1 > 0)
@@ -237,5 +237,5 @@ fn print_report(
     report: &impl serde::Serialize,
     text: &str,
 ) -> Result<(), Failure> {
-    if json { ctx.out.json(report) } else { ctx.out.write_all(text.as_bytes()) }
+    if json { ctx.out.json(report) } else { ctx.out.text(text) }
 }

@@ -77,9 +77,9 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&sim::document(&fp, &run))?;
     } else if a.trace {
-        ctx.out.write_all(run.to_text().as_bytes())?;
+        ctx.out.text(&run.to_text())?;
     } else {
-        ctx.out.write_all(sim::table(&fp, &run).as_bytes())?;
+        ctx.out.text(&sim::table(&fp, &run))?;
     }
     Ok(Exit::Ok)
 }

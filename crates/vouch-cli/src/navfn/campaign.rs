@@ -187,7 +187,7 @@ pub fn suite_diff(a: SuiteDiffArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&r)?;
     } else {
-        ctx.out.write_all(describe(&r).as_bytes())?;
+        ctx.out.text(&describe(&r))?;
     }
     Ok(if r.different == 0 { Exit::Ok } else { Exit::Findings })
 }
@@ -352,7 +352,7 @@ pub fn campaign(a: CampaignArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&report)?;
     } else {
-        ctx.out.write_all(summary_table(&report).as_bytes())?;
+        ctx.out.text(&summary_table(&report))?;
         print_worst(ctx, &report)?;
     }
     Ok(if report.failures() == 0 { Exit::Ok } else { Exit::Findings })
@@ -435,7 +435,7 @@ pub fn report(cmd: ReportCmd, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&merged)?;
     } else {
-        ctx.out.write_all(summary_table(&merged).as_bytes())?;
+        ctx.out.text(&summary_table(&merged))?;
     }
     Ok(if merged.failures() == 0 { Exit::Ok } else { Exit::Findings })
 }
