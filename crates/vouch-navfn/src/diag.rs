@@ -41,3 +41,13 @@ mod tests {
         assert_eq!(field_span(t, 9, "x"), (t.len(), 0).into());
     }
 }
+
+/// A piece of the input quoted in a message: control characters escaped and at most 40
+/// characters (a binary file's "token" or a huge line can be megabytes; the excerpt under
+/// the message shows where it is).
+pub fn quote(s: &str) -> String {
+    const MAX: usize = 40;
+    let head: String = s.chars().take(MAX).collect();
+    let more = if head.len() < s.len() { "…" } else { "" };
+    format!("{}{more}", head.escape_debug())
+}

@@ -111,15 +111,18 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
             format!("no `{name}` below this folder (--name NAME searches for another file name)"),
         )));
     }
-    let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
+    let (mut cases, mut found, mut violations) = (0usize, 0usize, 0usize);
+    // A file that cannot be used is an error (printed, the run goes on with the next file);
+    // the first one decides the exit code: 2 if it could not be read, else 1.
+    let mut failed: Option<Exit> = None;
     let mut text = String::new();
     for f in &files {
         let loaded = read_suite_file(f).and_then(|file| Ok((world_for(&a, f)?, file)));
         let (world, file) = match loaded {
             Ok(wf) => wf,
             Err(e) => {
-                ctx.warn(&e);
-                errors += 1;
+                file_error(ctx, &e);
+                failed.get_or_insert(if e.is_io() { Exit::Usage } else { Exit::Rejected });
                 continue;
             }
         };
@@ -132,8 +135,8 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
                 found += s.found;
             }
             Err(e) => {
-                ctx.warn(&e);
-                errors += 1;
+                file_error(ctx, &e);
+                failed.get_or_insert(Exit::Rejected);
             }
         }
         ctx.out.write_all(text.as_bytes())?;
@@ -145,20 +148,22 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     if a.check {
         ctx.note(format_args!("plan checks: {violations} violations"));
     }
-    if cases == 0 && errors == 0 {
+    if let Some(exit) = failed {
+        return Ok(exit);
+    }
+    if cases == 0 {
         // Every file read, none holds a case: nothing ran, so nothing passed.
         return Err(map_failure(MapError::file(
             &a.path,
             "the suite holds no case: nothing to run",
         )));
     }
-    Ok(if errors > 0 {
-        Exit::Rejected
-    } else if violations > 0 {
-        Exit::Findings
-    } else {
-        Exit::Ok
-    })
+    Ok(if violations > 0 { Exit::Findings } else { Exit::Ok })
+}
+
+/// One test file's error: an error (coded, located), though the run goes on.
+fn file_error(ctx: &Ctx, e: &dyn miette::Diagnostic) {
+    crate::diagnostics::print(ctx.format, e, crate::contract::Severity::Error);
 }
 
 /// The oracle contract's side of vouch (`--trace`, `--pot`): cell-level modes only.

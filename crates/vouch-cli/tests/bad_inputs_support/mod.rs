@@ -151,7 +151,8 @@ pub fn check(label: &str, args: &[String], want: Expect) -> (Vec<String>, Option
 }
 
 fn first_line(s: &str) -> String {
-    s.lines().filter(|l| !l.trim().is_empty()).take(3).collect::<Vec<_>>().join(" / ")
+    let lines = s.lines().filter(|l| !l.trim().is_empty()).take(3).collect::<Vec<_>>().join(" / ");
+    lines.chars().take(400).collect()
 }
 
 /// Runs every case and fails with the list of what is wrong; prints the table of exit codes

@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use super::{MAX_CELLS, MapError};
+use crate::diag::quote;
 
 /// A grey image, row 0 = top row of the file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -26,7 +27,7 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
         other => {
             return Err(MapError::file(
                 path,
-                format!("not a PGM image (magic `{}`, expected P5 or P2)", shown(other)),
+                format!("not a PGM image (magic `{}`, expected P5 or P2)", quote(other)),
             ));
         }
     };
@@ -73,7 +74,7 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
                 }
             };
             let v: usize = v.parse().map_err(|_| {
-                MapError::file(path, format!("sample {i}: `{}` is not a number", shown(&v)))
+                MapError::file(path, format!("sample {i}: `{}` is not a number", quote(&v)))
             })?;
             pixels.push(u16::try_from(v).ok().filter(|&v| v as usize <= maxval).ok_or_else(
                 || MapError::file(path, format!("sample {i}: value {v} exceeds maxval {maxval}")),
@@ -93,15 +94,7 @@ fn header_token(path: &Path, data: &[u8], pos: &mut usize) -> Result<String, Map
 fn header_number(path: &Path, data: &[u8], pos: &mut usize, what: &str) -> Result<usize, MapError> {
     let t = header_token(path, data, pos)?;
     t.parse()
-        .map_err(|_| MapError::file(path, format!("PGM {what} `{}` is not a number", shown(&t))))
-}
-
-/// A token of the file as an error message shows it: file bytes, so control characters
-/// escaped and at most 16 characters (a binary file's "token" can be megabytes long).
-fn shown(token: &str) -> String {
-    let head: String = token.chars().take(16).collect();
-    let more = if head.len() < token.len() { "…" } else { "" };
-    format!("{}{more}", head.escape_debug())
+        .map_err(|_| MapError::file(path, format!("PGM {what} `{}` is not a number", quote(&t))))
 }
 
 /// Next whitespace-separated token, skipping `#` comments; leaves `pos` on the byte after it.

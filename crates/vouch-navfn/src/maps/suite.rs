@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::world::WorldParams;
 use super::{MAX_CELLS, MapError};
+use crate::diag::quote;
 
 /// One case: a path *from* (x0, y0) *to* (x1, y1), numbers as read (doubles).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,7 +70,7 @@ pub fn parse_suite_text(
                 text,
                 ln,
                 s,
-                format!("map size `{s}` is not a positive integer"),
+                format!("map size `{}` is not a positive integer", quote(s)),
             )
         })
     };
@@ -79,7 +80,7 @@ pub fn parse_suite_text(
             text,
             ln,
             "",
-            format!("expected `W H`, found `{header}`"),
+            format!("expected `W H`, found `{}`", quote(header)),
         ));
     }
     let (width, height) = (parse_dim(dims[0])?, parse_dim(dims[1])?);
@@ -125,13 +126,19 @@ pub fn parse_suite_text(
                 text,
                 ln,
                 "",
-                format!("expected `x0 y0 x1 y1`, found `{line}`"),
+                format!("expected `x0 y0 x1 y1`, found `{}`", quote(line)),
             ));
         }
         let mut coords = [0.0f64; 4];
         for (c, f) in coords.iter_mut().zip(fields) {
             *c = parse_number(f).filter(|v| v.is_finite()).ok_or_else(|| {
-                MapError::syntax(test_path, text, ln, f, format!("`{f}` is not a finite number"))
+                MapError::syntax(
+                    test_path,
+                    text,
+                    ln,
+                    f,
+                    format!("`{}` is not a finite number", quote(f)),
+                )
             })?;
         }
         cases.push(SuiteCase { number: cases.len(), line: ln, coords });
@@ -210,15 +217,15 @@ pub fn parse_world_params(path: &Path, text: &str) -> Result<WorldParams, MapErr
                 let (x, y) = v.split_once(',').unwrap_or((v, ""));
                 match (num(x), num(y)) {
                     (Some(x), Some(y)) => origin = Some([x, y]),
-                    _ => return Err(bad(tok, format!("bad origin `{v}` (expected X,Y)"))),
+                    _ => return Err(bad(tok, format!("bad origin `{}` (expected X,Y)", quote(v)))),
                 }
             } else if let Some(v) = tok.strip_prefix("--res=") {
                 let r = num(v).filter(|r| *r > 0.0);
                 res = Some(r.ok_or_else(|| {
-                    bad(tok, format!("resolution `{v}` must be a positive number"))
+                    bad(tok, format!("resolution `{}` must be a positive number", quote(v)))
                 })?);
             } else {
-                return Err(bad(tok, format!("unknown parameter `{tok}`")));
+                return Err(bad(tok, format!("unknown parameter `{}`", quote(tok))));
             }
         }
     }
