@@ -52,14 +52,19 @@ impl Failure {
         Failure::Rejected(miette::Report::new(d))
     }
 
-    /// A usage or I/O error described by a message.
+    /// A usage error found after the options were parsed (`{family}::C002`).
     pub fn usage(msg: impl fmt::Display) -> Failure {
-        Failure::Usage(miette::miette!("{msg}"))
+        Failure::Usage(miette::Report::new(CliError {
+            kind: CliErrorKind::Usage,
+            msg: msg.to_string(),
+        }))
     }
 
-    /// An I/O error on a named path.
+    /// An I/O error on a named path (`{family}::C001`): an output, or a file beside the main
+    /// input, that cannot be read or written.
     pub fn io(path: &std::path::Path, e: &io::Error) -> Failure {
-        Failure::usage(format_args!("{}: {e}", path.display()))
+        let msg = format!("{}: {e}", path.display());
+        Failure::Usage(miette::Report::new(CliError { kind: CliErrorKind::Io, msg }))
     }
 
     /// The exit code this failure ends the process with.
@@ -69,6 +74,51 @@ impl Failure {
             Failure::Usage(_) => Exit::Usage,
             Failure::ClosedPipe => Exit::Ok,
         }
+    }
+}
+
+/// The family of the running command (`fpl`, `mav`, `navfn`; `vouch` for the others), set once
+/// by `run` before the command starts, so that the command line's own errors carry a family
+/// code like the libraries' errors do.
+static FAMILY: std::sync::OnceLock<&'static str> = std::sync::OnceLock::new();
+
+/// Records the running command's family (the first call wins).
+pub fn set_family(family: &'static str) {
+    let _ = FAMILY.set(family);
+}
+
+/// The kinds of errors the command line finds itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum CliErrorKind {
+    /// A file or stream the command reads or writes besides its input (`C001`).
+    Io,
+    /// Options that parse but do not go together, or name nothing (`C002`).
+    Usage,
+}
+
+/// An error of the command line itself, coded `{family}::C001` or `{family}::C002`.
+#[derive(Debug)]
+struct CliError {
+    kind: CliErrorKind,
+    msg: String,
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.msg)
+    }
+}
+
+impl std::error::Error for CliError {}
+
+impl Diagnostic for CliError {
+    fn code<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        let family = FAMILY.get().copied().unwrap_or("vouch");
+        let n = match self.kind {
+            CliErrorKind::Io => "C001",
+            CliErrorKind::Usage => "C002",
+        };
+        Some(Box::new(format!("{family}::{n}")))
     }
 }
 
