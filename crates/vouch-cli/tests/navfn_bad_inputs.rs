@@ -219,5 +219,20 @@ fn every_navfn_reader_answers_every_bad_input_with_a_coded_error() {
         let a = args(&["navfn", "report", "merge", &s(&report), "-o", &out]);
         cases.push((format!("navfn report merge {kind:?}"), a, want));
     }
+    // Valid inputs that hold nothing to check: rejected, never a pass.
+    let zero = folder(dir.path(), "zero_cases/only");
+    std::fs::write(zero.join("test.txt"), "3 3\nmap.bin\n\n").expect("test.txt");
+    std::fs::write(zero.join("map.bin"), [0u8; 9]).expect("map.bin");
+    let zero = s(&zero);
+    let none = rejected("navfn::E012");
+    cases.push(("navfn suite run (no case)".into(), args(&["navfn", "suite", "run", &zero]), none));
+    // an oracle that answers nothing to nothing: the comparison still holds no case
+    let a = args(&["navfn", "suite", "diff", &zero, "--oracle", "/bin/true"]);
+    cases.push(("navfn suite diff (no case)".into(), a, none));
+    let a = args(&["navfn", "campaign", &zero, "-o", &out]);
+    cases.push(("navfn campaign (no case)".into(), a, none));
+    let bag = s(&examples().join("warehouse_bag"));
+    let a = args(&["navfn", "check-bag", &bag, "--plan-topic", "/no_plans_here"]);
+    cases.push(("navfn check-bag (no plan)".into(), a, rejected("navfn::E034")));
     run_catalogue(cases);
 }
