@@ -163,67 +163,144 @@ fn causes(e: Option<&dyn std::error::Error>) -> Option<Box<Cause>> {
     Some(Box::new(Cause { message: escape(&e.to_string()).into_owned(), next: causes(e.source()) }))
 }
 
-/// A source text with its unsafe characters escaped, and the map from original byte offsets to
-/// offsets in the escaped text (the labels are moved with it).
+/// A line longer than this (bytes) is shown cut: windows around its labels, `…` between.
+const LONG_LINE: usize = 240;
+/// Bytes kept on each side of a label's ends on a long line, and at the start of one without.
+const KEEP: usize = 60;
+
+/// A source text with its unsafe characters escaped and its overlong lines cut, and the map
+/// between original byte offsets and offsets in the shown text (the labels are moved with it).
 #[derive(Debug)]
 struct SafeSource {
     name: Option<String>,
     text: String,
     /// Original text, for the columns of the location line (miette counts bytes).
     original: Vec<u8>,
-    /// `(original offset, escaped offset)` just after each escaped character.
-    shifts: Vec<(usize, usize)>,
+    /// The rewritten pieces, in order: `(original start, original end, shown start, shown end)`
+    /// of each escaped character and each cut-out run; the text between them is copied.
+    pieces: Vec<(usize, usize, usize, usize)>,
+}
+
+/// The byte ranges of `text` left out: on each line longer than [`LONG_LINE`], everything but
+/// [`KEEP`] bytes around the ends of the labels on it (the line's start when it has none).
+fn cut_ranges(text: &[u8], labels: &[SourceSpan]) -> Vec<(usize, usize)> {
+    let mut cuts = Vec::new();
+    let mut start = 0;
+    for line in text.split_inclusive(|&b| b == b'\n') {
+        let end = start + line.len();
+        if line.len() > LONG_LINE {
+            let mut keep: Vec<(usize, usize)> = labels
+                .iter()
+                .filter(|l| l.offset() < end && l.offset() + l.len() >= start)
+                .flat_map(|l| {
+                    let (a, b) = (l.offset(), l.offset() + l.len());
+                    [(a.saturating_sub(KEEP), a + KEEP), (b.saturating_sub(KEEP), b + KEEP)]
+                })
+                .collect();
+            if keep.is_empty() {
+                keep.push((start, start + KEEP));
+            }
+            keep.push((end.saturating_sub(1), end)); // the line end stays
+            keep.sort_unstable();
+            let mut at = start;
+            for (a, b) in keep {
+                let (a, b) = (a.max(start), b.min(end));
+                if a > at + 8 {
+                    cuts.push((at, a));
+                }
+                at = at.max(b);
+            }
+        }
+        start = end;
+    }
+    cuts
 }
 
 impl SafeSource {
-    /// The whole text of `source` (read as one span with unlimited context), escaped; `None`
-    /// when the source cannot give its whole text from offset 0.
-    fn of(source: &dyn SourceCode) -> Option<SafeSource> {
+    /// The whole text of `source` (read as one span with unlimited context), escaped and cut
+    /// around `labels`; `None` when the source cannot give its whole text from offset 0.
+    fn of(source: &dyn SourceCode, labels: &[SourceSpan]) -> Option<SafeSource> {
         let all = source.read_span(&SourceSpan::from((0, 0)), usize::MAX, usize::MAX).ok()?;
         if all.span().offset() != 0 {
             return None;
         }
         let original = all.data().to_vec();
         let name = all.name().map(|n| escape(n).into_owned());
-        let mut text = String::with_capacity(original.len());
-        let mut shifts = Vec::new();
+        let cuts = cut_ranges(&original, labels);
+        let mut shown =
+            SafeSource { name, text: String::new(), original: Vec::new(), pieces: vec![] };
+        let mut cut = cuts.iter().peekable();
         let mut at = 0;
         for chunk in original.utf8_chunks() {
-            let valid = chunk.valid();
-            let mut chars = valid.char_indices().peekable();
-            while let Some((i, c)) = chars.next() {
-                let crlf = c == '\r' && chars.peek().is_some_and(|&(_, n)| n == '\n');
-                if is_unsafe(c) && !crlf {
-                    text.extend(c.escape_unicode());
-                    shifts.push((at + i + c.len_utf8(), text.len()));
-                } else {
-                    text.push(c);
-                }
+            let mut chars = chunk.valid().chars().peekable();
+            while let Some(c) = chars.next() {
+                let crlf = c == '\r' && chars.peek() == Some(&'\n');
+                let escaped = (is_unsafe(c) && !crlf).then(|| c.escape_unicode().to_string());
+                shown.push(&mut cut, at, c.len_utf8(), escaped, c);
+                at += c.len_utf8();
             }
-            at += valid.len();
             for b in chunk.invalid() {
-                text.push_str(&format!("\\x{b:02x}"));
+                shown.push(&mut cut, at, 1, Some(format!("\\x{b:02x}")), '?');
                 at += 1;
-                shifts.push((at, text.len()));
             }
         }
-        Some(SafeSource { name, text, original, shifts })
+        shown.original = original;
+        Some(shown)
     }
 
-    /// Escaped offset of an original offset.
+    /// Appends the character `c` of `len` bytes at original offset `at`: left out inside a cut
+    /// (one `…` per cut), else escaped (`escaped`) or copied.
+    fn push(
+        &mut self,
+        cut: &mut std::iter::Peekable<std::slice::Iter<'_, (usize, usize)>>,
+        at: usize,
+        len: usize,
+        escaped: Option<String>,
+        c: char,
+    ) {
+        while cut.peek().is_some_and(|&&(_, b)| b <= at) {
+            cut.next();
+        }
+        if let Some(&&(a, _)) = cut.peek()
+            && a <= at
+        {
+            match self.pieces.last_mut() {
+                // the run of this cut goes on
+                Some(p) if p.1 == at && p.0 >= a => p.1 = at + len,
+                _ => {
+                    let s = self.text.len();
+                    self.text.push('…');
+                    self.pieces.push((at, at + len, s, self.text.len()));
+                }
+            }
+            return;
+        }
+        match escaped {
+            Some(e) => {
+                let s = self.text.len();
+                self.text.push_str(&e);
+                self.pieces.push((at, at + len, s, self.text.len()));
+            }
+            None => self.text.push(c),
+        }
+    }
+
+    /// Shown offset of an original offset (inside a rewritten piece: the piece's start).
     fn to_escaped(&self, offset: usize) -> usize {
-        let i = self.shifts.partition_point(|&(o, _)| o <= offset);
-        match i.checked_sub(1).and_then(|i| self.shifts.get(i)) {
-            Some(&(o, e)) => e + (offset - o),
+        let i = self.pieces.partition_point(|&(o, ..)| o <= offset);
+        match i.checked_sub(1).and_then(|i| self.pieces.get(i)) {
+            Some(&(_, o_end, e, _)) if offset < o_end => e,
+            Some(&(_, o_end, _, e_end)) => e_end + (offset - o_end),
             None => offset,
         }
     }
 
-    /// Original offset of an escaped offset (inside an escape: the escaped character's).
+    /// Original offset of a shown offset (inside a rewritten piece: the piece's start).
     fn to_original(&self, offset: usize) -> usize {
-        let i = self.shifts.partition_point(|&(_, e)| e <= offset);
-        match i.checked_sub(1).and_then(|i| self.shifts.get(i)) {
-            Some(&(o, e)) => o + (offset - e),
+        let i = self.pieces.partition_point(|&(_, _, e, _)| e <= offset);
+        match i.checked_sub(1).and_then(|i| self.pieces.get(i)) {
+            Some(&(o, _, _, e_end)) if offset < e_end => o,
+            Some(&(_, o_end, _, e_end)) => o_end + (offset - e_end),
             None => offset,
         }
         .min(self.original.len())
@@ -289,7 +366,8 @@ impl SafeDiagnostic {
     pub fn new(d: &dyn Diagnostic) -> SafeDiagnostic {
         let text =
             |t: Option<Box<dyn fmt::Display + '_>>| t.map(|t| escape(&t.to_string()).into_owned());
-        let source_code = d.source_code().and_then(SafeSource::of);
+        let spans: Vec<SourceSpan> = d.labels().into_iter().flatten().map(|l| *l.inner()).collect();
+        let source_code = d.source_code().and_then(|s| SafeSource::of(s, &spans));
         let labels = d
             .labels()
             .into_iter()
@@ -430,9 +508,34 @@ mod tests {
     }
 
     #[test]
+    fn a_long_line_is_cut_around_its_label_which_still_points_at_the_same_text() {
+        let mut text = "x".repeat(100_000);
+        text.push_str("<bad\u{1b}/>");
+        text.push_str(&"y".repeat(100_000));
+        text.push('\n');
+        let at = text.find("<bad").expect("in text");
+        let d = Crafted {
+            name: "n".into(),
+            src: miette::NamedSource::new("huge.xml", text),
+            at: (at, 7).into(),
+        };
+        let safe = SafeDiagnostic::new(&d);
+        let mut out = String::new();
+        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+            .render_report(&mut out, &safe)
+            .expect("renders");
+        assert!(out.len() < 2_000, "{} bytes", out.len());
+        assert!(out.contains("huge.xml:1:100001"), "{out}");
+        assert!(out.contains("…xxxx") && out.contains("<bad\\u{1b}/>yyy"), "{out}");
+        let s = safe.labels().expect("labels").next().expect("one");
+        let src = safe.source_code.as_ref().expect("source");
+        assert_eq!(&src.text[s.offset()..s.offset() + s.len()], "<bad\\u{1b}/>");
+    }
+
+    #[test]
     fn escaped_offsets_map_back() {
         let src = "a\u{1b}b\u{7}c";
-        let s = SafeSource::of(&src.to_string()).expect("whole text");
+        let s = SafeSource::of(&src.to_string(), &[]).expect("whole text");
         assert_eq!(s.text, "a\\u{1b}b\\u{7}c");
         for (o, ch) in [(0, 'a'), (2, 'b'), (4, 'c')] {
             let e = s.to_escaped(o);

@@ -1,7 +1,8 @@
 //! The bad-input catalogue every family's CLI is run against (`*_bad_inputs.rs`): each kind of
 //! bad file, and the checks every run must pass whatever the kind — the exit code of the
 //! contract (1 input rejected, 2 usage or I/O), a family code on the error in every message
-//! format, no panic, and no raw control byte on stdout or stderr.
+//! format, no panic, no raw control byte on stdout or stderr, and messages of a bounded size
+//! (a huge line is shown cut).
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -125,6 +126,10 @@ pub fn check(label: &str, args: &[String], want: Expect) -> (Vec<String>, Option
         let mut fail = |what: String| wrong.push(format!("{label} [{format}]: {what}"));
         if code != Some(want.exit) {
             fail(format!("exit {code:?}, want {} — {}", want.exit, first_line(&err)));
+        }
+        // a huge line is shown cut: messages stay readable whatever the input
+        if o.stderr.len() > 16 * 1024 {
+            fail(format!("{} bytes on stderr", o.stderr.len()));
         }
         if err.contains("panicked") || code == Some(101) {
             fail(format!("panicked: {err}"));
