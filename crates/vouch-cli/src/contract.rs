@@ -67,6 +67,17 @@ impl Failure {
         Failure::Usage(miette::Report::new(CliError { kind: CliErrorKind::Io, msg }))
     }
 
+    /// Reads a text file beside the main input (answers, jumps, …): a failed read is I/O
+    /// (`{family}::C001`), bytes that are not UTF-8 are rejected input (`{family}::C003`).
+    pub fn read_text(path: &std::path::Path) -> Result<String, Failure> {
+        let bytes = std::fs::read(path).map_err(|e| Failure::io(path, &e))?;
+        String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let msg = format!("{}: not a text file (invalid UTF-8 at byte {at})", path.display());
+            Failure::Rejected(miette::Report::new(CliError { kind: CliErrorKind::NotText, msg }))
+        })
+    }
+
     /// The exit code this failure ends the process with.
     pub fn exit(&self) -> Exit {
         match self {
@@ -94,6 +105,8 @@ enum CliErrorKind {
     Io,
     /// Options that parse but do not go together, or name nothing (`C002`).
     Usage,
+    /// A file read as text that is not text (`C003`, rejected input).
+    NotText,
 }
 
 /// An error of the command line itself, coded `{family}::C001` or `{family}::C002`.
@@ -117,6 +130,7 @@ impl Diagnostic for CliError {
         let n = match self.kind {
             CliErrorKind::Io => "C001",
             CliErrorKind::Usage => "C002",
+            CliErrorKind::NotText => "C003",
         };
         Some(Box::new(format!("{family}::{n}")))
     }

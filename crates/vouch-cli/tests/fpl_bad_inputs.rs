@@ -142,3 +142,48 @@ fn names_with_del_and_c1_controls_are_printed_escaped() {
         }
     }
 }
+
+/// The files and texts beside the plan: `sim --conditions` (answers) and `--jumps`, and a
+/// `check --property`. An empty answers file is valid (no answers: every condition false), a
+/// cut one still a list of numbers, so those kinds are not bad input here.
+#[test]
+fn answers_jumps_and_properties_answer_bad_input_with_a_coded_error() {
+    let dir = scratch();
+    let demo = s(&vouch_testkit::repo_root().join("examples/fpl/demo.xml"));
+    let mut cases = Vec::new();
+    for kind in Kind::ALL {
+        let d = dir.path().join(format!("{kind:?}"));
+        std::fs::create_dir_all(&d).expect("folder");
+        let (path, answers, jumps) = match kind {
+            Kind::Missing => (d.join("missing.txt"), io("fpl::C001"), io("fpl::C001")),
+            Kind::Directory => (d.clone(), io("fpl::C001"), io("fpl::C001")),
+            Kind::Binary => (
+                file(&d, "binary.txt", &binary_bytes()),
+                rejected("fpl::C003"),
+                rejected("fpl::C003"),
+            ),
+            Kind::HugeLine => {
+                (file(&d, "huge.txt", &huge_line()), rejected("fpl::E041"), rejected("fpl::E044"))
+            }
+            Kind::ControlInValue | Kind::ControlInName => (
+                file(&d, "control.txt", format!("1 0 {ESCAPES} 1").as_bytes()),
+                rejected("fpl::E041"),
+                rejected("fpl::E044"),
+            ),
+            Kind::WrongFormat => (
+                file(&d, "json.txt", br#"{"answers": [1, 0]}"#),
+                rejected("fpl::E041"),
+                rejected("fpl::E044"),
+            ),
+            Kind::Empty | Kind::Truncated => continue,
+        };
+        for (option, want) in [("--conditions", answers), ("--jumps", jumps)] {
+            let args = ["fpl", "sim", &demo, option, &s(&path)].map(String::from).to_vec();
+            cases.push((format!("fpl sim {option} {kind:?}"), args, want));
+        }
+    }
+    let property = format!("never block({ESCAPES})");
+    let args = ["fpl", "check", &demo, "--property", &property].map(String::from).to_vec();
+    cases.push(("fpl check --property with escapes".into(), args, rejected("fpl::E042")));
+    run_catalogue(cases);
+}

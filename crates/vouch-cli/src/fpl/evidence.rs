@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use vouch_fpl::emit::EmitOptions;
 use vouch_fpl::evidence::validate::{self, ValidateError};
-use vouch_fpl::model_check::{self, CheckError, Spec};
+use vouch_fpl::model_check::{self, Spec};
 
 use super::{PlanArgs, lowered, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
@@ -205,10 +205,9 @@ pub fn check(a: CheckArgs, ctx: &mut Ctx) -> CmdResult {
         max_states: a.max_states,
         operator: a.operator,
     };
-    let report = model_check::run(&fp, &spec).map_err(|e| {
-        let interpreter = matches!(e, CheckError::Interpreter(_));
-        not_run(e, interpreter)
-    })?;
+    // A property that does not parse, an unknown safe block, the interpreter's bound: the
+    // checker's input is rejected (1), as the help page says.
+    let report = model_check::run(&fp, &spec).map_err(Failure::rejected)?;
     print_report(ctx, a.json, &report, &report.render(&a.plan.name()))?;
     Ok(if report.holds() { Exit::Ok } else { Exit::Findings })
 }

@@ -60,7 +60,7 @@ pub fn parse_jumps(text: &str, blocks: usize) -> Result<Vec<(usize, usize)>, Jum
         let word = &rest[start..start + len];
         let n = word
             .parse::<usize>()
-            .map_err(|_| err(format!("not a whole number: '{word}'"), (offset, len)))?;
+            .map_err(|_| err(format!("not a whole number: '{}'", crate::diag::quote(word)), (offset, len)))?;
         words.push((n, offset, len));
         rest = &rest[start + len..];
     }
