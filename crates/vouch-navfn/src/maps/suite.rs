@@ -105,43 +105,9 @@ pub fn parse_suite_text(
     let _ignored_line_3 = lines.next();
     let mut cases = Vec::new();
     for (ln, line) in lines {
-        let mut tokens = line.split_whitespace();
-        let mut fields = [""; 4];
-        let mut n = 0;
-        for (slot, tok) in fields.iter_mut().zip(&mut tokens) {
-            *slot = tok;
-            n += 1;
+        if let Some(coords) = parse_case_line(test_path, text, ln, line)? {
+            cases.push(SuiteCase { number: cases.len(), line: ln, coords });
         }
-        if n == 0 {
-            continue;
-        }
-        // comment rule of the paper's harness: first number -1 (this also hides one genuine
-        // case of suite_ros/map_circular/test_world.txt, see golden/README.md)
-        if parse_number(fields[0]) == Some(-1.0) {
-            continue;
-        }
-        if n < 4 {
-            return Err(MapError::syntax(
-                test_path,
-                text,
-                ln,
-                "",
-                format!("expected `x0 y0 x1 y1`, found `{}`", quote(line)),
-            ));
-        }
-        let mut coords = [0.0f64; 4];
-        for (c, f) in coords.iter_mut().zip(fields) {
-            *c = parse_number(f).filter(|v| v.is_finite()).ok_or_else(|| {
-                MapError::syntax(
-                    test_path,
-                    text,
-                    ln,
-                    f,
-                    format!("`{}` is not a finite number", quote(f)),
-                )
-            })?;
-        }
-        cases.push(SuiteCase { number: cases.len(), line: ln, coords });
     }
     let map = load_map(&map_path)?;
     if map.len() != cells {
@@ -155,6 +121,42 @@ pub fn parse_suite_text(
         ));
     }
     Ok(SuiteFile { test_path: test_path.to_path_buf(), map_path, width, height, map, cases })
+}
+
+/// One case line `x0 y0 x1 y1` (line `ln` of `text`): `None` for a blank or comment line.
+fn parse_case_line(
+    test_path: &Path,
+    text: &str,
+    ln: usize,
+    line: &str,
+) -> Result<Option<[f64; 4]>, MapError> {
+    let mut tokens = line.split_whitespace();
+    let mut fields = [""; 4];
+    let mut n = 0;
+    for (slot, tok) in fields.iter_mut().zip(&mut tokens) {
+        *slot = tok;
+        n += 1;
+    }
+    if n == 0 {
+        return Ok(None);
+    }
+    // comment rule of the paper's harness: first number -1 (this also hides one genuine
+    // case of suite_ros/map_circular/test_world.txt, see golden/README.md)
+    if parse_number(fields[0]) == Some(-1.0) {
+        return Ok(None);
+    }
+    if n < 4 {
+        let msg = format!("expected `x0 y0 x1 y1`, found `{}`", quote(line));
+        return Err(MapError::syntax(test_path, text, ln, "", msg));
+    }
+    let mut coords = [0.0f64; 4];
+    for (c, f) in coords.iter_mut().zip(fields) {
+        *c = parse_number(f).filter(|v| v.is_finite()).ok_or_else(|| {
+            let msg = format!("`{}` is not a finite number", quote(f));
+            MapError::syntax(test_path, text, ln, f, msg)
+        })?;
+    }
+    Ok(Some(coords))
 }
 
 /// A number of a case line, as `f64::from_str` reads it; plain integers (nearly every field)
