@@ -62,6 +62,10 @@ pub fn diff(a: DiffArgs, ctx: &mut Ctx) -> CmdResult {
         }
         Some(rev) => git_pairs(rev, &a.plans)?,
     };
+    if pairs.is_empty() {
+        // Nothing compared: said, so that a silent exit 0 is not read as "checked, equivalent".
+        ctx.note("no flight plan changed: nothing to compare");
+    }
     let opts = DiffOptions {
         operator_jumps: !a.no_operator_jumps,
         max_states: a.max_states,
