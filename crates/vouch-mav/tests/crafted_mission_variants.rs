@@ -104,3 +104,61 @@ fn an_item_beyond_the_count_that_nobody_asked_for_is_reported() {
     assert_eq!(v.protocol, "mission_download");
     assert_eq!(v.predicate.as_deref(), Some("beyond > 0"));
 }
+
+fn partial(c: &mut Craft, first: f64, last: f64) {
+    c.gcs("MISSION_WRITE_PARTIAL_LIST", &[("start_index", first), ("end_index", last)]);
+}
+
+#[test]
+fn partial_write_with_a_rerequest_passes() {
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else { return };
+    c.upload(5, MISSION, false);
+    partial(&mut c, 2.0, 3.0);
+    c.request(2, MISSION, false);
+    c.item(2, MISSION);
+    c.request(3, MISSION, false);
+    c.request(3, MISSION, false); // re-request after a timeout
+    c.item(3, MISSION);
+    c.ack(0, MISSION);
+    let r = c.check();
+    assert_clean(&r);
+    assert_eq!(r.summary.protocol("mission_upload").map(|p| p.completed), Some(2));
+}
+
+#[test]
+fn partial_write_accepted_before_its_last_item_is_reported() {
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else { return };
+    partial(&mut c, 1.0, 4.0);
+    c.request(1, MISSION, false);
+    c.item(1, MISSION);
+    c.ack(0, MISSION);
+    let r = c.check();
+    let v = only_violation(&r);
+    assert_eq!(v.predicate.as_deref(), Some("curr == last + 1"));
+    assert_eq!((value(v, "curr"), value(v, "last")), ("2", "4"));
+}
+
+#[test]
+fn partial_write_item_outside_its_range_is_reported() {
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else { return };
+    partial(&mut c, 1.0, 2.0);
+    c.request(1, MISSION, false);
+    c.item(1, MISSION);
+    c.item(4, MISSION); // never requested
+    let r = c.check();
+    assert_eq!(only_violation(&r).protocol, "mission_upload");
+}
+
+#[test]
+fn command_in_progress_then_cancelled_passes() {
+    let Some(mut c) = Craft::with_heartbeats(true, 4) else { return };
+    // A long-running command: MAV_CMD_PREFLIGHT_CALIBRATION.
+    c.gcs("COMMAND_LONG", &[("command", 241.0), ("param1", 1.0)]);
+    c.uav("COMMAND_ACK", &[("command", 241.0), ("result", 5.0), ("progress", 10.0)]); // IN_PROGRESS
+    c.gcs("COMMAND_LONG", &[("command", 241.0), ("param1", 1.0), ("confirmation", 1.0)]);
+    c.gcs("COMMAND_CANCEL", &[("command", 241.0)]);
+    c.uav("COMMAND_ACK", &[("command", 241.0), ("result", 6.0)]); // CANCELLED
+    let r = c.check();
+    assert_clean(&r);
+    assert_eq!(r.summary.protocol("command").map(|p| p.completed), Some(1));
+}
