@@ -27,20 +27,34 @@ fn clear_acknowledged_after_the_count_that_followed_it_passes() {
     c.ack(0, MISSION);
     let r = c.check();
     assert_clean(&r);
-    assert_eq!(r.summary.protocol("mission_upload").map(|p| p.completed), Some(1));
-    assert_eq!(r.summary.protocol("mission_clear").map(|p| p.completed), Some(1));
+    // one session: the clear, and the upload behind it
+    assert_eq!(
+        r.summary.protocol("mission_upload").map(|p| (p.started, p.completed)),
+        Some((1, 1))
+    );
 }
 
 #[test]
-fn a_second_early_accepted_is_still_a_premature_accept() {
+fn an_accepted_right_after_the_count_without_a_clear_is_reported() {
     let Some(mut c) = Craft::with_heartbeats(false, 0) else { return };
     c.count(3, MISSION);
-    c.ack(0, MISSION);
     c.ack(0, MISSION);
     let r = c.check();
     let v = only_violation(&r);
     assert_eq!(v.protocol, "mission_upload");
     assert_eq!(v.predicate.as_deref(), Some("curr == n"));
+}
+
+#[test]
+fn only_one_ack_is_due_after_a_clear() {
+    let Some(mut c) = Craft::with_heartbeats(false, 0) else { return };
+    c.gcs("MISSION_CLEAR_ALL", &[]);
+    c.count(3, MISSION);
+    c.ack(0, MISSION);
+    c.ack(0, MISSION);
+    let r = c.check();
+    let v = only_violation(&r);
+    assert_eq!((v.predicate.as_deref(), value(v, "curr")), (Some("curr == n"), "0"));
 }
 
 #[test]
