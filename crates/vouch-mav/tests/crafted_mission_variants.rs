@@ -176,3 +176,15 @@ fn command_in_progress_then_cancelled_passes() {
     assert_clean(&r);
     assert_eq!(r.summary.protocol("command").map(|p| p.completed), Some(1));
 }
+
+#[test]
+fn guided_item_acked_while_a_download_waits_for_its_timeout_passes() {
+    let Some(mut c) = Craft::with_heartbeats(true, 4) else { return };
+    c.gcs("MISSION_REQUEST_LIST", &[]);
+    c.uav("MISSION_COUNT", &[("count", 0.0)]);
+    guided_item(&mut c, 2.0);
+    c.ack(0, MISSION);
+    let r = c.check();
+    assert_clean(&r);
+    assert_eq!(r.summary.protocol("mission_download").map(|p| p.completed), Some(1));
+}
