@@ -184,10 +184,10 @@ fn every_bad_input_gets_its_code_and_exit_status_and_nothing_raw() {
             None if !codes.is_empty() => problems.push(format!("unexpected codes {codes:?}")),
             _ => {}
         }
-        if c.exit == 1 || c.exit == 2 {
-            if !String::from_utf8_lossy(&short.stderr).contains(c.code.unwrap_or("mav::")) {
-                problems.push("the short diagnostic has no code".into());
-            }
+        if (c.exit == 1 || c.exit == 2)
+            && !String::from_utf8_lossy(&short.stderr).contains(c.code.unwrap_or("mav::"))
+        {
+            problems.push("the short diagnostic has no code".into());
         }
         for o in [&json, &short] {
             if String::from_utf8_lossy(&o.stderr).contains("panicked") {

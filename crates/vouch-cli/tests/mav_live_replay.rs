@@ -196,7 +196,7 @@ fn replay(file: &Path, d: &Dialect) -> (usize, usize, Vec<String>) {
         run += 1;
         // Also every few frames within a run: loopback UDP drops what overflows a receive
         // buffer, and a loss here would be the test's, not the guard's.
-        if last_side != Some(s.from_vehicle) || run % 16 == 0 {
+        if last_side != Some(s.from_vehicle) || run.is_multiple_of(16) {
             // The other side answers only what it received: wait until it all came through.
             let ok = wait_for(&vehicle, from_gcs, Duration::from_secs(2))
                 && wait_for(&gcs, from_vehicle, Duration::from_secs(2));
