@@ -94,8 +94,8 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
         ));
         for e in &eps {
             let c = &e.config;
-            let line = format!("{}\t{}\t{}", c.name, side_word(c.side), c.link);
-            writeln!(ctx.out, "{}", escape_controls(&line))?;
+            let (name, link) = (escape_controls(&c.name), c.link.to_string());
+            writeln!(ctx.out, "{name}\t{}\t{}", side_word(c.side), escape_controls(&link))?;
         }
         return Ok(Exit::Ok);
     }
