@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use miette::Diagnostic;
 
 pub use crate::diagnostics::{MessageFormat, Severity};
+use crate::safe_text;
 
 /// Exit codes of every `vouch` command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,14 +52,30 @@ impl Failure {
         Failure::Rejected(miette::Report::new(d))
     }
 
-    /// A usage or I/O error described by a message.
+    /// A usage error found after the options were parsed (`{family}::C002`).
     pub fn usage(msg: impl fmt::Display) -> Failure {
-        Failure::Usage(miette::miette!("{msg}"))
+        Failure::Usage(miette::Report::new(CliError {
+            kind: CliErrorKind::Usage,
+            msg: msg.to_string(),
+        }))
     }
 
-    /// An I/O error on a named path.
+    /// An I/O error on a named path (`{family}::C001`): an output, or a file beside the main
+    /// input, that cannot be read or written.
     pub fn io(path: &std::path::Path, e: &io::Error) -> Failure {
-        Failure::usage(format_args!("{}: {e}", path.display()))
+        let msg = format!("{}: {e}", path.display());
+        Failure::Usage(miette::Report::new(CliError { kind: CliErrorKind::Io, msg }))
+    }
+
+    /// Reads a text file beside the main input (answers, jumps, …): a failed read is I/O
+    /// (`{family}::C001`), bytes that are not UTF-8 are rejected input (`{family}::C003`).
+    pub fn read_text(path: &std::path::Path) -> Result<String, Failure> {
+        let bytes = std::fs::read(path).map_err(|e| Failure::io(path, &e))?;
+        String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let msg = format!("{}: not a text file (invalid UTF-8 at byte {at})", path.display());
+            Failure::Rejected(miette::Report::new(CliError { kind: CliErrorKind::NotText, msg }))
+        })
     }
 
     /// The exit code this failure ends the process with.
@@ -68,6 +85,54 @@ impl Failure {
             Failure::Usage(_) => Exit::Usage,
             Failure::ClosedPipe => Exit::Ok,
         }
+    }
+}
+
+/// The family of the running command (`fpl`, `mav`, `navfn`; `vouch` for the others), set once
+/// by `run` before the command starts, so that the command line's own errors carry a family
+/// code like the libraries' errors do.
+static FAMILY: std::sync::OnceLock<&'static str> = std::sync::OnceLock::new();
+
+/// Records the running command's family (the first call wins).
+pub fn set_family(family: &'static str) {
+    let _ = FAMILY.set(family);
+}
+
+/// The kinds of errors the command line finds itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum CliErrorKind {
+    /// A file or stream the command reads or writes besides its input (`C001`).
+    Io,
+    /// Options that parse but do not go together, or name nothing (`C002`).
+    Usage,
+    /// A file read as text that is not text (`C003`, rejected input).
+    NotText,
+}
+
+/// An error of the command line itself, coded `{family}::C001` or `{family}::C002`.
+#[derive(Debug)]
+struct CliError {
+    kind: CliErrorKind,
+    msg: String,
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.msg)
+    }
+}
+
+impl std::error::Error for CliError {}
+
+impl Diagnostic for CliError {
+    fn code<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        let family = FAMILY.get().copied().unwrap_or("vouch");
+        let n = match self.kind {
+            CliErrorKind::Io => "C001",
+            CliErrorKind::Usage => "C002",
+            CliErrorKind::NotText => "C003",
+        };
+        Some(Box::new(format!("{family}::{n}")))
     }
 }
 
@@ -96,39 +161,54 @@ impl Out {
         Out { inner: BufWriter::with_capacity(64 * 1024, io::stdout().lock()) }
     }
 
-    /// Makes `write!(out, …)?` / `writeln!(out, …)?` return a [`Failure`].
+    /// Makes `write!(out, …)?` / `writeln!(out, …)?` return a [`Failure`]. Formatted text is
+    /// for people: control characters in it are escaped ([`safe_text::escape`]).
     pub fn write_fmt(&mut self, args: fmt::Arguments<'_>) -> Result<(), Failure> {
-        self.inner.write_fmt(args).map_err(stdout_failure)
+        let mut w = safe_text::EscapingWriter { inner: &mut self.inner, error: None };
+        match fmt::Write::write_fmt(&mut w, args) {
+            Ok(()) => Ok(()),
+            Err(_) => Err(match w.error {
+                Some(e) => stdout_failure(e),
+                None => Failure::usage("standard output: formatting failed"),
+            }),
+        }
     }
 
-    /// Writes raw bytes (e.g. a generated file sent to standard output).
+    /// Writes a text rendering for people (tables, outlines, summaries) with its control
+    /// characters escaped.
+    pub fn text(&mut self, text: &str) -> Result<(), Failure> {
+        self.write_all(safe_text::escape(text).as_bytes())
+    }
+
+    /// Writes raw bytes unchanged: a generated file sent to standard output (a header, a dump,
+    /// golden lines) is an artefact, byte for byte. Text for people goes through [`Out::text`].
     pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), Failure> {
         self.inner.write_all(bytes).map_err(stdout_failure)
     }
 
-    /// Writes one pretty-printed JSON document followed by a newline.
+    /// Writes one pretty-printed JSON document followed by a newline (DEL, C1 and bidi
+    /// controls in strings as `\uXXXX`, like the C0 controls JSON escapes itself).
     pub fn json<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
-        serde_json::to_writer_pretty(&mut self.inner, value).map_err(|e| {
-            match e.io_error_kind() {
-                Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
-                _ => Failure::usage(format_args!("standard output: {e}")),
-            }
-        })?;
+        safe_text::to_json_writer(&mut self.inner, value, true).map_err(json_failure)?;
         self.write_all(b"\n")
     }
 
     /// Writes one compact JSON value on its own line (JSON Lines streams).
     pub fn json_line<T: serde::Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Failure> {
-        serde_json::to_writer(&mut self.inner, value).map_err(|e| match e.io_error_kind() {
-            Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
-            _ => Failure::usage(format_args!("standard output: {e}")),
-        })?;
+        safe_text::to_json_writer(&mut self.inner, value, false).map_err(json_failure)?;
         self.write_all(b"\n")
     }
 
     /// Flushes what was buffered (before a long wait, or before the process ends).
     pub fn flush(&mut self) -> Result<(), Failure> {
         self.inner.flush().map_err(stdout_failure)
+    }
+}
+
+fn json_failure(e: serde_json::Error) -> Failure {
+    match e.io_error_kind() {
+        Some(io::ErrorKind::BrokenPipe) => Failure::ClosedPipe,
+        _ => Failure::usage(format_args!("standard output: {e}")),
     }
 }
 
@@ -163,10 +243,11 @@ impl Ctx {
         }
     }
 
-    /// Prints a plain note on stderr (summaries, progress lines), unless `-q`.
+    /// Prints a plain note on stderr (summaries, progress lines), unless `-q`; escaped like
+    /// every message.
     pub fn note(&self, msg: impl fmt::Display) {
         if self.verbosity > Verbosity::Quiet {
-            let _ = writeln!(io::stderr(), "{msg}");
+            let _ = writeln!(io::stderr(), "{}", safe_text::escape(&msg.to_string()));
         }
     }
 }

@@ -5,6 +5,8 @@ use std::io::{self, IsTerminal, Write};
 use clap::ValueEnum;
 use miette::{Diagnostic, GraphicalReportHandler, GraphicalTheme, SourceSpan};
 
+use crate::safe_text::SafeDiagnostic;
+
 /// How diagnostics are printed on standard error.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum MessageFormat {
@@ -95,7 +97,10 @@ fn one_per_line(d: &dyn Diagnostic, line: &dyn Fn(&dyn Diagnostic) -> String) ->
 }
 
 /// Prints one diagnostic on stderr (errors of stderr itself are ignored: nowhere to report them).
+/// Every text of it is escaped first ([`SafeDiagnostic`]): messages and excerpts quote input.
 pub fn print(format: MessageFormat, d: &dyn Diagnostic, default: Severity) {
+    let safe = SafeDiagnostic::new(d);
+    let d: &dyn Diagnostic = &safe;
     let text = match format {
         // One line per message: the related diagnostics (the other errors of a rejected
         // input, notes) follow on their own lines; the human format draws them itself.

@@ -33,6 +33,7 @@ mod diagnostics;
 mod fpl;
 mod mav;
 mod navfn;
+pub mod safe_text;
 mod tooling;
 
 use contract::{CmdResult, Ctx, Exit, Failure, MessageFormat, Out, Severity, Verbosity};
@@ -136,6 +137,12 @@ pub fn run() -> ExitCode {
         _ => Verbosity::Normal,
     };
     let mut ctx = Ctx { out: Out::stdout(), format: cli.message_format, verbosity };
+    contract::set_family(match &cli.command {
+        Command::Fpl(_) => "fpl",
+        Command::Mav(_) => "mav",
+        Command::Navfn(_) => "navfn",
+        Command::Completions(_) | Command::Man(_) => "vouch",
+    });
     let result = match cli.command {
         Command::Fpl(cmd) => fpl::run(cmd, &mut ctx),
         Command::Mav(cmd) => mav::run(cmd, &mut ctx),

@@ -89,13 +89,11 @@ fn completions_name_every_family_and_are_valid_bash() {
         assert!(script.contains(word), "completion script lacks {word}");
     }
     if let Some(bash) = vouch_testkit::program("bash", "--version") {
-        let dir = std::env::temp_dir().join(format!("vouch-compl-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        let file = dir.join("vouch.bash");
+        let dir = tempfile::tempdir().expect("temp dir");
+        let file = dir.path().join("vouch.bash");
         std::fs::write(&file, &script).expect("write");
         let check = Command::new(bash).arg("-n").arg(&file).status().expect("bash runs");
         assert!(check.success(), "bash -n rejects the completion script");
-        let _ = std::fs::remove_dir_all(&dir);
     }
     for shell in ["zsh", "fish", "elvish", "powershell"] {
         let out = vouch().args(["completions", shell]).output().expect("vouch runs");
@@ -105,7 +103,8 @@ fn completions_name_every_family_and_are_valid_bash() {
 
 #[test]
 fn man_pages_cover_every_command() {
-    let dir = std::env::temp_dir().join(format!("vouch-man-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let dir = tmp.path().join("man");
     let status = vouch().args(["man", "-o"]).arg(&dir).status().expect("vouch runs");
     assert!(status.success());
     for (name, _) in all_commands() {

@@ -417,3 +417,42 @@ fn suite_diff_exit_codes_follow_the_contract() {
     let o = vouch(&["navfn", "suite", "diff", SUITE, "--oracle", "/nonexistent/oracle"]);
     assert_eq!(code(&o), 2, "an oracle that cannot run is an I/O error");
 }
+
+/// A plan that fails a plan check is a finding by default (exit 3, the violation listed);
+/// `--checked`, which used to ask for that, is still accepted with a deprecation warning. The
+/// map: a 6×8 trinary map on which the robot starts in the border column, which NavFn's set-up
+/// makes an obstacle, so a path point lies in an obstacle (ValidPath).
+#[test]
+fn a_failed_plan_check_exits_3_by_default() {
+    #[rustfmt::skip]
+    let pixels: [u8; 48] = [
+        100, 150, 254,   0, 100, 254,
+        254, 150,   0, 255,   0,   0,
+        255, 150, 255, 100, 205, 205,
+        255, 150, 100, 205, 100, 100,
+        255, 150, 255, 255, 205, 255,
+        255, 205, 254, 255, 255, 205,
+        255, 255, 255, 255, 100, 255,
+        150,   0, 205, 205, 255, 255,
+    ];
+    let dir = tmp("border_start");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let pgm = [b"P5\n6 8\n255\n".as_slice(), &pixels].concat();
+    std::fs::write(dir.join("m.pgm"), pgm).expect("pgm");
+    let yaml = "image: m.pgm\nmode: trinary\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\n\
+                negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+    std::fs::write(dir.join("m.yaml"), yaml).expect("yaml");
+    let map = dir.join("m.yaml");
+    let map = map.to_str().expect("utf-8");
+    let base = ["navfn", "plan", map, "--start", "0.42,4.63", "--goal", "3.71,4.34"];
+    let o = vouch(&base);
+    assert_eq!(code(&o), 3, "{}{}", text(&o.stdout), text(&o.stderr));
+    assert!(text(&o.stdout).contains("violation: path point"), "{}", text(&o.stdout));
+    assert!(text(&o.stdout).contains("(ValidPath)"), "{}", text(&o.stdout));
+    let o = vouch(&[&base[..], &["--checked"]].concat());
+    assert_eq!(code(&o), 3);
+    assert!(text(&o.stderr).contains("--checked is deprecated"), "{}", text(&o.stderr));
+    // the plan on the bundled map holds every check: 0
+    let o = vouch(&["navfn", "plan", MAP, "--start", "1,1", "--goal", "8.5,6.5"]);
+    assert_eq!(code(&o), 0, "{}", text(&o.stderr));
+}

@@ -55,9 +55,24 @@ pub struct Aircraft {
 /// Finds aircraft `name` in the conf file `conf_xml`; plans are relative to `conf_dir`.
 pub fn find(conf_xml: &Path, conf_dir: &Path, name: &str) -> Result<Aircraft, AircraftError> {
     let path = conf_xml.to_path_buf();
-    let text = std::fs::read_to_string(conf_xml)
-        .map_err(|e| AircraftError::Read(path.clone(), e.to_string()))?;
+    let bytes =
+        std::fs::read(conf_xml).map_err(|e| AircraftError::Read(path.clone(), e.to_string()))?;
+    // Bytes that are not text are a rejected configuration, not a failed read.
+    let text = String::from_utf8(bytes).map_err(|e| {
+        AircraftError::Xml(
+            path.clone(),
+            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+        )
+    })?;
     find_in(&text, conf_xml, conf_dir, name)
+}
+
+impl AircraftError {
+    /// Whether `conf.xml` could not be read at all (an I/O problem, exit 2 in the CLI) rather
+    /// than read and rejected.
+    pub fn is_io(&self) -> bool {
+        matches!(self, AircraftError::Read(..))
+    }
 }
 
 /// [`find`] on the text of a conf file (`conf_xml` names it in errors).

@@ -111,8 +111,8 @@ struct VouchNavfnParams vouch_navfn_default_params(void);
 // `costs` points to `width`·`height` readable bytes; `params` is NULL or points to a
 // parameter struct; `out` points to writable storage for a pointer.
 enum VouchNavfnStatus vouch_navfn_planner_new(const uint8_t *costs,
-                                              uintptr_t width,
-                                              uintptr_t height,
+                                              size_t width,
+                                              size_t height,
                                               enum VouchNavfnCostKind kind,
                                               double origin_x,
                                               double origin_y,
@@ -143,8 +143,8 @@ void vouch_navfn_planner_free(struct VouchNavfnPlanner *planner);
 // # Safety
 // `planner` is a live planner; `width` and `height` point to writable `size_t`s.
 enum VouchNavfnStatus vouch_navfn_size(struct VouchNavfnPlanner *planner,
-                                       uintptr_t *width,
-                                       uintptr_t *height);
+                                       size_t *width,
+                                       size_t *height);
 
 // Replaces the costmap (same size) and forgets the last plan.
 //
@@ -152,7 +152,7 @@ enum VouchNavfnStatus vouch_navfn_size(struct VouchNavfnPlanner *planner,
 // `planner` is a live planner; `costs` points to `len` readable bytes.
 enum VouchNavfnStatus vouch_navfn_set_costmap(struct VouchNavfnPlanner *planner,
                                               const uint8_t *costs,
-                                              uintptr_t len,
+                                              size_t len,
                                               enum VouchNavfnCostKind kind);
 
 // nav2's `createPlan(start, goal)` in world coordinates (metres, map frame). `*pose_count`
@@ -165,7 +165,7 @@ enum VouchNavfnStatus vouch_navfn_set_costmap(struct VouchNavfnPlanner *planner,
 enum VouchNavfnStatus vouch_navfn_plan_world(struct VouchNavfnPlanner *planner,
                                              const struct VouchNavfnPose *start,
                                              const struct VouchNavfnPose *goal,
-                                             uintptr_t *pose_count);
+                                             size_t *pose_count);
 
 // A plan between two cells (column, row; row 0 first). With ROS costs: nav2's `createPlan`
 // between the cells' corners; with NavFn costs: the planner's cell-level call sequence.
@@ -177,7 +177,7 @@ enum VouchNavfnStatus vouch_navfn_plan_cells(struct VouchNavfnPlanner *planner,
                                              uint32_t start_y,
                                              uint32_t goal_x,
                                              uint32_t goal_y,
-                                             uintptr_t *pose_count);
+                                             size_t *pose_count);
 
 // The status of the last plan.
 //
@@ -193,8 +193,8 @@ enum VouchNavfnStatus vouch_navfn_plan_status(struct VouchNavfnPlanner *planner,
 // only the count is wanted); `count` is NULL or writable.
 enum VouchNavfnStatus vouch_navfn_get_poses(struct VouchNavfnPlanner *planner,
                                             struct VouchNavfnPose *out,
-                                            uintptr_t capacity,
-                                            uintptr_t *count);
+                                            size_t capacity,
+                                            size_t *count);
 
 // The NavFn path of the last plan as `x, y` float pairs in cell units, from NavFn's start
 // (the robot goal) to its goal (the robot start), as `calcPath` produced it. `capacity` and
@@ -205,8 +205,8 @@ enum VouchNavfnStatus vouch_navfn_get_poses(struct VouchNavfnPlanner *planner,
 // only the count is wanted); `count` is NULL or writable.
 enum VouchNavfnStatus vouch_navfn_get_navfn_path(struct VouchNavfnPlanner *planner,
                                                  float *out,
-                                                 uintptr_t capacity,
-                                                 uintptr_t *count);
+                                                 size_t capacity,
+                                                 size_t *count);
 
 // The potential of the last plan (`width`·`height` floats, 1e10 where not reached).
 //
@@ -215,8 +215,8 @@ enum VouchNavfnStatus vouch_navfn_get_navfn_path(struct VouchNavfnPlanner *plann
 // only the count is wanted); `count` is NULL or writable.
 enum VouchNavfnStatus vouch_navfn_get_potential(struct VouchNavfnPlanner *planner,
                                                 float *out,
-                                                uintptr_t capacity,
-                                                uintptr_t *count);
+                                                size_t capacity,
+                                                size_t *count);
 
 // Runs the plan checks (PositionSafe, Progress, ValidPath, FinitePotentialPath, end points)
 // on the last plan; `*violations` receives how many failed (0: the plan is checked) and the
@@ -224,138 +224,7 @@ enum VouchNavfnStatus vouch_navfn_get_potential(struct VouchNavfnPlanner *planne
 //
 // # Safety
 // `planner` is a live planner; `violations` points to a writable `size_t`.
-enum VouchNavfnStatus vouch_navfn_check(struct VouchNavfnPlanner *planner, uintptr_t *violations);
-
-// The message of the last failed call on this thread ("" after a success). The pointer stays
-// valid until the next call on this thread.
-const char *vouch_navfn_last_error(void);
-
-// nav2's default planner parameters.
-struct VouchNavfnParams vouch_navfn_default_params(void);
-
-// Creates a planner over a copy of `width`·`height` costs (row 0 first, cell (x, y) at
-// `y·width + x`) with the world frame `origin_x`, `origin_y`, `resolution` and `params`
-// (NULL: nav2's defaults). On success `*out` holds the planner; free it with
-// [`vouch_navfn_planner_free`].
-//
-// # Safety
-// `costs` points to `width`·`height` readable bytes; `params` is NULL or points to a
-// parameter struct; `out` points to writable storage for a pointer.
-enum VouchNavfnStatus vouch_navfn_planner_new(const uint8_t *costs,
-                                              uintptr_t width,
-                                              uintptr_t height,
-                                              enum VouchNavfnCostKind kind,
-                                              double origin_x,
-                                              double origin_y,
-                                              double resolution,
-                                              const struct VouchNavfnParams *params,
-                                              struct VouchNavfnPlanner **out);
-
-// Creates a planner over a map_server map: a YAML file naming a PGM or PNG image (or an
-// image, with resolution 1 and origin 0), read exactly as map_server reads it, with nav2's
-// static layer costs.
-//
-// # Safety
-// `path` is a NUL-terminated string; `params` is NULL or points to a parameter struct; `out`
-// points to writable storage for a pointer.
-enum VouchNavfnStatus vouch_navfn_planner_from_map(const char *path,
-                                                   const struct VouchNavfnParams *params,
-                                                   struct VouchNavfnPlanner **out);
-
-// Frees a planner (NULL is ignored).
-//
-// # Safety
-// `planner` is NULL or a pointer returned by a `vouch_navfn_planner_*` constructor, not yet
-// freed.
-void vouch_navfn_planner_free(struct VouchNavfnPlanner *planner);
-
-// Width and height of the planner's map.
-//
-// # Safety
-// `planner` is a live planner; `width` and `height` point to writable `size_t`s.
-enum VouchNavfnStatus vouch_navfn_size(struct VouchNavfnPlanner *planner,
-                                       uintptr_t *width,
-                                       uintptr_t *height);
-
-// Replaces the costmap (same size) and forgets the last plan.
-//
-// # Safety
-// `planner` is a live planner; `costs` points to `len` readable bytes.
-enum VouchNavfnStatus vouch_navfn_set_costmap(struct VouchNavfnPlanner *planner,
-                                              const uint8_t *costs,
-                                              uintptr_t len,
-                                              enum VouchNavfnCostKind kind);
-
-// nav2's `createPlan(start, goal)` in world coordinates (metres, map frame). `*pose_count`
-// receives the number of poses (0 when there is no plan). Returns `NO_PLAN` when the planner
-// found none; [`vouch_navfn_plan_status`] says why.
-//
-// # Safety
-// `planner` is a live planner; `start`, `goal` point to poses; `pose_count` is NULL or
-// writable.
-enum VouchNavfnStatus vouch_navfn_plan_world(struct VouchNavfnPlanner *planner,
-                                             const struct VouchNavfnPose *start,
-                                             const struct VouchNavfnPose *goal,
-                                             uintptr_t *pose_count);
-
-// A plan between two cells (column, row; row 0 first). With ROS costs: nav2's `createPlan`
-// between the cells' corners; with NavFn costs: the planner's cell-level call sequence.
-//
-// # Safety
-// `planner` is a live planner; `pose_count` is NULL or writable.
-enum VouchNavfnStatus vouch_navfn_plan_cells(struct VouchNavfnPlanner *planner,
-                                             uint32_t start_x,
-                                             uint32_t start_y,
-                                             uint32_t goal_x,
-                                             uint32_t goal_y,
-                                             uintptr_t *pose_count);
-
-// The status of the last plan.
-//
-// # Safety
-// `planner` is a live planner; `status` points to writable storage.
-enum VouchNavfnStatus vouch_navfn_plan_status(struct VouchNavfnPlanner *planner,
-                                              enum VouchNavfnPlanStatus *status);
-
-// The poses of the last plan (robot start to goal), with nav2's orientations.
-//
-// # Safety
-// `planner` is a live planner; `out` points to `capacity` writable poses (or is NULL when
-// only the count is wanted); `count` is NULL or writable.
-enum VouchNavfnStatus vouch_navfn_get_poses(struct VouchNavfnPlanner *planner,
-                                            struct VouchNavfnPose *out,
-                                            uintptr_t capacity,
-                                            uintptr_t *count);
-
-// The NavFn path of the last plan as `x, y` float pairs in cell units, from NavFn's start
-// (the robot goal) to its goal (the robot start), as `calcPath` produced it. `capacity` and
-// `*count` count points (two floats each).
-//
-// # Safety
-// `planner` is a live planner; `out` points to `2·capacity` writable floats (or is NULL when
-// only the count is wanted); `count` is NULL or writable.
-enum VouchNavfnStatus vouch_navfn_get_navfn_path(struct VouchNavfnPlanner *planner,
-                                                 float *out,
-                                                 uintptr_t capacity,
-                                                 uintptr_t *count);
-
-// The potential of the last plan (`width`·`height` floats, 1e10 where not reached).
-//
-// # Safety
-// `planner` is a live planner; `out` points to `capacity` writable floats (or is NULL when
-// only the count is wanted); `count` is NULL or writable.
-enum VouchNavfnStatus vouch_navfn_get_potential(struct VouchNavfnPlanner *planner,
-                                                float *out,
-                                                uintptr_t capacity,
-                                                uintptr_t *count);
-
-// Runs the plan checks (PositionSafe, Progress, ValidPath, FinitePotentialPath, end points)
-// on the last plan; `*violations` receives how many failed (0: the plan is checked) and the
-// message names the first.
-//
-// # Safety
-// `planner` is a live planner; `violations` points to a writable `size_t`.
-enum VouchNavfnStatus vouch_navfn_check(struct VouchNavfnPlanner *planner, uintptr_t *violations);
+enum VouchNavfnStatus vouch_navfn_check(struct VouchNavfnPlanner *planner, size_t *violations);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1,6 +1,7 @@
-//! The `extern "C"` entry points. Each one runs its body under `catch_unwind`, turns a failure
-//! into a status and a per-thread message, and touches raw pointers only in short `unsafe`
-//! blocks whose `SAFETY:` comments state what the caller promises (the header says the same).
+//! The `extern "C"` entry points. Each one runs its body under `catch_unwind` (a test checks
+//! every one); those that can fail turn a failure into a status and a per-thread message. Raw
+//! pointers are touched only in short `unsafe` blocks whose `SAFETY:` comments state what the
+//! caller promises (the header says the same).
 
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
@@ -54,13 +55,28 @@ fn null(what: &str) -> Failure {
 /// valid until the next call on this thread.
 #[unsafe(no_mangle)]
 pub extern "C" fn vouch_navfn_last_error() -> *const c_char {
-    LAST_ERROR.with(|e| e.borrow().as_ptr())
+    // Under `catch_unwind` like every entry point; while the thread's storage is being torn
+    // down (or after a caught panic) the answer is a static "".
+    catch_unwind(|| LAST_ERROR.try_with(|e| e.borrow().as_ptr()).ok())
+        .ok()
+        .flatten()
+        .unwrap_or(c"".as_ptr())
 }
+
+/// nav2's default planner parameters (the values `PlannerParams::default` holds; a test ties
+/// the two), the answer should the conversion ever panic.
+const NAV2_DEFAULTS: VouchNavfnParams = VouchNavfnParams {
+    tolerance: 0.5,
+    use_astar: false,
+    allow_unknown: true,
+    max_cycles_factor: 4,
+    use_final_approach_orientation: false,
+};
 
 /// nav2's default planner parameters.
 #[unsafe(no_mangle)]
 pub extern "C" fn vouch_navfn_default_params() -> VouchNavfnParams {
-    PlannerParams::default().into()
+    catch_unwind(|| PlannerParams::default().into()).unwrap_or(NAV2_DEFAULTS)
 }
 
 /// Creates a planner over a copy of `width`·`height` costs (row 0 first, cell (x, y) at
@@ -147,7 +163,10 @@ pub unsafe extern "C" fn vouch_navfn_planner_from_map(
 pub unsafe extern "C" fn vouch_navfn_planner_free(planner: *mut VouchNavfnPlanner) {
     if !planner.is_null() {
         // SAFETY: the pointer came from `Box::into_raw` and is freed once (caller's promise).
-        drop(unsafe { Box::from_raw(planner) });
+        let owned = unsafe { Box::from_raw(planner) };
+        // A panic while dropping stops here, not in the caller's C frames (nothing to report:
+        // the function returns nothing, and the memory is gone either way).
+        let _ = catch_unwind(AssertUnwindSafe(move || drop(owned)));
     }
 }
 
@@ -388,4 +407,20 @@ pub unsafe extern "C" fn vouch_navfn_check(
         }
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fallback_defaults_are_nav2_defaults() {
+        let d: VouchNavfnParams = PlannerParams::default().into();
+        let f = NAV2_DEFAULTS;
+        assert_eq!(
+            (d.tolerance, d.use_astar, d.allow_unknown, d.max_cycles_factor),
+            (f.tolerance, f.use_astar, f.allow_unknown, f.max_cycles_factor)
+        );
+        assert_eq!(d.use_final_approach_orientation, f.use_final_approach_orientation);
+    }
 }

@@ -31,12 +31,26 @@ fn lib_dir() -> PathBuf {
     panic!("libvouch_navfn_c not found next to {}", exe.display());
 }
 
+/// The test process's private build directory (`tempfile`: fresh, mode 0700), so that no
+/// program is run from a path another process could have planted or left behind.
+fn build_dir() -> &'static Path {
+    static DIR: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        tempfile::Builder::new()
+            .prefix("capi-")
+            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+            .expect("temporary directory")
+    })
+    .path()
+}
+
 /// Compiles the C program once per test process.
 fn program(cc: &str) -> PathBuf {
+    static BUILT: std::sync::Mutex<bool> = std::sync::Mutex::new(false);
     let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out =
-        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("plan_maps-{}", std::process::id()));
-    if out.exists() {
+    let out = build_dir().join("plan_maps");
+    let mut built = BUILT.lock().unwrap_or_else(|e| e.into_inner());
+    if *built {
         return out;
     }
     let lib = lib_dir();
@@ -52,6 +66,7 @@ fn program(cc: &str) -> PathBuf {
         .output()
         .expect("cc runs");
     assert!(o.status.success(), "cc failed:\n{}", String::from_utf8_lossy(&o.stderr));
+    *built = true;
     out
 }
 
@@ -292,8 +307,7 @@ fn the_readme_c_example_runs() {
     let Some(cc) = vouch_testkit::c_compiler() else { return };
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let exe = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("plan_warehouse-{}", std::process::id()));
+    let exe = build_dir().join("plan_warehouse");
     let lib = lib_dir();
     let o = Command::new(&cc)
         .args(["-std=c99", "-Wall", "-Werror", "-I"])

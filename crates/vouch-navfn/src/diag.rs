@@ -29,6 +29,16 @@ pub fn named_source(path: &std::path::Path, text: &str) -> NamedSource<String> {
     NamedSource::new(path.display().to_string(), text.to_string())
 }
 
+/// A piece of the input quoted in a message: control characters escaped and at most 40
+/// characters (a binary file's "token" or a huge line can be megabytes; the excerpt under
+/// the message shows where it is).
+pub fn quote(s: &str) -> String {
+    const MAX: usize = 40;
+    let head: String = s.chars().take(MAX).collect();
+    let more = if head.len() < s.len() { "…" } else { "" };
+    format!("{}{more}", head.escape_debug())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -262,8 +262,20 @@ fn write_bag(py: &str, spec: &Value, out: &Path, format: &str) {
     assert!(o.status.success(), "writer failed: {}", String::from_utf8_lossy(&o.stderr));
 }
 
+/// The test process's private scratch directory (`tempfile`, under the target directory).
+fn scratch() -> &'static Path {
+    static DIR: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        tempfile::Builder::new()
+            .prefix("bags-")
+            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+            .expect("temporary directory")
+    })
+    .path()
+}
+
 fn tmp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("vouch-bags-{}", std::process::id())).join(name)
+    scratch().join(name)
 }
 
 #[test]

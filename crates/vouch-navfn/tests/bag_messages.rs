@@ -97,10 +97,20 @@ fn code(e: &BagError) -> String {
     e.code().map(|c| c.to_string()).unwrap_or_default()
 }
 
+/// The test process's private scratch directory (`tempfile`, under the target directory).
+fn scratch() -> &'static Path {
+    static DIR: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        tempfile::Builder::new()
+            .prefix("bag-malformed-")
+            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+            .expect("temporary directory")
+    })
+    .path()
+}
+
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("vouch-bag-malformed-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp");
-    dir.join(name)
+    scratch().join(name)
 }
 
 fn topics() -> std::collections::BTreeSet<String> {

@@ -13,8 +13,21 @@ use vouch_navfn::campaign::ros_import::import_ros_map;
 use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::campaign::suite_io::{read_suite, write_suite};
 
+/// The test process's private scratch directory (`tempfile`, under the target directory).
+fn scratch() -> &'static Path {
+    static DIR: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        tempfile::Builder::new()
+            .prefix("campaign-gen-")
+            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+            .expect("temporary directory")
+    })
+    .path()
+}
+
+/// A fresh (removed if a former run left it) path in the scratch directory.
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vouch-campaign-gen-{}-{name}", std::process::id()));
+    let d = scratch().join(name);
     let _ = std::fs::remove_dir_all(&d);
     d
 }

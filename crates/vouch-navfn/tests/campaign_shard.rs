@@ -12,8 +12,21 @@ use vouch_navfn::campaign::shard::{Shard, ShardBy};
 use vouch_navfn::campaign::suite_io::write_suite;
 use vouch_navfn::campaign::summary::summary_table;
 
+/// The test process's private scratch directory (`tempfile`, under the target directory).
+fn scratch() -> &'static Path {
+    static DIR: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        tempfile::Builder::new()
+            .prefix("shard-")
+            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+            .expect("temporary directory")
+    })
+    .path()
+}
+
+/// A fresh (removed if a former run left it) path in the scratch directory.
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vouch-shard-{}-{name}", std::process::id()));
+    let d = scratch().join(name);
     let _ = std::fs::remove_dir_all(&d);
     d
 }

@@ -45,15 +45,14 @@ fn nav2_maps_agree_with_suite_ros_on_lethal_and_unknown_cells() {
 
 #[test]
 fn yaml_naming_a_missing_image_is_an_io_error_naming_the_image() {
-    let dir = std::env::temp_dir().join(format!("vouch-missing-image-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let dir = tmp.path();
     let yaml = dir.join("room.yaml");
     std::fs::write(&yaml, format!("image: empty.pgm\n{REST}")).expect("written");
     let err = load_ros_map(&yaml, true).unwrap_err();
     assert!(err.is_io(), "{err}");
     assert!(err.to_string().contains("empty.pgm"), "{err}");
     assert_eq!(err.path(), dir.join("empty.pgm"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Everything map_server requires besides `image:`.
@@ -183,13 +182,11 @@ fn bad_suite_files_are_rejected() {
 
 /// Writes `yaml` and `image` into a fresh folder and loads the map.
 fn load_pair(tag: &str, yaml: &str, image_name: &str, image: &[u8]) -> vouch_navfn::maps::RosMap {
-    let dir = std::env::temp_dir().join(format!("vouch-map-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let tmp = tempfile::Builder::new().prefix(tag).tempdir().expect("temp dir");
+    let dir = tmp.path();
     std::fs::write(dir.join(image_name), image).expect("image written");
     std::fs::write(dir.join("m.yaml"), yaml).expect("yaml written");
-    let map = load_ros_map(&dir.join("m.yaml"), true).unwrap_or_else(|e| panic!("{e}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    map
+    load_ros_map(&dir.join("m.yaml"), true).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn meta(mode: &str, negate: u8, occ: f64, free: f64) -> String {

@@ -349,7 +349,8 @@ fn library_module_graphs_have_no_loops_and_no_upward_imports() {
 
 #[test]
 fn the_checker_sees_a_planted_loop() {
-    let dir = std::env::temp_dir().join(format!("vouch-modgraph-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let dir = tmp.path();
     let src = dir.join("src");
     std::fs::create_dir_all(src.join("a")).expect("temp dir");
     std::fs::write(src.join("lib.rs"), "pub mod a;\npub mod b;\npub use a::Thing;\n")
@@ -369,5 +370,4 @@ fn the_checker_sees_a_planted_loop() {
     std::fs::write(src.join("a/inner.rs"), "pub struct X;\nuse super::Thing;\n").expect("write");
     let found = cycles(&edges(&load_crate(&src)));
     assert_eq!(found.len(), 1, "a → b → a::inner → a is one loop: {found:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

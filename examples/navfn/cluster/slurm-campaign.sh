@@ -26,8 +26,10 @@ SEED=${SEED:-7}
 MAPS=${MAPS:-1000}              # maps per category (9 categories)
 CASES=${CASES:-500}             # cases per map
 OUT=${OUT:-$SLURM_SUBMIT_DIR/reports}
-suite=${TMPDIR:-/tmp}/navfn-suite-$SLURM_ARRAY_JOB_ID-$SLURM_ARRAY_TASK_ID
-trap 'rm -rf "$suite"' EXIT
+# a fresh private folder (mktemp: mode 0700, an unpredictable name), never one that exists
+work=$(mktemp -d "${TMPDIR:-/tmp}/navfn-suite.XXXXXXXX")
+trap 'rm -rf "$work"' EXIT
+suite=$work/suite
 
 # this shard's maps only (deterministic: the shards' files add up to the whole generation)
 vouch navfn suite gen --seed "$SEED" --maps "$MAPS" --cases "$CASES" --shard auto -o "$suite"

@@ -63,7 +63,9 @@ pub fn aircraft(a: AircraftArgs, ctx: &mut Ctx) -> CmdResult {
             Failure::usage("no Paparazzi home: give --paparazzi-home or set PAPARAZZI_HOME")
         })?;
     let conf = a.conf.clone().unwrap_or_else(|| home.join("conf/conf.xml"));
-    let ac = find(&conf, &home.join("conf"), &a.name).map_err(Failure::rejected)?;
+    let ac = find(&conf, &home.join("conf"), &a.name).map_err(|e| {
+        if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
+    })?;
     let places = layout(&home, &ac, &a.target, a.ac_dir.as_deref(), a.conf_dir.as_deref());
     let (fp, settings) = match (a.flight_plan || a.all, a.settings || a.all) {
         (false, false) => (true, false),

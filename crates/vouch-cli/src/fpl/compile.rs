@@ -86,7 +86,7 @@ pub fn parse(a: ParseArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&ParseDocument { version: PARSE_JSON_VERSION, plan: &plan })?;
     } else {
-        ctx.out.write_all(vouch_fpl::ast::outline::outline(&plan).as_bytes())?;
+        ctx.out.text(&vouch_fpl::ast::outline::outline(&plan))?;
     }
     Ok(Exit::Ok)
 }

@@ -62,6 +62,10 @@ pub fn diff(a: DiffArgs, ctx: &mut Ctx) -> CmdResult {
         }
         Some(rev) => git_pairs(rev, &a.plans)?,
     };
+    if pairs.is_empty() {
+        // Nothing compared: said, so that a silent exit 0 is not read as "checked, equivalent".
+        ctx.note("no flight plan changed: nothing to compare");
+    }
     let opts = DiffOptions {
         operator_jumps: !a.no_operator_jumps,
         max_states: a.max_states,
@@ -75,20 +79,17 @@ pub fn diff(a: DiffArgs, ctx: &mut Ctx) -> CmdResult {
         ctx.out.json(&diff::Document { format: diff::FORMAT, diffs: &reports })?;
     } else {
         for (p, r) in pairs.iter().zip(&reports) {
-            ctx.out.write_all(diff::render(r).as_bytes())?;
+            ctx.out.text(&diff::render(r))?;
             if let Some(d) = &r.divergence {
                 let args = diff::replay_args(d);
                 let old = match &p.from_git {
                     Some((name, ..)) => format!("{name} (checked out)"),
                     None => p.old.display().to_string(),
                 };
-                ctx.out.write_all(
-                    format!(
-                        "replay:\n  vouch fpl sim {old}{args}\n  vouch fpl sim {}{args}\n",
-                        p.new.display()
-                    )
-                    .as_bytes(),
-                )?;
+                ctx.out.text(&format!(
+                    "replay:\n  vouch fpl sim {old}{args}\n  vouch fpl sim {}{args}\n",
+                    p.new.display()
+                ))?;
             }
         }
     }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use vouch_fpl::emit::EmitOptions;
 use vouch_fpl::evidence::validate::{self, ValidateError};
-use vouch_fpl::model_check::{self, CheckError, Spec};
+use vouch_fpl::model_check::{self, Spec};
 
 use super::{PlanArgs, lowered, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
@@ -173,7 +173,7 @@ pub fn lint(a: LintArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&warnings)?;
     } else {
-        ctx.out.write_all(vouch_fpl::lint::render(&plan, &warnings).as_bytes())?;
+        ctx.out.text(&vouch_fpl::lint::render(&plan, &warnings))?;
         let mut counts: Vec<String> = vouch_fpl::lint::counts(&warnings)
             .into_iter()
             .filter(|c| c.1 > 0)
@@ -205,10 +205,9 @@ pub fn check(a: CheckArgs, ctx: &mut Ctx) -> CmdResult {
         max_states: a.max_states,
         operator: a.operator,
     };
-    let report = model_check::run(&fp, &spec).map_err(|e| {
-        let interpreter = matches!(e, CheckError::Interpreter(_));
-        not_run(e, interpreter)
-    })?;
+    // A property that does not parse, an unknown safe block, the interpreter's bound: the
+    // checker's input is rejected (1), as the help page says.
+    let report = model_check::run(&fp, &spec).map_err(Failure::rejected)?;
     print_report(ctx, a.json, &report, &report.render(&a.plan.name()))?;
     Ok(if report.holds() { Exit::Ok } else { Exit::Findings })
 }
@@ -237,5 +236,5 @@ fn print_report(
     report: &impl serde::Serialize,
     text: &str,
 ) -> Result<(), Failure> {
-    if json { ctx.out.json(report) } else { ctx.out.write_all(text.as_bytes()) }
+    if json { ctx.out.json(report) } else { ctx.out.text(text) }
 }

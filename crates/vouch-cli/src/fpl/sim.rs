@@ -55,7 +55,7 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
             Box::new(Scripted::parse(text).map_err(Failure::rejected)?)
         }
         (Some(path), _) => {
-            let text = std::fs::read_to_string(path).map_err(|e| Failure::io(path, &e))?;
+            let text = Failure::read_text(path)?;
             Box::new(Scripted::parse(&text).map_err(Failure::rejected)?)
         }
         (None, Some(s)) => Box::new(Seeded::new(s, a.percent_true)),
@@ -63,7 +63,7 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
     };
     let mut jumps = match &a.jumps {
         Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| Failure::io(path, &e))?;
+            let text = Failure::read_text(path)?;
             sim::parse_jumps(&text, fp.blocks.len()).map_err(Failure::rejected)?
         }
         None => Vec::new(),
@@ -77,9 +77,9 @@ pub fn sim(a: SimArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&sim::document(&fp, &run))?;
     } else if a.trace {
-        ctx.out.write_all(run.to_text().as_bytes())?;
+        ctx.out.text(&run.to_text())?;
     } else {
-        ctx.out.write_all(sim::table(&fp, &run).as_bytes())?;
+        ctx.out.text(&sim::table(&fp, &run))?;
     }
     Ok(Exit::Ok)
 }

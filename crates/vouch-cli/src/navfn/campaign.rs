@@ -187,7 +187,7 @@ pub fn suite_diff(a: SuiteDiffArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&r)?;
     } else {
-        ctx.out.write_all(describe(&r).as_bytes())?;
+        ctx.out.text(&describe(&r))?;
     }
     Ok(if r.different == 0 { Exit::Ok } else { Exit::Findings })
 }
@@ -352,7 +352,7 @@ pub fn campaign(a: CampaignArgs, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&report)?;
     } else {
-        ctx.out.write_all(summary_table(&report).as_bytes())?;
+        ctx.out.text(&summary_table(&report))?;
         print_worst(ctx, &report)?;
     }
     Ok(if report.failures() == 0 { Exit::Ok } else { Exit::Findings })
@@ -408,8 +408,9 @@ pub struct ReportMergeArgs {
 }
 
 fn read_report(p: &Path) -> Result<Report, Failure> {
-    let text = std::fs::read_to_string(p).map_err(|e| Failure::io(p, &e))?;
-    Report::from_json(p, &text).map_err(Failure::rejected)
+    Report::read(p).map_err(|e| {
+        if e.is_io() { Failure::Usage(miette::Report::new(e)) } else { Failure::rejected(e) }
+    })
 }
 
 /// Runs `vouch navfn report …`.
@@ -434,7 +435,7 @@ pub fn report(cmd: ReportCmd, ctx: &mut Ctx) -> CmdResult {
     if a.json {
         ctx.out.json(&merged)?;
     } else {
-        ctx.out.write_all(summary_table(&merged).as_bytes())?;
+        ctx.out.text(&summary_table(&merged))?;
     }
     Ok(if merged.failures() == 0 { Exit::Ok } else { Exit::Findings })
 }

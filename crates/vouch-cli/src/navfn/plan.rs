@@ -24,8 +24,8 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
             "vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --png plan.png",
             "vouch navfn plan examples/navfn/warehouse.yaml --start 1,1 --goal 8.5,6.5 --json"
         ],
-        "0 planned, 1 map or request rejected or no path, 2 usage or I/O error, \
-         3 a plan check failed with --checked"
+        "0 planned and every plan check holds, 1 map or request rejected or no path, \
+         2 usage or I/O error, 3 a plan check failed"
     )
 )]
 pub struct PlanArgs {
@@ -74,13 +74,19 @@ pub struct PlanArgs {
     /// Write a picture to this PNG file: map, potential heat map, path
     #[arg(long, value_name = "FILE")]
     png: Option<PathBuf>,
-    /// A plan-check violation is a finding (exit 3) instead of a note
-    #[arg(long)]
+    /// Deprecated, the default now: a plan-check violation is a finding (exit 3)
+    #[arg(long, hide = true)]
     checked: bool,
 }
 
 /// Runs `vouch navfn plan`.
 pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
+    if a.checked {
+        ctx.note(
+            "warning: --checked is deprecated and will be removed: a failed plan check is a \
+             finding (exit 3) by default",
+        );
+    }
     let map = load_ros_map(&a.map, true).map_err(map_failure)?;
     let params = PlannerParams {
         tolerance: a.tolerance,
@@ -127,7 +133,7 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
     } else {
         print_summary(ctx, &a, &plan, &poses, &report, elapsed_ms)?;
     }
-    if !report.is_ok() && a.checked {
+    if !report.is_ok() {
         return Ok(Exit::Findings);
     }
     // nav2 answers a start equal to the goal with a one-pose path

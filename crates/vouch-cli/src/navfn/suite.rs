@@ -8,12 +8,12 @@ use vouch_navfn::campaign::oracle::{EmitOptions, emit_path};
 use vouch_navfn::campaign::trace::TraceDetail;
 use vouch_navfn::checks::{PlanView, check_plan};
 use vouch_navfn::core::NoObserver;
-use vouch_navfn::maps::{SuiteFile, find_test_files, read_suite_file, read_world_params};
+use vouch_navfn::maps::{MapError, SuiteFile, find_test_files, read_suite_file, read_world_params};
 use vouch_navfn::planner::WorldParams;
 use vouch_navfn::suite::{CaseRunner, CostInput, RunMode, SuiteMode, SuiteOptions, run_file};
 
 use super::{AlgoArg, ModeArg, map_failure, parse_pair, run_mode};
-use crate::contract::{CmdResult, Ctx, Exit, Failure};
+use crate::contract::{CmdResult, Ctx, Exit};
 
 /// `--costs`: how map bytes become NavFn costs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -106,20 +106,23 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     });
     let files = find_test_files(&a.path, &name).map_err(map_failure)?;
     if files.is_empty() {
-        return Err(Failure::usage(format_args!(
-            "no `{name}` below {} (--name NAME searches for another file name)",
-            a.path.display()
+        return Err(map_failure(MapError::file(
+            &a.path,
+            format!("no `{name}` below this folder (--name NAME searches for another file name)"),
         )));
     }
-    let (mut cases, mut found, mut violations, mut errors) = (0usize, 0usize, 0usize, 0usize);
+    let (mut cases, mut found, mut violations) = (0usize, 0usize, 0usize);
+    // A file that cannot be used is an error (printed, the run goes on with the next file);
+    // the first one decides the exit code: 2 if it could not be read, else 1.
+    let mut failed: Option<Exit> = None;
     let mut text = String::new();
     for f in &files {
         let loaded = read_suite_file(f).and_then(|file| Ok((world_for(&a, f)?, file)));
         let (world, file) = match loaded {
             Ok(wf) => wf,
             Err(e) => {
-                ctx.warn(&e);
-                errors += 1;
+                file_error(ctx, &e);
+                failed.get_or_insert(if e.is_io() { Exit::Usage } else { Exit::Rejected });
                 continue;
             }
         };
@@ -132,8 +135,8 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
                 found += s.found;
             }
             Err(e) => {
-                ctx.warn(&e);
-                errors += 1;
+                file_error(ctx, &e);
+                failed.get_or_insert(Exit::Rejected);
             }
         }
         ctx.out.write_all(text.as_bytes())?;
@@ -145,13 +148,22 @@ pub fn run(a: SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     if a.check {
         ctx.note(format_args!("plan checks: {violations} violations"));
     }
-    Ok(if errors > 0 {
-        Exit::Rejected
-    } else if violations > 0 {
-        Exit::Findings
-    } else {
-        Exit::Ok
-    })
+    if let Some(exit) = failed {
+        return Ok(exit);
+    }
+    if cases == 0 {
+        // Every file read, none holds a case: nothing ran, so nothing passed.
+        return Err(map_failure(MapError::file(
+            &a.path,
+            "the suite holds no case: nothing to run",
+        )));
+    }
+    Ok(if violations > 0 { Exit::Findings } else { Exit::Ok })
+}
+
+/// One test file's error: an error (coded, located), though the run goes on.
+fn file_error(ctx: &Ctx, e: &dyn miette::Diagnostic) {
+    crate::diagnostics::print(ctx.format, e, crate::contract::Severity::Error);
 }
 
 /// The oracle contract's side of vouch (`--trace`, `--pot`): cell-level modes only.
@@ -164,6 +176,14 @@ fn run_traced(a: &SuiteRunArgs, ctx: &mut Ctx) -> CmdResult {
     };
     let out = &mut ctx.out;
     let n = emit_path(&a.path, &opts, |text| out.write_all(text.as_bytes()))?;
+    // An oracle is asked one test file at a time and answers one without a case with nothing;
+    // a folder without a case is a mistake.
+    if n == 0 && a.path.is_dir() {
+        return Err(map_failure(MapError::file(
+            &a.path,
+            "the suite holds no case: nothing to run",
+        )));
+    }
     ctx.note(format_args!("{n} cases"));
     Ok(Exit::Ok)
 }

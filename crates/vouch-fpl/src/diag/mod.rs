@@ -151,3 +151,13 @@ impl Diagnostics {
         self.items.iter().map(|d| d.brief() + "\n").collect()
     }
 }
+
+/// A word of the input quoted in a message: control characters escaped and at most 40
+/// characters (a "word" of a binary or one-line file can be megabytes long; the label under the
+/// message shows where it is).
+pub fn quote(word: &str) -> String {
+    const MAX: usize = 40;
+    let head: String = word.chars().take(MAX).collect();
+    let more = if head.len() < word.len() { "…" } else { "" };
+    format!("{}{more}", head.escape_debug())
+}

@@ -260,11 +260,10 @@ mod tests {
 
     #[test]
     fn a_missing_or_short_grid_is_an_error() {
-        let dir = std::env::temp_dir().join(format!("vouch-geoid-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("tmp dir");
-        assert!(matches!(Geoid::from_dir(&dir), Err(GeoidError::Missing(_))));
+        let tmp = tempfile::tempdir().expect("tmp dir");
+        let dir = tmp.path();
+        assert!(matches!(Geoid::from_dir(dir), Err(GeoidError::Missing(_))));
         std::fs::write(dir.join("WW15MGH.DAC"), [0u8; 1000]).expect("write");
-        assert!(matches!(Geoid::from_dir(&dir), Err(GeoidError::Broken(..))));
-        let _ = std::fs::remove_dir_all(&dir);
+        assert!(matches!(Geoid::from_dir(dir), Err(GeoidError::Broken(..))));
     }
 }

@@ -40,7 +40,7 @@ pub fn literal_value(text: &str) -> Option<i64> {
     )
 )]
 pub struct AnswerError {
-    /// The offending word.
+    /// The offending word, as quoted (escaped, cut at 40 characters).
     pub word: String,
     /// The whole answer text.
     #[source_code]
@@ -74,7 +74,7 @@ impl Scripted {
                 Ok(n) => numbers.push(n),
                 Err(_) => {
                     return Err(AnswerError {
-                        word: word.to_string(),
+                        word: crate::diag::quote(word),
                         text: text.to_string(),
                         at: (offset, len).into(),
                     });

@@ -58,9 +58,9 @@ pub fn parse_jumps(text: &str, blocks: usize) -> Result<Vec<(usize, usize)>, Jum
         let offset = text.len() - rest.len() + start;
         let len = rest[start..].find(char::is_whitespace).unwrap_or(rest.len() - start);
         let word = &rest[start..start + len];
-        let n = word
-            .parse::<usize>()
-            .map_err(|_| err(format!("not a whole number: '{word}'"), (offset, len)))?;
+        let n = word.parse::<usize>().map_err(|_| {
+            err(format!("not a whole number: '{}'", crate::diag::quote(word)), (offset, len))
+        })?;
         words.push((n, offset, len));
         rest = &rest[start + len..];
     }

@@ -107,10 +107,16 @@ impl Default for BagCheckOptions {
     }
 }
 
-/// Reads the bag at `path` and checks every plan in it.
+/// Reads the bag at `path` and checks every plan in it; a bag without plans is an error
+/// ([`BagError::NoPlans`]).
 pub fn check_bag_file(path: &Path, opts: &BagCheckOptions) -> Result<BagReport, BagError> {
     let bag = read_bag(path, &opts.topics.all())?;
-    check_bag(&bag, opts)
+    let report = check_bag(&bag, opts)?;
+    // A bag without plans would pass vacuously: refused, so that no check reads as a pass.
+    if report.plans.is_empty() {
+        return Err(BagError::no_plans(path, &opts.topics.plan));
+    }
+    Ok(report)
 }
 
 /// The state while walking a bag.

@@ -333,18 +333,23 @@ impl Bench<'_> {
         sides.sort_unstable();
         sides.dedup();
         let explore = sides.iter().copied().filter(|&s| s <= 2000).max();
-        let (root, temporary) = match &self.cfg.scale_dir {
-            Some(d) => (d.clone(), false),
-            None => {
-                (std::env::temp_dir().join(format!("vouch-bench-{}", std::process::id())), true)
-            }
+        // Without --scale-dir the maps go to a fresh private directory (mode 0700, a name no
+        // other user can predict or plant), removed when it is dropped.
+        let temporary = match &self.cfg.scale_dir {
+            Some(_) => None,
+            None => Some(
+                tempfile::Builder::new()
+                    .prefix("vouch-bench-")
+                    .tempdir()
+                    .map_err(|e| BenchError::io(&std::env::temp_dir(), e))?,
+            ),
         };
-        let result = scale::generate(&root, &sides, explore, self.cfg.seed)
-            .and_then(|(by_size, by_distance)| self.scale_workloads(&by_size, &by_distance, note));
-        if temporary {
-            let _ = std::fs::remove_dir_all(&root);
-        }
-        result
+        let root = match &temporary {
+            Some(t) => t.path().to_path_buf(),
+            None => self.cfg.scale_dir.clone().unwrap_or_default(),
+        };
+        scale::generate(&root, &sides, explore, self.cfg.seed)
+            .and_then(|(by_size, by_distance)| self.scale_workloads(&by_size, &by_distance, note))
     }
 
     fn scale_workloads(

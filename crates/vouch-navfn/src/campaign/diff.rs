@@ -21,7 +21,7 @@ use crate::campaign::report::{Finding, Report};
 use crate::campaign::shard::Shard;
 use crate::campaign::suite_io::walk_suite;
 use crate::campaign::trace::{TraceDetail, TraceDivergence, first_divergence};
-use crate::maps::{find_test_files, read_suite_file};
+use crate::maps::{MapError, find_test_files, read_suite_file};
 use crate::suite::RunMode;
 
 /// What `suite diff` compares.
@@ -197,6 +197,9 @@ pub fn diff_file(
 /// Diff every test file below `suite` (files in parallel; each oracle call is one process).
 pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, CampaignError> {
     let files = find_test_files(suite, "test.txt")?;
+    if files.is_empty() {
+        return Err(MapError::file(suite, "no test.txt found below this folder").into());
+    }
     let results: Vec<(usize, usize, Option<CaseMismatch>)> =
         files.par_iter().map(|f| diff_file(f, opts)).collect::<Result<_, _>>()?;
     let mut r = DiffReport { files: files.len(), ..DiffReport::default() };
@@ -205,6 +208,10 @@ pub fn diff_suite(suite: &Path, opts: &DiffOptions) -> Result<DiffReport, Campai
         r.equal += eq;
         r.different += diff;
         r.mismatches.extend(m);
+    }
+    // Nothing compared is not agreement.
+    if r.cases == 0 {
+        return Err(MapError::file(suite, "the suite holds no case: nothing to compare").into());
     }
     Ok(r)
 }

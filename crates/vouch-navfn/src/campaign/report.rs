@@ -376,6 +376,15 @@ pub struct CaseRecord {
 /// A report file that cannot be read back.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum ReportError {
+    /// The file cannot be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    #[diagnostic(code(navfn::E058))]
+    Io {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
     /// Not a campaign report (JSON error with its position).
     #[error("{}:{line}:{column}: not a campaign report: {msg}", path.display())]
     #[diagnostic(code(navfn::E040))]
@@ -409,7 +418,31 @@ pub enum ReportError {
     },
 }
 
+impl ReportError {
+    /// Whether the file could not be read at all (rather than holding something else).
+    pub fn is_io(&self) -> bool {
+        matches!(self, ReportError::Io { .. })
+    }
+}
+
 impl Report {
+    /// Reads a report file: unreadable is [`ReportError::Io`]; bytes that are not UTF-8 are
+    /// rejected as not a report, located at the first bad byte.
+    pub fn read(path: &Path) -> Result<Report, ReportError> {
+        let bytes = std::fs::read(path)
+            .map_err(|source| ReportError::Io { path: path.to_path_buf(), source })?;
+        match String::from_utf8(bytes) {
+            Ok(text) => Report::from_json(path, &text),
+            Err(e) => {
+                let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+                let line = 1 + good.iter().filter(|&&b| b == b'\n').count();
+                let column = 1 + good.iter().rev().take_while(|&&b| b != b'\n').count();
+                let msg = "not UTF-8 text".to_string();
+                Err(ReportError::Format { path: path.to_path_buf(), line, column, msg })
+            }
+        }
+    }
+
     /// A report from its JSON text (`path` locates errors); reports of another format version
     /// are refused before their fields are read.
     pub fn from_json(path: &Path, text: &str) -> Result<Report, ReportError> {

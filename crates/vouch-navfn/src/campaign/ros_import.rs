@@ -37,7 +37,7 @@ pub fn import_ros_map(
     name: &str,
     image_override: Option<&Path>,
 ) -> Result<SuiteMap, MapError> {
-    let text = std::fs::read_to_string(yaml).map_err(|e| MapError::io(yaml, e))?;
+    let text = crate::maps::read_text(yaml)?;
     let meta = parse_map_yaml(yaml, &text)?;
     let dir = yaml.parent().unwrap_or(Path::new("."));
     let image = match image_override {

@@ -24,6 +24,7 @@ use crate::campaign::report::{
 };
 use crate::campaign::shard::{Shard, ShardBy};
 use crate::campaign::suite_io::{SuiteEntry, no_test_files, read_entry_with_digest, walk_suite};
+use crate::maps::MapError;
 
 /// Receives progress from the worker threads.
 pub trait Progress: Sync {
@@ -192,6 +193,10 @@ pub fn run_campaign(
     }
     b.batch(&pending)?;
     let mut report = b.report;
+    // The whole suite without a case would pass vacuously (one shard of it may hold none).
+    if report.cases == 0 && opts.shard.count == 1 {
+        return Err(MapError::file(dir, "the suite holds no case: nothing to check").into());
+    }
     let suite = &mut report.suite;
     match manifest {
         Some((fingerprint, maps_total)) => {

@@ -205,9 +205,7 @@ pub fn read_suite(dir: &Path) -> Result<Vec<SuiteMap>, SuiteIoError> {
 pub fn read_entry_with_digest(e: &SuiteEntry) -> Result<(SuiteMap, String), SuiteIoError> {
     let path = &e.test_txt;
     let bytes = fs::read(path).map_err(|err| MapError::io(path, err))?;
-    let text = std::str::from_utf8(&bytes).map_err(|err| {
-        MapError::io(path, std::io::Error::new(std::io::ErrorKind::InvalidData, err))
-    })?;
+    let text = std::str::from_utf8(&bytes).map_err(|err| MapError::not_text(path, &err))?;
     let mut digest = None;
     let f = parse_suite_text(path, text, |map_path| {
         let map = fs::read(map_path).map_err(|err| MapError::io(map_path, err))?;

@@ -94,6 +94,12 @@ impl MapError {
         MapError::Io { path: path.to_path_buf(), source }
     }
 
+    /// Bytes that should be a text file (map YAML, test file, `params.txt`) but are not UTF-8:
+    /// rejected content (a binary file given by mistake or on purpose), not an I/O failure.
+    pub fn not_text(path: &Path, e: &std::str::Utf8Error) -> Self {
+        MapError::file(path, format!("not a text file (invalid UTF-8 at byte {})", e.valid_up_to()))
+    }
+
     /// The file the error is about.
     pub fn path(&self) -> &Path {
         match self {
@@ -122,4 +128,10 @@ impl MapError {
             other => other.to_string(),
         }
     }
+}
+
+/// Reads a text file: failing reads are I/O errors, bytes that are not UTF-8 rejected content.
+pub fn read_text(path: &Path) -> Result<String, MapError> {
+    let bytes = std::fs::read(path).map_err(|e| MapError::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| MapError::not_text(path, &e.utf8_error()))
 }

@@ -10,7 +10,7 @@ pub mod suite;
 pub mod world;
 pub mod yaml_meta;
 
-pub use error::{MapError, SyntaxError};
+pub use error::{MapError, SyntaxError, read_text};
 pub use grey::MapImage;
 pub use ros_yaml::{RosMap, decode_image, load_ros_map, occupancy_grid, static_layer_value};
 pub use suite::{

@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use super::{MAX_CELLS, MapError};
+use crate::diag::quote;
 
 /// A grey image, row 0 = top row of the file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -26,7 +27,7 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
         other => {
             return Err(MapError::file(
                 path,
-                format!("not a PGM image (magic `{other}`, expected P5 or P2)"),
+                format!("not a PGM image (magic `{}`, expected P5 or P2)", quote(other)),
             ));
         }
     };
@@ -72,9 +73,9 @@ pub fn parse_pgm(path: &Path, data: &[u8]) -> Result<GreyImage, MapError> {
                     ));
                 }
             };
-            let v: usize = v
-                .parse()
-                .map_err(|_| MapError::file(path, format!("sample {i}: `{v}` is not a number")))?;
+            let v: usize = v.parse().map_err(|_| {
+                MapError::file(path, format!("sample {i}: `{}` is not a number", quote(&v)))
+            })?;
             pixels.push(u16::try_from(v).ok().filter(|&v| v as usize <= maxval).ok_or_else(
                 || MapError::file(path, format!("sample {i}: value {v} exceeds maxval {maxval}")),
             )?);
@@ -92,7 +93,8 @@ fn header_token(path: &Path, data: &[u8], pos: &mut usize) -> Result<String, Map
 
 fn header_number(path: &Path, data: &[u8], pos: &mut usize, what: &str) -> Result<usize, MapError> {
     let t = header_token(path, data, pos)?;
-    t.parse().map_err(|_| MapError::file(path, format!("PGM {what} `{t}` is not a number")))
+    t.parse()
+        .map_err(|_| MapError::file(path, format!("PGM {what} `{}` is not a number", quote(&t))))
 }
 
 /// Next whitespace-separated token, skipping `#` comments; leaves `pos` on the byte after it.

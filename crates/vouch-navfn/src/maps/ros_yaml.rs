@@ -48,7 +48,7 @@ impl RosMap {
 pub fn load_ros_map(path: &Path, trinary_costmap: bool) -> Result<RosMap, MapError> {
     let is_yaml = path.extension().is_some_and(|e| e == "yaml" || e == "yml");
     let meta = if is_yaml {
-        let text = std::fs::read_to_string(path).map_err(|e| MapError::io(path, e))?;
+        let text = super::error::read_text(path)?;
         let mut meta = parse_map_yaml(path, &text)?;
         meta.image = path.parent().unwrap_or(Path::new(".")).join(&meta.image);
         meta

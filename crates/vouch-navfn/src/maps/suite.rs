@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::world::WorldParams;
 use super::{MAX_CELLS, MapError};
+use crate::diag::quote;
 
 /// One case: a path *from* (x0, y0) *to* (x1, y1), numbers as read (doubles).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,7 +46,7 @@ pub struct SuiteFile {
 
 /// Read a test file and the map file it names.
 pub fn read_suite_file(test_path: &Path) -> Result<SuiteFile, MapError> {
-    let text = std::fs::read_to_string(test_path).map_err(|e| MapError::io(test_path, e))?;
+    let text = super::error::read_text(test_path)?;
     parse_suite_text(test_path, &text, |map_path| {
         std::fs::read(map_path).map_err(|e| MapError::io(map_path, e))
     })
@@ -69,7 +70,7 @@ pub fn parse_suite_text(
                 text,
                 ln,
                 s,
-                format!("map size `{s}` is not a positive integer"),
+                format!("map size `{}` is not a positive integer", quote(s)),
             )
         })
     };
@@ -79,7 +80,7 @@ pub fn parse_suite_text(
             text,
             ln,
             "",
-            format!("expected `W H`, found `{header}`"),
+            format!("expected `W H`, found `{}`", quote(header)),
         ));
     }
     let (width, height) = (parse_dim(dims[0])?, parse_dim(dims[1])?);
@@ -104,37 +105,9 @@ pub fn parse_suite_text(
     let _ignored_line_3 = lines.next();
     let mut cases = Vec::new();
     for (ln, line) in lines {
-        let mut tokens = line.split_whitespace();
-        let mut fields = [""; 4];
-        let mut n = 0;
-        for (slot, tok) in fields.iter_mut().zip(&mut tokens) {
-            *slot = tok;
-            n += 1;
+        if let Some(coords) = parse_case_line(test_path, text, ln, line)? {
+            cases.push(SuiteCase { number: cases.len(), line: ln, coords });
         }
-        if n == 0 {
-            continue;
-        }
-        // comment rule of the paper's harness: first number -1 (this also hides one genuine
-        // case of suite_ros/map_circular/test_world.txt, see golden/README.md)
-        if parse_number(fields[0]) == Some(-1.0) {
-            continue;
-        }
-        if n < 4 {
-            return Err(MapError::syntax(
-                test_path,
-                text,
-                ln,
-                "",
-                format!("expected `x0 y0 x1 y1`, found `{line}`"),
-            ));
-        }
-        let mut coords = [0.0f64; 4];
-        for (c, f) in coords.iter_mut().zip(fields) {
-            *c = parse_number(f).filter(|v| v.is_finite()).ok_or_else(|| {
-                MapError::syntax(test_path, text, ln, f, format!("`{f}` is not a finite number"))
-            })?;
-        }
-        cases.push(SuiteCase { number: cases.len(), line: ln, coords });
     }
     let map = load_map(&map_path)?;
     if map.len() != cells {
@@ -148,6 +121,42 @@ pub fn parse_suite_text(
         ));
     }
     Ok(SuiteFile { test_path: test_path.to_path_buf(), map_path, width, height, map, cases })
+}
+
+/// One case line `x0 y0 x1 y1` (line `ln` of `text`): `None` for a blank or comment line.
+fn parse_case_line(
+    test_path: &Path,
+    text: &str,
+    ln: usize,
+    line: &str,
+) -> Result<Option<[f64; 4]>, MapError> {
+    let mut tokens = line.split_whitespace();
+    let mut fields = [""; 4];
+    let mut n = 0;
+    for (slot, tok) in fields.iter_mut().zip(&mut tokens) {
+        *slot = tok;
+        n += 1;
+    }
+    if n == 0 {
+        return Ok(None);
+    }
+    // comment rule of the paper's harness: first number -1 (this also hides one genuine
+    // case of suite_ros/map_circular/test_world.txt, see golden/README.md)
+    if parse_number(fields[0]) == Some(-1.0) {
+        return Ok(None);
+    }
+    if n < 4 {
+        let msg = format!("expected `x0 y0 x1 y1`, found `{}`", quote(line));
+        return Err(MapError::syntax(test_path, text, ln, "", msg));
+    }
+    let mut coords = [0.0f64; 4];
+    for (c, f) in coords.iter_mut().zip(fields) {
+        *c = parse_number(f).filter(|v| v.is_finite()).ok_or_else(|| {
+            let msg = format!("`{}` is not a finite number", quote(f));
+            MapError::syntax(test_path, text, ln, f, msg)
+        })?;
+    }
+    Ok(Some(coords))
 }
 
 /// A number of a case line, as `f64::from_str` reads it; plain integers (nearly every field)
@@ -194,7 +203,7 @@ fn walk(dir: &Path, file_name: &str, out: &mut Vec<PathBuf>) -> Result<(), MapEr
 
 /// `params.txt` of `suite_ros/<map>/`: `--origin=X,Y --res=R`.
 pub fn read_world_params(path: &Path) -> Result<WorldParams, MapError> {
-    let text = std::fs::read_to_string(path).map_err(|e| MapError::io(path, e))?;
+    let text = super::error::read_text(path)?;
     parse_world_params(path, &text)
 }
 
@@ -210,15 +219,15 @@ pub fn parse_world_params(path: &Path, text: &str) -> Result<WorldParams, MapErr
                 let (x, y) = v.split_once(',').unwrap_or((v, ""));
                 match (num(x), num(y)) {
                     (Some(x), Some(y)) => origin = Some([x, y]),
-                    _ => return Err(bad(tok, format!("bad origin `{v}` (expected X,Y)"))),
+                    _ => return Err(bad(tok, format!("bad origin `{}` (expected X,Y)", quote(v)))),
                 }
             } else if let Some(v) = tok.strip_prefix("--res=") {
                 let r = num(v).filter(|r| *r > 0.0);
                 res = Some(r.ok_or_else(|| {
-                    bad(tok, format!("resolution `{v}` must be a positive number"))
+                    bad(tok, format!("resolution `{}` must be a positive number", quote(v)))
                 })?);
             } else {
-                return Err(bad(tok, format!("unknown parameter `{tok}`")));
+                return Err(bad(tok, format!("unknown parameter `{}`", quote(tok))));
             }
         }
     }

@@ -160,7 +160,7 @@ fn shown(node: &MarkedYaml) -> String {
     match &node.data {
         YamlData::Sequence(_) => "a list".into(),
         YamlData::Mapping(_) => "a mapping".into(),
-        _ => format!("`{}`", scalar_text(node).unwrap_or("")),
+        _ => format!("`{}`", crate::diag::quote(scalar_text(node).unwrap_or(""))),
     }
 }
 

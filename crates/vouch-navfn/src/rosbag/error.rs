@@ -34,6 +34,18 @@ pub enum BagError {
         /// What the reader reported.
         why: String,
     },
+    /// A bag with no plan on the plan topic: nothing to check.
+    #[error("{}: no plan recorded on {topic}: nothing to check", path.display())]
+    #[diagnostic(
+        code(navfn::E034),
+        help("--plan-topic names the topic of the recorded plans (nav_msgs/Path)")
+    )]
+    NoPlans {
+        /// The bag.
+        path: PathBuf,
+        /// The plan topic searched.
+        topic: String,
+    },
     /// A message that is not a valid CDR encoding of its type.
     #[error("message on {topic} at log time {log_time} ns ({type_name}): {why}")]
     #[diagnostic(code(navfn::E033))]
@@ -50,6 +62,11 @@ pub enum BagError {
 }
 
 impl BagError {
+    /// A bag without a plan on the plan topic: nothing was checked, so nothing passed.
+    pub fn no_plans(path: &Path, topic: &str) -> Self {
+        BagError::NoPlans { path: path.to_path_buf(), topic: topic.to_string() }
+    }
+
     /// A read error.
     pub fn io(path: &Path, source: std::io::Error) -> Self {
         BagError::Io { path: path.to_path_buf(), source }
