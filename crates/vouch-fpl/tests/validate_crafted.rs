@@ -144,6 +144,27 @@ fn array_and_pointer_variables_validate_to_the_fixpoint() {
     }
 }
 
+/// Plan variables whose types the validation build does not have (structures, unions, enums
+/// and typedef names of module headers, with qualifiers, pointers and arrays of them; `const`
+/// variables in read-only storage) compile with opaque stand-ins and are C state.
+#[test]
+fn variables_of_types_from_module_headers_validate_to_the_fixpoint() {
+    let Some(_cc) = vouch_testkit::c_compiler() else { return };
+    let r = validate(
+        &plan("decls.xml"),
+        &Options { random_runs: 2, random_steps: 300, ..Options::default() },
+    )
+    .unwrap_or_else(|e| panic!("decls.xml: {e}"));
+    assert!(r.passed(), "{:?}", r.counterexample);
+    assert!(r.fixpoint && r.cut.is_none());
+    for v in ["target_pos", "corners", "origin", "path", "current", "survey", "gain", "table"] {
+        assert!(r.abstracted.c_variables.iter().any(|c| c == v), "{v} is C state");
+    }
+    for v in ["mode", "raw", "count", "width", "rows"] {
+        assert!(r.abstracted.c_variables.iter().any(|c| c == v), "{v} is C state");
+    }
+}
+
 /// A call with 33,151 paths (two loops in a row bounded by plan variables, see the plan):
 /// the former fixed cap of 20,000 paths cut it, and the report says exactly which state was
 /// cut; the default budget now covers it and the walk reaches its fixpoint.

@@ -49,7 +49,9 @@ fn mutation_with(code: &str) -> (vouch_fpl::passes::fp::Fp, String) {
 #[test]
 fn crafted_plans_validate_on_the_cortex_m_cores() {
     let Some(()) = peers() else { return };
-    for name in ["arrays.xml", "deep.xml", "symbolic.xml", "pingpong.xml", "mutation.xml"] {
+    for name in
+        ["arrays.xml", "decls.xml", "deep.xml", "symbolic.xml", "pingpong.xml", "mutation.xml"]
+    {
         let p = plan(name);
         let host = validate(&p, &on(Target::Host)).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(host.passed() && host.fixpoint, "{name} on the host: {:?}", host.counterexample);

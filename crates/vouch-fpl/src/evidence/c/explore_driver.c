@@ -152,10 +152,15 @@ static void capture(unsigned char *s)
     if (D->vars[i]) { memcpy(s + D->offset[i], D->vars[i]->addr, D->vars[i]->size); }
   }
 }
+/* Only variables whose bytes differ are written: a `const` plan variable lives in read-only
+ * storage, and its bytes never differ. */
 static void restore(const unsigned char *s)
 {
   for (size_t i = 0; i < D->n_vars; i++) {
-    if (D->vars[i]) { memcpy(D->vars[i]->addr, s + D->offset[i], D->vars[i]->size); }
+    struct vouch_var *v = D->vars[i];
+    if (v && memcmp(v->addr, s + D->offset[i], v->size) != 0) {
+      memcpy(v->addr, s + D->offset[i], v->size);
+    }
   }
 }
 

@@ -224,6 +224,9 @@ pub(super) fn write_sources(
     ]);
     let table = constants_header(constants);
     files.push(("vouch_consts.h", table.as_str()));
+    let known: Vec<&str> = STUB_FILES.iter().map(|f| f.1).collect();
+    let types = super::standins::standins(&discovery.registered_header, &known);
+    files.push(("vouch_types.h", types.as_str()));
     for (rel, text) in files {
         std::fs::write(dir.join(rel), text).map_err(io_err(rel))?;
     }
@@ -240,6 +243,8 @@ pub(super) fn compile(
     let cc = target.compiler();
     let mut cmd = Command::new(&cc);
     cmd.current_dir(dir).args(cflags).args(["-w", "-Iinclude", "-I."]).args(RENAMES);
+    // the stand-ins for the plan variables' types come before any source (`standins`)
+    cmd.args(["-include", "vouch_types.h"]);
     match target {
         // everything resolved at start-up, the GOT read-only: the watched segment then holds
         // only the program's own static variables

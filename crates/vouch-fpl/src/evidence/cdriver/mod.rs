@@ -11,6 +11,7 @@
 
 mod build;
 mod protocol;
+mod standins;
 
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, ChildStdout, Stdio};
