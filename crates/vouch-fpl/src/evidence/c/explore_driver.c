@@ -32,6 +32,11 @@
  *                           <changes>: " offset=value" for every byte that differs.
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
+ *   K <join> <mask> <n> ...  join the runs of one call at stage starts (X requests): n loops
+ *                           as (counter variable id, block, init stage, loop-back stage), whose
+ *                           counters are put back at stages outside the loop when <mask> is 1;
+ *                           a run that reaches a stage start in the state an earlier run of
+ *                           the call had there stops: P k a1..ak, event lines, M <node>
  *   F                       the decimal constants of the plan's comparisons as compiled
  *                           (vouch_consts.h): F <hex of the double's bytes, lowest first>
  *
@@ -72,6 +77,11 @@ struct vouch_var { unsigned long magic; long id; void *addr; unsigned long size;
   static struct vouch_var vouch_var_##id __attribute__((used, section("vouch_vars"))) = \
     { VOUCH_MAGIC, id, (void *)&(name), sizeof(name) };
 #include "fp_stub.h"
+/* Every stage start of the header's auto_nav also reports to the driver, where the runs of one
+ * call are joined (see vouch_at_stage). */
+void vouch_at_stage(void);
+#undef Stage
+#define Stage(s) case s: set_nav_stage(s); vouch_at_stage();
 #include "vouch_runtime_vars.h"
 #include "vouch_consts.h"
 #define NAV_C
@@ -108,7 +118,19 @@ struct driver {
   int deviated;
   int jumping;             /* the block of the operator jump in progress, or -1 */
   long question_limit, leaf_budget, value_lo, value_hi;
-  jmp_buf too_long;
+  jmp_buf too_long;        /* longjmp 1: too many questions, 2: joined an earlier run */
+  /* joining the runs of one call (request K): at a stage start, the counters of the loops the
+   * stage is not inside are put back as they were at the start of the call (`start`); a run
+   * that then holds a state an earlier run of this call held at a stage start stops there */
+  int join, mask;
+  long *loops;             /* n_loops × (variable id, block, init stage, loop-back stage) */
+  size_t n_loops;
+  const unsigned char *start;
+  unsigned char *nodes;    /* n_nodes states */
+  size_t n_nodes, cap_nodes;
+  long *slots;             /* hash table of node numbers + 1 */
+  size_t n_slots;
+  long joined;             /* the node the run joined */
   /* output: events are recorded into *rec when it is set */
   struct buf *rec;
   struct buf ev, ev2, out;
@@ -237,6 +259,71 @@ static void put_hidden(void)
   D->n_hidden = 0;
 }
 
+/* ---- joining runs at stage starts ---- */
+/* The counters of the loops the current stage is not inside, back to their values at the
+ * start of the call: the semantics never reads them there (a loop is entered at its
+ * initialisation, which writes both), so states differing only in them are one state. */
+static void canonicalise(void)
+{
+  for (size_t k = 0; D->mask && k < D->n_loops; k++) {
+    long *l = D->loops + 4 * k;
+    int inside = nav_block == l[1] && nav_stage > l[2] && nav_stage <= l[3];
+    struct vouch_var *v = l[0] >= 0 && (size_t)l[0] < D->n_vars ? D->vars[l[0]] : NULL;
+    if (!inside && v != NULL) { memcpy(v->addr, D->start + D->offset[l[0]], v->size); }
+  }
+}
+
+static size_t state_hash(const unsigned char *s)
+{
+  size_t h = 2166136261u;
+  for (size_t i = 0; i < D->state_len; i++) { h = (h ^ s[i]) * 16777619u; }
+  return h;
+}
+
+/* The node holding the current state, or a new one (-1). */
+static long node_of_state(void)
+{
+  if (2 * (D->n_nodes + 1) > D->n_slots) {
+    size_t n = D->n_slots ? 2 * D->n_slots : 1024;
+    D->slots = grow(D->slots, n * sizeof(long));
+    memset(D->slots, 0, n * sizeof(long));
+    D->n_slots = n;
+    for (size_t i = 0; i < D->n_nodes; i++) {
+      size_t h = state_hash(D->nodes + i * D->state_len) & (n - 1);
+      while (D->slots[h]) { h = (h + 1) & (n - 1); }
+      D->slots[h] = (long)i + 1;
+    }
+  }
+  if (D->n_nodes + 1 > D->cap_nodes) {
+    D->cap_nodes = 2 * (D->n_nodes + 1);
+    D->nodes = grow(D->nodes, D->cap_nodes * (D->state_len ? D->state_len : 1));
+  }
+  unsigned char *here = D->nodes + D->n_nodes * D->state_len;
+  capture(here);
+  size_t h = state_hash(here) & (D->n_slots - 1);
+  while (D->slots[h]) {
+    long id = D->slots[h] - 1;
+    if (memcmp(D->nodes + (size_t)id * D->state_len, here, D->state_len) == 0) { return id; }
+    h = (h + 1) & (D->n_slots - 1);
+  }
+  D->slots[h] = (long)D->n_nodes + 1;
+  D->n_nodes++;
+  return -1;
+}
+
+void vouch_at_stage(void)
+{
+  if (!D->join || (D->mode != EXPLORE && D->mode != FORCED)) { return; }
+  canonicalise();
+  /* replaying the prefix: an earlier run of this call registered the point */
+  if (D->mode != EXPLORE || D->n_taken < D->n_prefix) { return; }
+  long id = node_of_state();
+  if (id >= 0) {
+    D->joined = id;
+    longjmp(D->too_long, 2);
+  }
+}
+
 /* ---- answers ---- */
 static void push_pending(size_t keep, long alt)
 {
@@ -355,18 +442,21 @@ static void put_changes(const unsigned char *from, const unsigned char *to)
 }
 
 /* One call (jump_to < 0) or an operator jump from state `s` with the current prefix; events
- * in `ev`, the state after in D->after; 0 when the call asked more questions than allowed. */
+ * in `ev`, the state after in D->after; 1 when it ended, 0 when the call asked more questions
+ * than allowed, 2 when it joined an earlier run of the call at a stage start (D->joined). */
 static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int jump_to)
 {
   restore(s);
+  D->start = s;
   D->mode = mode;
   D->n_taken = 0;
   D->deviated = 0;
   ev->len = 0;
   D->rec = ev;
-  int ended = setjmp(D->too_long) == 0;
+  int stop = setjmp(D->too_long);
+  int ended = stop == 0 ? 1 : stop == 2 ? 2 : 0;
   D->jumping = jump_to;
-  if (ended) {
+  if (stop == 0) {
     if (jump_to < 0) { auto_nav(); } else { nav_goto_block((uint8_t)jump_to); }
   }
   D->jumping = -1;
@@ -382,7 +472,7 @@ static int replay_copy(size_t n, size_t i, int jump_to)
 {
   const unsigned char *s2 = D->copies + i * D->state_len;
   D->n_prefix = n;
-  int ended = run_from(s2, &D->ev2, FORCED, jump_to);
+  int ended = run_from(s2, &D->ev2, FORCED, jump_to) == 1;
   put_s(&D->out, "T ");
   put_l(&D->out, (long)i);
   if (!ended || D->deviated || D->n_taken != n || D->ev2.len != D->ev.len
@@ -425,12 +515,23 @@ static void explore(int jumps)
   int cut = 0;
   D->n_pending = 0;
   D->n_prefix = 0;
+  D->n_nodes = 0;
+  if (D->slots) { memset(D->slots, 0, D->n_slots * sizeof(long)); }
   for (;;) {
     if (leaves >= D->leaf_budget) { cut = 1; break; }
     int ended = run_from(D->state, &D->ev, EXPLORE, -1);
     leaves++;
-    if (ended) {
+    if (ended == 1) {
       put_run(-1);
+    } else if (ended == 2) {
+      /* joined: its answers and events up to the stage start, and the node */
+      put_s(&D->out, "P ");
+      put_answers(&D->out, D->taken, D->n_taken);
+      put(&D->out, D->ev.p, D->ev.len);
+      put_s(&D->out, "M ");
+      put_l(&D->out, D->joined);
+      put_s(&D->out, "\n");
+      put_hidden();
     } else {
       put_s(&D->out, "L ");
       put_answers(&D->out, D->taken, D->n_taken);
@@ -556,6 +657,20 @@ static void request(const char *line)
   const char *p = line + 1;
   if (line[0] == 'I') { initial(); return; }
   if (line[0] == 'F') { constants(); return; }
+  if (line[0] == 'K') {
+    /* K <join> <mask> <n> then n × (variable id, block, init stage, loop-back stage) */
+    D->join = (int)strtol(p, &end, 10);
+    D->mask = (int)strtol(end, &end, 10);
+    long n = strtol(end, &end, 10);
+    D->n_loops = 0;
+    D->loops = grow(D->loops, (size_t)(n > 0 ? n : 1) * 4 * sizeof(long));
+    for (long i = 0; i < n; i++) {
+      for (int k = 0; k < 4; k++) { D->loops[4 * i + k] = strtol(end, &end, 10); }
+      D->n_loops++;
+    }
+    put_s(&D->out, "done 0\n");
+    return;
+  }
   if (line[0] == 'X') {
     int jumps = (int)strtol(p, &end, 10);
     p = end;

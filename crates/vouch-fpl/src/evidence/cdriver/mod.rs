@@ -51,6 +51,9 @@ pub struct Driver {
     pub watched: Option<usize>,
     /// Processes started after a crash.
     pub restarts: usize,
+    /// The `K` request (how the runs of one call are joined), sent again to a restarted
+    /// driver.
+    joining: Option<String>,
 }
 
 struct Proc {
@@ -81,6 +84,9 @@ pub enum CRun {
         after: Vec<u8>,
         seconds: Vec<Second>,
         hidden: Vec<usize>,
+        /// The run stopped at a stage start, joined to this node of the call (its answers and
+        /// events are those before it; no state after, no runs from the copies).
+        joined: Option<usize>,
     },
     /// The call asked more questions than the limit (a loop inside one call).
     TooLong { answers: Vec<i64> },
@@ -212,6 +218,7 @@ impl Driver {
             offsets: Vec::new(),
             watched: None,
             restarts: 0,
+            joining: None,
         };
         d.read_table()?;
         Ok(d)
@@ -299,7 +306,36 @@ impl Driver {
         let _ = self.proc.child.wait();
         self.proc = Self::spawn(self.dir.path(), self.target, self.limits)?;
         self.restarts += 1;
-        self.read_table()
+        self.read_table()?;
+        match self.joining.clone() {
+            Some(line) => self.send_joining(&line),
+            None => Ok(()),
+        }
+    }
+
+    /// Joins the runs of one call at stage starts (see `vouch_at_stage` in the driver):
+    /// `ranges` are the counter variables as (id, block, init stage, loop-back stage); with
+    /// `mask`, a counter is put back to its value at the start of the call at every stage start
+    /// outside its loop.
+    pub fn join_runs(&mut self, mask: bool, ranges: &[[usize; 4]]) -> Result<(), DriverError> {
+        let mut line = format!("K 1 {} {}", u8::from(mask), ranges.len());
+        for r in ranges {
+            for n in r {
+                line.push_str(&format!(" {n}"));
+            }
+        }
+        self.send_joining(&line)?;
+        self.joining = Some(line);
+        Ok(())
+    }
+
+    fn send_joining(&mut self, line: &str) -> Result<(), DriverError> {
+        self.send(line)?;
+        let l = self.read_line()?;
+        if !l.starts_with("done") {
+            return Err(protocol(format!("expected the end of the K request, got '{l}'")));
+        }
+        Ok(())
     }
 
     fn send(&mut self, line: &str) -> Result<(), DriverError> {

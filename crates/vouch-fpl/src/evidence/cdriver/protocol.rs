@@ -15,6 +15,7 @@ pub(super) fn done_run(jump: Option<usize>, answers: Vec<i64>) -> CRun {
         after: Vec::new(),
         seconds: Vec::new(),
         hidden: Vec::new(),
+        joined: None,
     }
 }
 
@@ -51,6 +52,7 @@ pub(super) fn record_line(
             ex.runs.push(CRun::TooLong { answers: parse_answers(rest)? });
         }
         ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
+        ("M", Some(CRun::Done { joined, .. })) => *joined = Some(parse_num(rest)?),
         ("T", Some(CRun::Done { seconds, .. })) => {
             let (i, changes) = rest.split_once(' ').unwrap_or((rest, ""));
             let base = states.1.get(parse_num(i)?).ok_or_else(|| protocol("T line for no copy"))?;
@@ -63,7 +65,7 @@ pub(super) fn record_line(
         // (a run that did not end is reported as such already)
         ("H", Some(CRun::Done { hidden, .. })) => hidden.push(parse_num(rest)?),
         ("H", _) => {}
-        ("S" | "T", _) => return Err(protocol(format!("{tag} line outside a run"))),
+        ("S" | "T" | "M", _) => return Err(protocol(format!("{tag} line outside a run"))),
         (_, Some(CRun::Done { seconds, events, .. })) => match seconds.last_mut() {
             Some(Second::Differs(ev2)) => ev2.push(l.to_string()),
             _ => events.push(l.to_string()),

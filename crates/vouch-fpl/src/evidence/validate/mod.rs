@@ -132,12 +132,17 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         record_edges: false,
         // parts are dropped from the states only when every run checks that the C ignores them
         drop_dead: opts.perturb,
+        join_paths: true,
     };
     let mut space = Space::new(fp, space_opts);
     let vars = cview::Vars::new(&driver, fp, space.interp())
         .map_err(|name| DriverError::Protocol(format!("the stub runtime declares no '{name}'")))?;
     let names = vars.names.clone();
+    // dead counters are put back at stage starts where the views drop them
+    let masked = opts.perturb && !space.abstraction.has_return;
+    driver.join_runs(masked, &vars.ranges)?;
     let mut side = CSide::new(&mut driver, vars, bound.clone(), opts);
+    side.masked = masked;
     let walk = space::explore(&mut space, &mut side)?;
     let findings = std::mem::take(&mut side.findings);
     let (cut_c, max_events_seen, second_runs) =
@@ -160,6 +165,7 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         operator_jumps: opts.operator_jumps,
         states: walk.nodes.len(),
         transitions: walk.transitions,
+        runs: walk.runs,
         max_depth: walk.max_depth,
         second_runs,
         abstracted: Abstracted {

@@ -183,8 +183,12 @@ pub struct Report {
     pub operator_jumps: bool,
     /// State pairs explored.
     pub states: usize,
-    /// Transitions compared (call paths and operator jumps).
-    pub transitions: usize,
+    /// Transitions compared (call paths and operator jumps), counting the paths a joined run
+    /// stands for (saturating at `u128::MAX`).
+    pub transitions: u128,
+    /// Runs the comparison made: call runs (to the end of the call or to a join point) and
+    /// jumps. Without joins, equal to `transitions`.
+    pub runs: usize,
     /// The largest number of transitions needed to reach a state.
     pub max_depth: usize,
     /// Runs repeated from a copy of the C state with its dropped parts changed.
