@@ -519,6 +519,8 @@ static void explore(int jumps)
   if (D->slots) { memset(D->slots, 0, D->n_slots * sizeof(long)); }
   for (;;) {
     if (leaves >= D->leaf_budget) { cut = 1; break; }
+    /* the time limit is per run: a call with many runs takes as long as it needs */
+    vouch_timer_arm(ALARM_SECONDS);
     int ended = run_from(D->state, &D->ev, EXPLORE, -1);
     leaves++;
     if (ended == 1) {
@@ -541,6 +543,7 @@ static void explore(int jumps)
     if (!pop_pending()) { break; }
   }
   for (int b = 0; jumps && b < NB_BLOCK; b++) {
+    vouch_timer_arm(ALARM_SECONDS);
     D->n_prefix = 0;
     run_from(D->state, &D->ev, FORCED, b);
     put_run(b);

@@ -57,7 +57,8 @@ pub struct Options {
     pub random_steps: usize,
     /// State budget (pairs).
     pub max_states: usize,
-    /// Paths of one call.
+    /// Runs of one call (each path, or with joins each run to the end of the call or to a
+    /// join point).
     pub max_paths_per_call: usize,
     /// Where the compiled C runs.
     pub target: Target,
@@ -74,7 +75,7 @@ impl Default for Options {
             random_runs: 3,
             random_steps: 500,
             max_states: 200_000,
-            max_paths_per_call: 100_000,
+            max_paths_per_call: 1_000_000,
             target: Target::Host,
             cflags: None,
         }
@@ -166,6 +167,7 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         states: walk.nodes.len(),
         transitions: walk.transitions,
         runs: walk.runs,
+        joined: walk.joined,
         max_depth: walk.max_depth,
         second_runs,
         abstracted: Abstracted {

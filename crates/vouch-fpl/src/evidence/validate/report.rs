@@ -189,6 +189,8 @@ pub struct Report {
     /// Runs the comparison made: call runs (to the end of the call or to a join point) and
     /// jumps. Without joins, equal to `transitions`.
     pub runs: usize,
+    /// Of the runs, those that stopped at a join point.
+    pub joined: usize,
     /// The largest number of transitions needed to reach a state.
     pub max_depth: usize,
     /// Runs repeated from a copy of the C state with its dropped parts changed.

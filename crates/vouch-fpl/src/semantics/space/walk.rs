@@ -100,6 +100,8 @@ pub struct Explored {
     pub transitions: u128,
     /// Runs made: call runs to the end or to a join point, and jumps.
     pub runs: usize,
+    /// Of the runs, those that stopped at a join point.
+    pub joined: usize,
     /// Every reachable state was expanded: no budget, no depth bound and no stop on a
     /// disagreement cut the walk.
     pub fixpoint: bool,
@@ -164,6 +166,7 @@ pub fn explore<'p, C: Companion<'p>>(
         let csucc = comp.expand(space, id, &st, &cst, &next)?;
         out.transitions = out.transitions.saturating_add(next.transitions);
         out.runs += next.succ.len() + next.joined.len();
+        out.joined += next.joined.len();
         for (s, c) in next.succ.into_iter().zip(csucc) {
             let Some(c) = c else { continue };
             let k = space.key(&s.state);
