@@ -124,7 +124,7 @@ pub fn enumerate_call<'p>(
     from: &State<'p>,
     max_paths: usize,
 ) -> Result<CallTree<'p>, StepError> {
-    enumerate(interp, from, max_paths, None::<&dyn Fn(&State<'p>) -> ()>)
+    enumerate(interp, from, max_paths, None::<&dyn Fn(&State<'p>)>)
 }
 
 /// Every way one call from `from` can go, as a graph rather than a tree: runs are made in the

@@ -360,7 +360,7 @@ impl<'p> Space<'p> {
         }
         let max = self.opts.max_paths_per_call;
         // the runs are made by a second interpreter: the key reads this one's numbering
-        let mut runner = std::mem::replace(&mut self.runner, None);
+        let mut runner = self.runner.take();
         let runner_ref = runner.get_or_insert_with(|| Interp::new(self.interp.fp()));
         let space = &*self;
         let key = |st: &State<'p>| space.stage_key(st);
@@ -460,7 +460,7 @@ mod tests {
             let w = explore(&mut space, &mut Alone).expect("walks");
             assert!(w.fixpoint && !w.bounded && w.cut.is_none());
             assert_eq!(w.nodes.len(), 2, "B stage 0 and HOME stage 0");
-            assert_eq!((w.transitions, w.edges.len()), (transitions, transitions));
+            assert_eq!((w.transitions, w.edges.len()), (transitions as u128, transitions));
             let home = w.nodes.iter().position(|n| n.obs.block == 1).expect("HOME reached");
             // breadth first: HOME is one call away (the first path in answer order: e false,
             // f false), or one jump
