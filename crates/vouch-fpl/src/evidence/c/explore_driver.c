@@ -16,7 +16,7 @@
  *
  *   I                       auto_nav_init() from the initial state:
  *                             I, its event lines, Z <state hex>
- *   X <jumps> <hex> <n> <hex1> .. <hexn>
+ *   X <jumps> <hex> <n> <k> <hex1> .. <hexn>
  *                           every path of one auto_nav() call from state <hex>: at each question
  *                           (condition 0/1, non-literal value: every int8_t) the call is run
  *                           again from the restored state with a longer answer prefix:
@@ -29,7 +29,11 @@
  *                           drops changed; T gives the changes from copy i, or "!" (then that
  *                           run's event lines, and no more T lines for the record) when it asked
  *                           other questions or produced other events.
- *                           <changes>: " offset=value" for every byte that differs.
+ *                           <changes>: " offset=value" for every byte that differs. With
+ *                           joining (K), a run from copy k or later that meets the explored
+ *                           run at a stage start with only put-back counters differing stops:
+ *                           T i = (the rest is the explored run's, those counters at the
+ *                           copy's own start values).
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
  *   K <join> <mask> <n> ...  join the runs of one call at stage starts (X requests): n loops
@@ -131,6 +135,16 @@ struct driver {
   long *slots;             /* hash table of node numbers + 1 */
   size_t n_slots;
   long joined;             /* the node the run joined */
+  /* the stage starts of the last explored run (state, events, answers at each), so that a
+   * copy's run whose changes are all put back can stop where it meets that run again */
+  unsigned char *snaps;
+  size_t *snap_ev, *snap_taken;
+  long *snap_node;         /* the join point of each stage start */
+  unsigned long *met;      /* hash set of (copy, join point) + 1 where a copy's run met */
+  size_t n_met, n_met_slots;
+  size_t n_snaps, cap_snaps, snap_seen;
+  size_t first_stoppable;  /* copies from this one on may stop so (request X) */
+  int stoppable;
   /* output: events are recorded into *rec when it is set */
   struct buf *rec;
   struct buf ev, ev2, out;
@@ -311,13 +325,94 @@ static long node_of_state(void)
   return -1;
 }
 
+static void snapshot(void)
+{
+  if (D->n_snaps + 1 > D->cap_snaps) {
+    D->cap_snaps = 2 * (D->n_snaps + 1);
+    D->snaps = grow(D->snaps, D->cap_snaps * (D->state_len ? D->state_len : 1));
+    D->snap_ev = grow(D->snap_ev, D->cap_snaps * sizeof(size_t));
+    D->snap_taken = grow(D->snap_taken, D->cap_snaps * sizeof(size_t));
+    D->snap_node = grow(D->snap_node, D->cap_snaps * sizeof(long));
+  }
+  D->snap_node[D->n_snaps] = -1;
+  capture(D->snaps + D->n_snaps * D->state_len);
+  D->snap_ev[D->n_snaps] = D->ev.len;
+  D->snap_taken[D->n_snaps] = D->n_taken;
+  D->n_snaps++;
+}
+
+/* The set of (copy, join point) where the copy's run met the explored run: a later run
+ * through that point with the same answers before it meets there too. */
+static unsigned long met_key(size_t copy, long node)
+{
+  return ((unsigned long)node << 12 ^ (unsigned long)copy) + 1;
+}
+
+static int met_find(unsigned long key, int insert)
+{
+  if (insert && 2 * (D->n_met + 1) > D->n_met_slots) {
+    size_t n = D->n_met_slots ? 2 * D->n_met_slots : 1024;
+    unsigned long *old = D->met;
+    size_t n_old = D->n_met_slots;
+    D->met = grow(NULL, n * sizeof *D->met);
+    memset(D->met, 0, n * sizeof *D->met);
+    D->n_met_slots = n;
+    D->n_met = 0;
+    for (size_t i = 0; i < n_old; i++) { if (old[i]) { met_find(old[i], 1); } }
+    free(old);
+  }
+  if (D->n_met_slots == 0) { return 0; }
+  size_t h = (size_t)(key * 0x9E3779B97F4A7C15ull) & (D->n_met_slots - 1);
+  while (D->met[h]) {
+    if (D->met[h] == key) { return 1; }
+    h = (h + 1) & (D->n_met_slots - 1);
+  }
+  if (insert) { D->met[h] = key; D->n_met++; }
+  return 0;
+}
+
+/* Whether a counter variable's loop is one the current stage is not inside (put back). */
+static int put_back(size_t id)
+{
+  for (size_t k = 0; D->mask && k < D->n_loops; k++) {
+    long *l = D->loops + 4 * k;
+    if ((size_t)l[0] == id) {
+      return !(nav_block == l[1] && nav_stage > l[2] && nav_stage <= l[3]);
+    }
+  }
+  return 0;
+}
+
+/* A copy's run at its j-th stage start: the same answers and events so far as the explored
+ * run at its j-th, and the same state but for counters both have put back (each to its own
+ * start): from here it is that run. */
+static int meets_explored_run(size_t j)
+{
+  if (j >= D->n_snaps || D->n_taken != D->snap_taken[j] || D->ev2.len != D->snap_ev[j]
+      || memcmp(D->ev2.p, D->ev.p, D->ev2.len) != 0) {
+    return 0;
+  }
+  const unsigned char *snap = D->snaps + j * D->state_len;
+  for (size_t i = 0; i < D->n_vars; i++) {
+    struct vouch_var *v = D->vars[i];
+    if (v && memcmp(v->addr, snap + D->offset[i], v->size) != 0 && !put_back(i)) { return 0; }
+  }
+  return 1;
+}
+
 void vouch_at_stage(void)
 {
   if (!D->join || (D->mode != EXPLORE && D->mode != FORCED)) { return; }
   canonicalise();
-  /* replaying the prefix: an earlier run of this call registered the point */
-  if (D->mode != EXPLORE || D->n_taken < D->n_prefix) { return; }
+  if (D->mode == FORCED && D->stoppable && meets_explored_run(D->snap_seen++)) {
+    longjmp(D->too_long, 3);
+  }
+  if (D->mode != EXPLORE) { return; }
+  snapshot();
   long id = node_of_state();
+  /* replaying the prefix: an earlier run of this call registered the point */
+  D->snap_node[D->n_snaps - 1] = id >= 0 ? id : (long)D->n_nodes - 1;
+  if (D->n_taken < D->n_prefix) { return; }
   if (id >= 0) {
     D->joined = id;
     longjmp(D->too_long, 2);
@@ -443,18 +538,21 @@ static void put_changes(const unsigned char *from, const unsigned char *to)
 
 /* One call (jump_to < 0) or an operator jump from state `s` with the current prefix; events
  * in `ev`, the state after in D->after; 1 when it ended, 0 when the call asked more questions
- * than allowed, 2 when it joined an earlier run of the call at a stage start (D->joined). */
+ * than allowed, 2 when it joined an earlier run of the call at a stage start (D->joined), 3
+ * when a copy's run met the explored run (meets_explored_run). */
 static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int jump_to)
 {
   restore(s);
   D->start = s;
+  D->snap_seen = 0;
+  if (mode == EXPLORE) { D->n_snaps = 0; }
   D->mode = mode;
   D->n_taken = 0;
   D->deviated = 0;
   ev->len = 0;
   D->rec = ev;
   int stop = setjmp(D->too_long);
-  int ended = stop == 0 ? 1 : stop == 2 ? 2 : 0;
+  int ended = stop == 0 ? 1 : stop == 2 || stop == 3 ? stop : 0;
   D->jumping = jump_to;
   if (stop == 0) {
     if (jump_to < 0) { auto_nav(); } else { nav_goto_block((uint8_t)jump_to); }
@@ -472,9 +570,25 @@ static int replay_copy(size_t n, size_t i, int jump_to)
 {
   const unsigned char *s2 = D->copies + i * D->state_len;
   D->n_prefix = n;
-  int ended = run_from(s2, &D->ev2, FORCED, jump_to) == 1;
+  D->stoppable = i >= D->first_stoppable && jump_to < 0;
+  int r = 0;
+  for (size_t j = 0; D->stoppable && j < D->n_snaps; j++) {
+    if (met_find(met_key(i, D->snap_node[j]), 0)) { r = 3; break; }
+  }
+  if (r != 3) {
+    r = run_from(s2, &D->ev2, FORCED, jump_to);
+    if (r == 3) { met_find(met_key(i, D->snap_node[D->snap_seen - 1]), 1); }
+  }
+  D->stoppable = 0;
+  int ended = r == 1;
   put_s(&D->out, "T ");
   put_l(&D->out, (long)i);
+  if (r == 3) {
+    /* the rest of the run is the explored run's, with the put-back counters at the copy's
+     * own start values */
+    put_s(&D->out, " =\n");
+    return 1;
+  }
   if (!ended || D->deviated || D->n_taken != n || D->ev2.len != D->ev.len
       || memcmp(D->ev2.p, D->ev.p, D->ev.len) != 0) {
     /* the copy's events follow */
@@ -517,6 +631,8 @@ static void explore(int jumps)
   D->n_prefix = 0;
   D->n_nodes = 0;
   if (D->slots) { memset(D->slots, 0, D->n_slots * sizeof(long)); }
+  D->n_met = 0;
+  if (D->met) { memset(D->met, 0, D->n_met_slots * sizeof *D->met); }
   for (;;) {
     if (leaves >= D->leaf_budget) { cut = 1; break; }
     /* the time limit is per run: a call with many runs takes as long as it needs */
@@ -679,6 +795,8 @@ static void request(const char *line)
     p = end;
     if (!parse_hex(&p, D->state)) { put_s(&D->out, "done 0\n"); return; }
     long n = strtol(p, &end, 10);
+    p = end;
+    D->first_stoppable = (size_t)strtol(p, &end, 10);
     p = end;
     D->n_copies = 0;
     if (n > 0 && (size_t)n > D->cap_copies) {

@@ -374,14 +374,23 @@ impl Driver {
     }
 
     /// Every path of one call from `state` (each repeated from every copy), then, when `jumps`
-    /// is set, an operator jump to every block.
+    /// is set, an operator jump to every block. With joined runs ([`Driver::join_runs`]), the
+    /// run from a copy numbered `stoppable` or later stops where it meets the explored run
+    /// with only put-back counters differing (its state after is then derived: see
+    /// `protocol::met`).
     pub fn expand(
         &mut self,
         state: &[u8],
         copies: &[Vec<u8>],
+        stoppable: usize,
         jumps: bool,
     ) -> Result<Expansion, DriverError> {
-        let mut line = format!("X {} {} {}", u8::from(jumps), hex::encode(state), copies.len());
+        let mut line = format!(
+            "X {} {} {} {stoppable}",
+            u8::from(jumps),
+            hex::encode(state),
+            copies.len()
+        );
         for c in copies {
             line.push(' ');
             line.push_str(&hex::encode(c));

@@ -53,13 +53,13 @@ pub(super) fn record_line(
         }
         ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
         ("M", Some(CRun::Done { joined, .. })) => *joined = Some(parse_num(rest)?),
-        ("T", Some(CRun::Done { seconds, .. })) => {
+        ("T", Some(CRun::Done { seconds, after, .. })) => {
             let (i, changes) = rest.split_once(' ').unwrap_or((rest, ""));
             let base = states.1.get(parse_num(i)?).ok_or_else(|| protocol("T line for no copy"))?;
-            seconds.push(if changes.trim() == "!" {
-                Second::Differs(Vec::new())
-            } else {
-                Second::Same(apply_changes(base, changes)?)
+            seconds.push(match changes.trim() {
+                "!" => Second::Differs(Vec::new()),
+                "=" => Second::Same(met(states.0, base, after)),
+                _ => Second::Same(apply_changes(base, changes)?),
             })
         }
         // (a run that did not end is reported as such already)
@@ -73,6 +73,17 @@ pub(super) fn record_line(
         _ => return Err(protocol(format!("unexpected line '{l}'"))),
     }
     Ok(())
+}
+
+/// The state after the run from a copy that met the explored run (`T i =`): the explored
+/// run's state after, except that a byte the explored run left at its value at the start of
+/// the call (a counter put back there, never written after) is the copy's own start value.
+pub(super) fn met(start: &[u8], copy: &[u8], after: &[u8]) -> Vec<u8> {
+    after
+        .iter()
+        .zip(start.iter().zip(copy))
+        .map(|(a, (s, c))| if a == s { *c } else { *a })
+        .collect()
 }
 
 pub(super) fn parse_hex(text: &str) -> Result<Vec<u8>, DriverError> {

@@ -340,7 +340,10 @@ impl<'p> Companion<'p> for CSide<'_> {
             Vec::new()
         };
         let bytes: Vec<Vec<u8>> = copies.iter().map(|c| c.bytes.clone()).collect();
-        let ex = self.driver.expand(&c.bytes, &bytes, self.jumps)?;
+        // the runs from copies that shift live counters may stop where those are put back
+        let shifted = |c: &cview::Copy| c.changes.iter().any(|x| matches!(x, Some(cview::Change::Shifted(_))));
+        let stoppable = copies.iter().position(shifted).unwrap_or(copies.len());
+        let ex = self.driver.expand(&c.bytes, &bytes, stoppable, self.jumps)?;
         if ex.cut {
             self.cut = Some("the C side's path budget of one call ran out".into());
         }
