@@ -32,8 +32,8 @@
  *                           <changes>: " offset=value" for every byte that differs. With
  *                           joining (K), a run from copy k or later that meets the explored
  *                           run at a stage start with only put-back counters differing stops:
- *                           T i = (the rest is the explored run's, those counters at the
- *                           copy's own start values).
+ *                           T a-b = for copies a to b (the rest is the explored run's, those
+ *                           counters at each copy's own start values).
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
  *   K <join> <mask> <n> ...  join the runs of one call at stage starts (X requests): n loops
@@ -580,15 +580,12 @@ static int replay_copy(size_t n, size_t i, int jump_to)
     if (r == 3) { met_find(met_key(i, D->snap_node[D->snap_seen - 1]), 1); }
   }
   D->stoppable = 0;
+  /* met: the rest of the run is the explored run's, with the put-back counters at the copy's
+   * own start values (put_run prints these as ranges: T a-b =) */
+  if (r == 3) { return 2; }
   int ended = r == 1;
   put_s(&D->out, "T ");
   put_l(&D->out, (long)i);
-  if (r == 3) {
-    /* the rest of the run is the explored run's, with the put-back counters at the copy's
-     * own start values */
-    put_s(&D->out, " =\n");
-    return 1;
-  }
   if (!ended || D->deviated || D->n_taken != n || D->ev2.len != D->ev.len
       || memcmp(D->ev2.p, D->ev.p, D->ev.len) != 0) {
     /* the copy's events follow */
@@ -598,6 +595,15 @@ static int replay_copy(size_t n, size_t i, int jump_to)
   }
   put_changes(s2, D->after);
   return 1;
+}
+
+static void put_met(size_t a, size_t b)
+{
+  put_s(&D->out, "T ");
+  put_l(&D->out, (long)a);
+  put_s(&D->out, "-");
+  put_l(&D->out, (long)b);
+  put_s(&D->out, " =\n");
 }
 
 /* P or J record of the run just made (events in D->ev, answers in D->taken). */
@@ -617,9 +623,18 @@ static void put_run(int jump_to)
   size_t n = D->n_taken;
   /* the answers of this run, for every copy (the copies' runs overwrite D->taken) */
   memcpy(D->prefix, D->taken, n * sizeof(long));
+  size_t met_from = 0;
+  int streak = 0;
   for (size_t i = 0; i < D->n_copies; i++) {
-    if (!replay_copy(n, i, jump_to)) { break; }
+    int r = replay_copy(n, i, jump_to);
+    if (r == 2) {
+      if (!streak) { met_from = i; streak = 1; }
+      continue;
+    }
+    if (streak) { put_met(met_from, i - 1); streak = 0; }
+    if (!r) { break; }
   }
+  if (streak) { put_met(met_from, D->n_copies - 1); }
   put_hidden();
 }
 

@@ -69,6 +69,11 @@ pub enum Second {
     Same(Vec<u8>),
     /// Other questions or other events (those it produced).
     Differs(Vec<String>),
+    /// Same questions and events up to a stage start where the run met the explored run, its
+    /// state the same but for counters both had put back (each to its own start value): from
+    /// there on it is that run, so its state after keeps every rule of the changed-state runs
+    /// by construction (a changed counter ends as the explored run's or at its own start).
+    Met,
 }
 
 /// One run the C made from a requested state: a call path or an operator jump.
@@ -376,8 +381,7 @@ impl Driver {
     /// Every path of one call from `state` (each repeated from every copy), then, when `jumps`
     /// is set, an operator jump to every block. With joined runs ([`Driver::join_runs`]), the
     /// run from a copy numbered `stoppable` or later stops where it meets the explored run
-    /// with only put-back counters differing (its state after is then derived: see
-    /// `protocol::met`).
+    /// with only put-back counters differing ([`Second::Met`]).
     pub fn expand(
         &mut self,
         state: &[u8],
@@ -385,12 +389,8 @@ impl Driver {
         stoppable: usize,
         jumps: bool,
     ) -> Result<Expansion, DriverError> {
-        let mut line = format!(
-            "X {} {} {} {stoppable}",
-            u8::from(jumps),
-            hex::encode(state),
-            copies.len()
-        );
+        let mut line =
+            format!("X {} {} {} {stoppable}", u8::from(jumps), hex::encode(state), copies.len());
         for c in copies {
             line.push(' ');
             line.push_str(&hex::encode(c));

@@ -53,12 +53,20 @@ pub(super) fn record_line(
         }
         ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
         ("M", Some(CRun::Done { joined, .. })) => *joined = Some(parse_num(rest)?),
-        ("T", Some(CRun::Done { seconds, after, .. })) => {
+        ("T", Some(CRun::Done { seconds, .. })) => {
             let (i, changes) = rest.split_once(' ').unwrap_or((rest, ""));
+            if let Some((a, b)) = i.split_once('-') {
+                // copies a to b met the explored run (`T a-b =`)
+                let (a, b) = (parse_num(a)?, parse_num(b)?);
+                if b < a || b >= states.1.len() || changes.trim() != "=" {
+                    return Err(protocol(format!("bad T line '{l}'")));
+                }
+                seconds.extend((a..=b).map(|_| Second::Met));
+                return Ok(());
+            }
             let base = states.1.get(parse_num(i)?).ok_or_else(|| protocol("T line for no copy"))?;
             seconds.push(match changes.trim() {
                 "!" => Second::Differs(Vec::new()),
-                "=" => Second::Same(met(states.0, base, after)),
                 _ => Second::Same(apply_changes(base, changes)?),
             })
         }
@@ -73,17 +81,6 @@ pub(super) fn record_line(
         _ => return Err(protocol(format!("unexpected line '{l}'"))),
     }
     Ok(())
-}
-
-/// The state after the run from a copy that met the explored run (`T i =`): the explored
-/// run's state after, except that a byte the explored run left at its value at the start of
-/// the call (a counter put back there, never written after) is the copy's own start value.
-pub(super) fn met(start: &[u8], copy: &[u8], after: &[u8]) -> Vec<u8> {
-    after
-        .iter()
-        .zip(start.iter().zip(copy))
-        .map(|(a, (s, c))| if a == s { *c } else { *a })
-        .collect()
 }
 
 pub(super) fn parse_hex(text: &str) -> Result<Vec<u8>, DriverError> {

@@ -145,6 +145,7 @@ impl CSide<'_> {
     ) -> Option<(String, Vec<String>)> {
         let (how, lines) = match second {
             Second::Differs(ev2) => ("its events differ".to_string(), ev2.clone()),
+            Second::Met => return None,
             Second::Same(after2) => {
                 let id =
                     cview::second_ok(&self.vars, self.driver, changes, state, copy, after, after2)?;
@@ -341,7 +342,9 @@ impl<'p> Companion<'p> for CSide<'_> {
         };
         let bytes: Vec<Vec<u8>> = copies.iter().map(|c| c.bytes.clone()).collect();
         // the runs from copies that shift live counters may stop where those are put back
-        let shifted = |c: &cview::Copy| c.changes.iter().any(|x| matches!(x, Some(cview::Change::Shifted(_))));
+        let shifted = |c: &cview::Copy| {
+            c.changes.iter().any(|x| matches!(x, Some(cview::Change::Shifted(_))))
+        };
         let stoppable = copies.iter().position(shifted).unwrap_or(copies.len());
         let ex = self.driver.expand(&c.bytes, &bytes, stoppable, self.jumps)?;
         if ex.cut {
