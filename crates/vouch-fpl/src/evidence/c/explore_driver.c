@@ -36,14 +36,17 @@
  *                           counters at each copy's own start values).
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
- *   K <join> <mask> <n> ...  join the runs of one call at stage starts (X requests): n loops
+ *   K <join> <mask> <bytes> <n> ...  join the runs of one call at stage starts (X requests): n loops
  *                           as (counter variable id, block, init stage, loop-back stage), whose
  *                           counters are put back at stages outside the loop when <mask> is 1;
  *                           a run that reaches a stage start in the state an earlier run of
- *                           the call had there stops: P k a1..ak, event lines, M <node>
+ *                           the call had there stops: P k a1..ak, event lines, M <node>;
+ *                           the join points may take <bytes> of memory (0: no limit)
  *   F                       the decimal constants of the plan's comparisons as compiled
  *                           (vouch_consts.h): F <hex of the double's bytes, lowest first>
  *
+ *   done <cut>              after an X request: 0 complete, 1 the run budget was reached, 2
+ *                           no memory was left for the join points (and no jumps were made)
  *   H <offset>              (after a record) its runs wrote outside the registered variables
  *   A <signal> k a1..ak     the process dies (crash, time-out) on that answer prefix (or
  *   A <signal> J b          during the jump to block b); the answer is then "done 0" and the
@@ -127,6 +130,7 @@ struct driver {
    * stage is not inside are put back as they were at the start of the call (`start`); a run
    * that then holds a state an earlier run of this call held at a stage start stops there */
   int join, mask;
+  size_t join_bytes;       /* memory the join points may take (0: no limit) */
   long *loops;             /* n_loops × (variable id, block, init stage, loop-back stage) */
   size_t n_loops;
   const unsigned char *start;
@@ -294,12 +298,19 @@ static size_t state_hash(const unsigned char *s)
   return h;
 }
 
-/* The node holding the current state, or a new one (-1). */
+/* The node holding the current state, or a new one (-1); -2 when there is no memory left
+ * for another (the emulated board's RAM is small): the request is then cut. */
 static long node_of_state(void)
 {
+  size_t width = D->state_len ? D->state_len : 1;
+  if (D->join_bytes && (2 * (D->n_nodes + 1)) * (width + 2 * sizeof(long)) > D->join_bytes) {
+    return -2;
+  }
   if (2 * (D->n_nodes + 1) > D->n_slots) {
     size_t n = D->n_slots ? 2 * D->n_slots : 1024;
-    D->slots = grow(D->slots, n * sizeof(long));
+    long *slots = realloc(D->slots, n * sizeof(long));
+    if (slots == NULL) { return -2; }
+    D->slots = slots;
     memset(D->slots, 0, n * sizeof(long));
     D->n_slots = n;
     for (size_t i = 0; i < D->n_nodes; i++) {
@@ -309,8 +320,11 @@ static long node_of_state(void)
     }
   }
   if (D->n_nodes + 1 > D->cap_nodes) {
-    D->cap_nodes = 2 * (D->n_nodes + 1);
-    D->nodes = grow(D->nodes, D->cap_nodes * (D->state_len ? D->state_len : 1));
+    size_t cap = 2 * (D->n_nodes + 1);
+    unsigned char *nodes = realloc(D->nodes, cap * (D->state_len ? D->state_len : 1));
+    if (nodes == NULL) { return -2; }
+    D->nodes = nodes;
+    D->cap_nodes = cap;
   }
   unsigned char *here = D->nodes + D->n_nodes * D->state_len;
   capture(here);
@@ -410,6 +424,7 @@ void vouch_at_stage(void)
   if (D->mode != EXPLORE) { return; }
   snapshot();
   long id = node_of_state();
+  if (id == -2) { longjmp(D->too_long, 4); }
   /* replaying the prefix: an earlier run of this call registered the point */
   D->snap_node[D->n_snaps - 1] = id >= 0 ? id : (long)D->n_nodes - 1;
   if (D->n_taken < D->n_prefix) { return; }
@@ -539,7 +554,8 @@ static void put_changes(const unsigned char *from, const unsigned char *to)
 /* One call (jump_to < 0) or an operator jump from state `s` with the current prefix; events
  * in `ev`, the state after in D->after; 1 when it ended, 0 when the call asked more questions
  * than allowed, 2 when it joined an earlier run of the call at a stage start (D->joined), 3
- * when a copy's run met the explored run (meets_explored_run). */
+ * when a copy's run met the explored run (meets_explored_run), 4 when there was no memory
+ * left for a join point. */
 static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int jump_to)
 {
   restore(s);
@@ -552,7 +568,7 @@ static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int 
   ev->len = 0;
   D->rec = ev;
   int stop = setjmp(D->too_long);
-  int ended = stop == 0 ? 1 : stop == 2 || stop == 3 ? stop : 0;
+  int ended = stop == 0 ? 1 : stop >= 2 ? stop : 0;
   D->jumping = jump_to;
   if (stop == 0) {
     if (jump_to < 0) { auto_nav(); } else { nav_goto_block((uint8_t)jump_to); }
@@ -654,6 +670,11 @@ static void explore(int jumps)
     vouch_timer_arm(ALARM_SECONDS);
     int ended = run_from(D->state, &D->ev, EXPLORE, -1);
     leaves++;
+    if (ended == 4) {
+      /* out of memory for join points: the request is cut, this run not reported */
+      cut = 2;
+      break;
+    }
     if (ended == 1) {
       put_run(-1);
     } else if (ended == 2) {
@@ -673,7 +694,7 @@ static void explore(int jumps)
     if (D->out.len > (1 << 16)) { flush_out(); }
     if (!pop_pending()) { break; }
   }
-  for (int b = 0; jumps && b < NB_BLOCK; b++) {
+  for (int b = 0; jumps && cut != 2 && b < NB_BLOCK; b++) {
     vouch_timer_arm(ALARM_SECONDS);
     D->n_prefix = 0;
     run_from(D->state, &D->ev, FORCED, b);
@@ -792,9 +813,11 @@ static void request(const char *line)
   if (line[0] == 'I') { initial(); return; }
   if (line[0] == 'F') { constants(); return; }
   if (line[0] == 'K') {
-    /* K <join> <mask> <n> then n × (variable id, block, init stage, loop-back stage) */
+    /* K <join> <mask> <bytes> <n> then n × (variable id, block, init stage, loop-back
+     * stage) */
     D->join = (int)strtol(p, &end, 10);
     D->mask = (int)strtol(end, &end, 10);
+    D->join_bytes = (size_t)strtol(end, &end, 10);
     long n = strtol(end, &end, 10);
     D->n_loops = 0;
     D->loops = grow(D->loops, (size_t)(n > 0 ? n : 1) * 4 * sizeof(long));

@@ -116,8 +116,10 @@ impl CRun {
 pub struct Expansion {
     /// Call paths, then jumps (when asked for).
     pub runs: Vec<CRun>,
-    /// The path budget ran out.
+    /// The run budget ran out, or the memory for join points (`memory`).
     pub cut: bool,
+    /// The driver had no memory left for another join point (the emulated board's RAM).
+    pub memory: bool,
 }
 
 /// `auto_nav_init()` from the initial state.
@@ -321,9 +323,13 @@ impl Driver {
     /// Joins the runs of one call at stage starts (see `vouch_at_stage` in the driver):
     /// `ranges` are the counter variables as (id, block, init stage, loop-back stage); with
     /// `mask`, a counter is put back to its value at the start of the call at every stage start
-    /// outside its loop.
+    /// outside its loop. On an emulated core the join points may take 1 MiB; a call that needs
+    /// more is cut ([`Expansion::memory`]).
     pub fn join_runs(&mut self, mask: bool, ranges: &[[usize; 4]]) -> Result<(), DriverError> {
-        let mut line = format!("K 1 {} {}", u8::from(mask), ranges.len());
+        // the emulated boards have 4 MiB for code, data, heap and stack: a quarter of it for
+        // the join points; beyond, the call is reported cut (no limit on the host)
+        let bytes = if self.target == Target::Host { 0 } else { 1 << 20 };
+        let mut line = format!("K 1 {} {bytes} {}", u8::from(mask), ranges.len());
         for r in ranges {
             for n in r {
                 line.push_str(&format!(" {n}"));
@@ -422,7 +428,8 @@ impl Driver {
                 }
                 "done" => {
                     finish(&mut ex, cur.take());
-                    ex.cut = rest.trim() == "1";
+                    ex.cut = rest.trim() != "0";
+                    ex.memory = rest.trim() == "2";
                     return Ok(ex);
                 }
                 _ => record_line(&mut ex, &mut cur, &l, (state, copies))?,

@@ -43,6 +43,8 @@ pub(super) struct CSide<'d> {
     pub cut: Option<String>,
     /// The driver puts dead counters back at stage starts (see `Driver::join_runs`).
     pub masked: bool,
+    /// Nodes whose call the C side cut.
+    pub cut_nodes: Vec<usize>,
     pub max_events_seen: usize,
     pub second_runs: usize,
 }
@@ -65,6 +67,7 @@ impl CSide<'_> {
             findings: Vec::new(),
             cut: None,
             masked: false,
+            cut_nodes: Vec::new(),
             max_events_seen: 0,
             second_runs: 0,
         }
@@ -347,8 +350,11 @@ impl<'p> Companion<'p> for CSide<'_> {
         };
         let stoppable = copies.iter().position(shifted).unwrap_or(copies.len());
         let ex = self.driver.expand(&c.bytes, &bytes, stoppable, self.jumps)?;
-        if ex.cut {
-            self.cut = Some("the C side's path budget of one call ran out".into());
+        if ex.memory {
+            self.cut_nodes.push(id);
+            self.cut = Some("the C side had no memory left for the join points of one call".into());
+        } else if ex.cut {
+            self.cut = Some("the C side's run budget of one call ran out".into());
         }
         // the process died: the runs after it were never made; the crash is the finding
         if let Some(CRun::Crashed { status, answers, jump }) =
@@ -377,11 +383,18 @@ impl<'p> Companion<'p> for CSide<'_> {
                 Move::Call(a) => calls.remove(a.as_slice()),
                 Move::Jump(b) => jumps.remove(b),
             };
+            if run.is_none() && ex.memory {
+                // not run: the C side's exploration of the call was cut
+                out.push(None);
+                continue;
+            }
             out.push(self.compare(space, id, from.block, s, run, &copies, &c.bytes));
         }
         for j in &next.joined {
             let run = calls.remove(j.answers.as_slice());
-            self.compare_joined(id, j, run);
+            if run.is_some() || !ex.memory {
+                self.compare_joined(id, j, run);
+            }
         }
         // whatever the C did that the semantics did not (only meaningful on complete trees)
         if !ex.cut {

@@ -144,7 +144,13 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
     driver.join_runs(masked, &vars.ranges)?;
     let mut side = CSide::new(&mut driver, vars, bound.clone(), opts);
     side.masked = masked;
-    let walk = space::explore(&mut space, &mut side)?;
+    let mut walk = space::explore(&mut space, &mut side)?;
+    // states whose call the C side cut (its memory for join points) are cut states too
+    for &n in &side.cut_nodes {
+        if let Some(c) = walk.incomplete.get_mut(n) {
+            *c = true;
+        }
+    }
     let findings = std::mem::take(&mut side.findings);
     let (cut_c, max_events_seen, second_runs) =
         (side.cut.clone(), side.max_events_seen, side.second_runs);
