@@ -55,7 +55,7 @@ fn a_walk_cut_by_the_path_budget_exits_3_and_names_the_cut_state() {
     let Some(_cc) = vouch_testkit::c_compiler() else { return };
     let wide = plan("crates/vouch-fpl/tests/evidence_plans/wide.xml");
     let w = wide.to_str().expect("utf-8 path");
-    // the first call makes 384 runs (its 33,151 paths joined where the first loop is left)
+    // the first call makes 511 runs (its 33,151 paths joined where each loop is left)
     let o = vouch(&["fpl", "validate", "--max-paths", "300", "--random-runs", "0", w]);
     assert_eq!(code(&o), 3);
     let text = String::from_utf8_lossy(&o.stdout);

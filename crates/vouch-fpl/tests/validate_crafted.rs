@@ -165,10 +165,11 @@ fn variables_of_types_from_module_headers_validate_to_the_fixpoint() {
     }
 }
 
-/// A call with 33,151 paths (two loops in a row bounded by plan variables, see the plan): its
-/// 129 paths that leave the first loop at once join at the second loop's start, so the call
-/// takes 127 + 1 + 256 runs; a budget below that cuts it and the report says exactly which
-/// state was cut.
+/// A call with 33,151 paths (two loops in a row bounded by plan variables, see the plan): the
+/// 129 runs that leave the first loop at once join at the second loop's start, the 129 that
+/// leave the second at the deroute after it, so the call takes 511 runs (255 to the end of the
+/// call, 256 joined); a budget below that cuts it and the report says exactly which state was
+/// cut.
 #[test]
 fn a_plan_that_hit_the_former_path_cap_reaches_the_fixpoint() {
     let Some(_cc) = vouch_testkit::c_compiler() else { return };

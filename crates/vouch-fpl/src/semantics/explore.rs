@@ -289,4 +289,42 @@ mod tests {
         let stays = interp.observe_state(&tree.paths[1].state);
         assert_eq!(stays, interp.observe_state(&init));
     }
+
+    #[test]
+    fn runs_joined_at_stage_starts_stand_for_every_path() {
+        // two loops in a row bounded by n and m: 127 values of n enter the first loop (the
+        // call ends), 129 leave it at once and the call reaches the second loop, whose 256
+        // values each end the call: 127 + 129 × 256 paths
+        let plan = crate::front::parse_str(
+            "t.xml",
+            r#"<flight_plan name="t" lat0="43.5" lon0="1.4" alt="250" ground_alt="150"
+            security_height="30" max_dist_from_home="1000">
+          <waypoints><waypoint name="HOME" x="0" y="0"/></waypoints>
+          <blocks><block name="B"><for var="i" from="1" to="n"><call_once fun="a()"/></for>
+          <for var="j" from="1" to="m"><call_once fun="b()"/></for></block></blocks>
+          </flight_plan>"#,
+        )
+        .expect("parses");
+        let fp = crate::passes::lower::lower(&plan).expect("lowers");
+        let space = crate::semantics::space::Space::new(&fp, Default::default());
+        let mut interp = Interp::new(&fp);
+        let init = interp.state.clone();
+        let key = |s: &State<'_>| space.stage_key(s);
+        let tree = enumerate_joined(&mut interp, &init, 10_000, &key).expect("runs");
+        assert_eq!(tree.total, 127 + 129 * 256);
+        // the first run that leaves the first loop goes on to the second loop's start; the
+        // other 128 stop there, joined to it. Below it, likewise: 127 values of m enter the
+        // second loop, the first that leaves it goes on to the block's end, the other 128
+        // stop there. Runs to the end: 127 + 127 + 1.
+        assert_eq!((tree.paths.len(), tree.joined.len()), (255, 256));
+        for answers in [1, 2] {
+            let at: Vec<usize> =
+                tree.joined.iter().filter(|j| j.answers.len() == answers).map(|j| j.node).collect();
+            assert_eq!(at.len(), 128);
+            assert!(at.iter().all(|n| *n == at[0]));
+        }
+        let full = enumerate_call(&mut interp, &init, 100_000).expect("runs");
+        assert_eq!(full.paths.len() as u128, tree.total);
+        assert!(full.joined.is_empty() && !full.cut && !tree.cut);
+    }
 }
