@@ -91,6 +91,8 @@ pub struct Joined {
     pub events: Vec<Event>,
     /// The join point: its number in the order the runs reached them.
     pub node: usize,
+    /// The paths of the call it stands for: those below the join point (saturating).
+    pub weight: u128,
 }
 
 /// Result of [`enumerate_call`] and [`enumerate_joined`].
@@ -246,8 +248,9 @@ fn enumerate<'p, K: Eq + Hash>(
             }
             End::Join(i, node, _) => {
                 let events = rec.events[..interp.stage_starts()[i].events].to_vec();
-                tree.joined.push(Joined { answers, events, node });
-                below.get(node).copied().unwrap_or(0)
+                let weight = below.get(node).copied().unwrap_or(0);
+                tree.joined.push(Joined { answers, events, node, weight });
+                weight
             }
         };
         below.resize(nodes.len(), 0);

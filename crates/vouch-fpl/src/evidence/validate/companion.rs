@@ -45,6 +45,8 @@ pub(super) struct CSide<'d> {
     pub masked: bool,
     /// Nodes whose call the C side cut.
     pub cut_nodes: Vec<usize>,
+    /// Paths of those calls the C side did not run (counted by the walk all the same).
+    pub not_run: u128,
     pub max_events_seen: usize,
     pub second_runs: usize,
 }
@@ -68,6 +70,7 @@ impl CSide<'_> {
             cut: None,
             masked: false,
             cut_nodes: Vec::new(),
+            not_run: 0,
             max_events_seen: 0,
             second_runs: 0,
         }
@@ -385,6 +388,9 @@ impl<'p> Companion<'p> for CSide<'_> {
             };
             if run.is_none() && ex.memory {
                 // not run: the C side's exploration of the call was cut
+                if matches!(s.mv, Move::Call(_)) {
+                    self.not_run = self.not_run.saturating_add(1);
+                }
                 out.push(None);
                 continue;
             }
@@ -394,6 +400,8 @@ impl<'p> Companion<'p> for CSide<'_> {
             let run = calls.remove(j.answers.as_slice());
             if run.is_some() || !ex.memory {
                 self.compare_joined(id, j, run);
+            } else {
+                self.not_run = self.not_run.saturating_add(j.weight);
             }
         }
         // whatever the C did that the semantics did not (only meaningful on complete trees)

@@ -151,6 +151,8 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
             *c = true;
         }
     }
+    // and the paths the C did not run there were not compared
+    walk.transitions = walk.transitions.saturating_sub(side.not_run);
     let findings = std::mem::take(&mut side.findings);
     let (cut_c, max_events_seen, second_runs) =
         (side.cut.clone(), side.max_events_seen, side.second_runs);
