@@ -1,6 +1,7 @@
 //! `vouch fpl validate --target …` and its budgets as a user runs them: the demo on the
 //! emulated Cortex-M4 (exit 0, the report names the build), `--cflags` replacing the flags,
-//! a walk a budget cuts short (exit 3, the cut state named), and a missing emulator (exit 2,
+//! a walk a budget cuts short (exit 3, the cut state named; also the emulated board's memory
+//! for join points), and a missing emulator (exit 2,
 //! `fpl::E054`).
 
 mod common;
@@ -54,7 +55,8 @@ fn a_walk_cut_by_the_path_budget_exits_3_and_names_the_cut_state() {
     let Some(_cc) = vouch_testkit::c_compiler() else { return };
     let wide = plan("crates/vouch-fpl/tests/evidence_plans/wide.xml");
     let w = wide.to_str().expect("utf-8 path");
-    let o = vouch(&["fpl", "validate", "--max-paths", "20000", "--random-runs", "0", w]);
+    // the first call makes 511 runs (its 33,151 paths joined where each loop is left)
+    let o = vouch(&["fpl", "validate", "--max-paths", "300", "--random-runs", "0", w]);
     assert_eq!(code(&o), 3);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
@@ -65,6 +67,24 @@ fn a_walk_cut_by_the_path_budget_exits_3_and_names_the_cut_state() {
     );
     let o = vouch(&["fpl", "validate", "--random-runs", "0", w]);
     assert_eq!(code(&o), 0, "{}", String::from_utf8_lossy(&o.stdout));
+}
+
+/// On the emulated core the join points of one call may take 1 MiB: a call that needs more
+/// is cut — exit 3, the reason and the state named — not reported as a crash.
+#[test]
+fn a_call_beyond_the_boards_memory_for_join_points_is_cut() {
+    if !arm_peers() {
+        return;
+    }
+    let ranges = plan("crates/vouch-fpl/tests/evidence_plans/explode_ranges.xml");
+    let r = ranges.to_str().expect("utf-8 path");
+    let args = ["fpl", "validate", "--target", "cortex-m4", "--depth", "1", "--random-runs", "0"];
+    let o = vouch(&[&args[..], &[r]].concat());
+    assert_eq!(code(&o), 3, "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("C and semantics agree"), "{text}");
+    assert!(text.contains("the C side had no memory left for the join points"), "{text}");
+    assert!(text.contains("1 state(s) cut — block 0 'Chain' stage 0"), "{text}");
 }
 
 #[test]

@@ -88,7 +88,9 @@ fn unmutated_headers_pass() {
         assert!(r.passed(), "{name}: {:?}", r.counterexample);
         assert!(r.cut.is_none() && r.fixpoint, "{name}");
         assert!(r.transitions > 20, "explores the plan ({} transitions)", r.transitions);
-        assert_eq!(r.second_runs, r.transitions, "{name}: every run repeated from a changed state");
+        // no call of these plans has paths that join: every path is a run of its own
+        assert_eq!((r.joined, r.runs as u128), (0, r.transitions), "{name}");
+        assert_eq!(r.second_runs, r.runs, "{name}: every run repeated from a changed state");
     }
 }
 
@@ -362,4 +364,19 @@ fn inverted_first_condition_is_caught_on_corpus_plans() {
     // with operator jumps every block is reachable, so every first condition is asked
     assert_eq!(checked, results.len(), "plans that never ask their first condition");
     assert!(missed.is_empty(), "mutation not caught on: {missed:?}");
+}
+
+/// A call's paths are joined where the first loop of `wide.xml` is left: a second loop whose
+/// initialisation reads the first loop's counter (dead there for the semantics) is caught on
+/// the first call. With `rows` = 0 the first loop is left at once; its counter is put back at
+/// the second loop's stage start, so the mutant starts the second loop one higher: with
+/// `cols` = 1 the semantics enters the loop (stage 6) and the C leaves it (the deroute).
+#[test]
+fn a_read_of_a_counter_left_in_the_same_call_is_caught() {
+    let Some(_cc) = common::c_compiler() else { return };
+    let (fp, h) = plan_and_header("wide.xml");
+    let mutated =
+        mutate(&h, "_var_c = FP_V(\"1\") - 1;", "_var_c = FP_V(\"1\") - 1 + (_var_r != 1);");
+    let cx = caught("second loop reads the first loop's counter", &fp, &mutated, &full());
+    assert_eq!((cx.calls, cx.transitions, cx.answers.clone()), (1, 1, vec![0, 2]), "{}", cx.what);
 }

@@ -44,12 +44,21 @@ fn mutation_with(code: &str) -> (vouch_fpl::passes::fp::Fp, String) {
     (fp, mutated)
 }
 
-/// Every crafted plan, the array forms included, reaches the fixpoint on both cores, over
-/// exactly the host's states and transitions.
+/// Every crafted plan, the declaration forms and a call with 10^17 paths included, reaches the
+/// fixpoint on both cores, over exactly the host's states and transitions.
 #[test]
 fn crafted_plans_validate_on_the_cortex_m_cores() {
     let Some(()) = peers() else { return };
-    for name in ["arrays.xml", "deep.xml", "symbolic.xml", "pingpong.xml", "mutation.xml"] {
+    for name in [
+        "arrays.xml",
+        "decls.xml",
+        "deep.xml",
+        "symbolic.xml",
+        "pingpong.xml",
+        "mutation.xml",
+        "wide.xml",
+        "explode_loops.xml",
+    ] {
         let p = plan(name);
         let host = validate(&p, &on(Target::Host)).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(host.passed() && host.fixpoint, "{name} on the host: {:?}", host.counterexample);

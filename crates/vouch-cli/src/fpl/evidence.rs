@@ -31,8 +31,9 @@ pub struct ValidateArgs {
     /// State budget: beyond it the walk is cut (reported as not a fixpoint, exit 3)
     #[arg(long, default_value_t = 200_000)]
     max_states: usize,
-    /// Paths of one call: beyond it the call is cut (reported as not a fixpoint, exit 3)
-    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    /// Runs of one call (its paths, joined where they reach a stage in the same state): beyond
+    /// it the call is cut (reported as not a fixpoint, exit 3)
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
     max_paths: usize,
     /// Also print the static per-block bound (stages and external events per call)
     #[arg(long)]

@@ -104,6 +104,7 @@ pub fn build_with(fp: &Fp, o: BuildOptions) -> Result<Graph, StepError> {
         keep_last_block: o.last_block,
         record_edges: true,
         drop_dead: true,
+        join_paths: false,
     };
     let mut space = Space::new(&m, opts);
     let walk = space::explore(&mut space, &mut Alone)?;

@@ -13,6 +13,9 @@
 //! The state-space walk of [`super::space`], hence the validator and the model checker, build
 //! on this, so they explore the same tree.
 
+use std::collections::HashMap;
+use std::hash::Hash;
+
 use super::oracle::{Oracle, literal_value};
 use super::trace::{Event, Observation};
 use super::{Interp, State, StepError};
@@ -78,12 +81,42 @@ pub struct CallPath<'p> {
     pub markers: Vec<String>,
 }
 
-/// Result of [`enumerate_call`].
+/// A run of one call that reached, at the start of a stage, a state an earlier run of the same
+/// call had reached there: its future is that run's, so it stops (see [`enumerate_joined`]).
+#[derive(Debug, Clone)]
+pub struct Joined {
+    /// The answers consumed before the stage start.
+    pub answers: Vec<i64>,
+    /// The events before it.
+    pub events: Vec<Event>,
+    /// The join point: its number in the order the runs reached them.
+    pub node: usize,
+    /// The paths of the call it stands for: those below the join point (saturating).
+    pub weight: u128,
+}
+
+/// Result of [`enumerate_call`] and [`enumerate_joined`].
 #[derive(Debug, Clone)]
 pub struct CallTree<'p> {
+    /// The runs that reached the end of the call.
     pub paths: Vec<CallPath<'p>>,
-    /// The path budget was exhausted: `paths` is a prefix (in DFS order) of the tree.
+    /// The runs that stopped at a join point.
+    pub joined: Vec<Joined>,
+    /// Paths of the call the runs stand for (saturating).
+    pub total: u128,
+    /// The run budget was exhausted: the runs are a prefix (in DFS order) of the exploration.
     pub cut: bool,
+}
+
+/// Does event `e` consume an answer?
+fn asks(e: &Event) -> bool {
+    match e {
+        Event::Cond { text, .. } => {
+            !(text.starts_with(MARKER_PREFIX) && text.ends_with(FORCED_SUFFIX))
+        }
+        Event::Value { text, .. } => literal_value(text).is_none(),
+        Event::Code { .. } => false,
+    }
 }
 
 /// Every path of one call from `from`, in depth-first order (false before true, value 0
@@ -93,20 +126,101 @@ pub fn enumerate_call<'p>(
     from: &State<'p>,
     max_paths: usize,
 ) -> Result<CallTree<'p>, StepError> {
-    let mut paths = Vec::new();
+    enumerate(interp, from, max_paths, None::<&dyn Fn(&State<'p>)>)
+}
+
+/// Every way one call from `from` can go, as a graph rather than a tree: runs are made in the
+/// order of [`enumerate_call`], and a run that reaches the start of a stage (the C's
+/// `Stage(n)` label) with a `key` an earlier run of this call reached there stops, *joined*
+/// to it: what follows is the earlier run's future. Paths that differ only in what the rest of
+/// the call cannot read (the key) are explored once from there on, so the runs grow with the
+/// number of distinct states at stage starts, not with the number of paths (a chain of loops
+/// each left at once for most values of its bound has exponentially many). At most
+/// `max_runs` runs.
+pub fn enumerate_joined<'p, K: Eq + Hash>(
+    interp: &mut Interp<'p>,
+    from: &State<'p>,
+    max_runs: usize,
+    key: &dyn Fn(&State<'p>) -> K,
+) -> Result<CallTree<'p>, StepError> {
+    enumerate(interp, from, max_runs, Some(key))
+}
+
+/// Where a run ends: the end of the call, or a join point (its index in the stage starts,
+/// the node, the answers consumed before it).
+enum End {
+    Call,
+    Join(usize, usize, usize),
+}
+
+/// The join points a run passes and where it ends (see [`enumerate_joined`]).
+fn join_points<'p, K: Eq + Hash>(
+    interp: &Interp<'p>,
+    events: &[Event],
+    prefix_len: usize,
+    key: &dyn Fn(&State<'p>) -> K,
+    nodes: &mut HashMap<K, usize>,
+) -> (Vec<usize>, End) {
+    let mut passed = Vec::new();
+    let (mut asked, mut seen) = (0, 0);
+    for (i, start) in interp.stage_starts().iter().enumerate() {
+        asked += events[seen..start.events].iter().filter(|e| asks(e)).count();
+        seen = start.events;
+        let k = key(&start.state);
+        if asked < prefix_len {
+            // replaying the prefix: an earlier run of this prefix registered the point
+            passed.extend(nodes.get(&k).copied());
+            continue;
+        }
+        if let Some(&node) = nodes.get(&k) {
+            return (passed, End::Join(i, node, asked));
+        }
+        let node = nodes.len();
+        nodes.insert(k, node);
+        passed.push(node);
+    }
+    (passed, End::Call)
+}
+
+fn enumerate<'p, K: Eq + Hash>(
+    interp: &mut Interp<'p>,
+    from: &State<'p>,
+    max_runs: usize,
+    key: Option<&dyn Fn(&State<'p>) -> K>,
+) -> Result<CallTree<'p>, StepError> {
+    let mut tree = CallTree { paths: Vec::new(), joined: Vec::new(), total: 0, cut: false };
+    let mut nodes: HashMap<K, usize> = HashMap::new();
+    // paths from each join point to the end of the call; complete when a later run joins it
+    // (depth first, every run below a point comes before any run joining it)
+    let mut below: Vec<u128> = Vec::new();
+    if key.is_some() {
+        interp.record_stage_starts();
+    }
     // Each pending prefix is a list of answers; the walk is depth first, false first.
     let mut pending: Vec<Vec<i64>> = vec![Vec::new()];
+    let mut runs = 0;
     while let Some(prefix) = pending.pop() {
-        if paths.len() >= max_paths {
-            return Ok(CallTree { paths, cut: true });
+        if runs >= max_runs {
+            tree.cut = true;
+            break;
         }
+        runs += 1;
         interp.state = from.clone();
         let mut oracle = PrefixOracle { prefix, taken: Vec::new(), markers_true: Vec::new() };
         let rec = interp.step(&mut oracle)?;
         let plen = oracle.prefix.len();
-        // Alternatives for every question asked beyond the prefix. The shallowest is pushed
-        // first so it is popped last: the walk is depth first in lexicographic answer order.
-        for i in plen..oracle.taken.len() {
+        let (passed, end) = match key {
+            Some(k) => join_points(interp, &rec.events, plen, k, &mut nodes),
+            None => (Vec::new(), End::Call),
+        };
+        let asked = match end {
+            End::Call => oracle.taken.len(),
+            End::Join(.., asked) => asked,
+        };
+        // Alternatives for every question asked beyond the prefix (before the join point).
+        // The shallowest is pushed first so it is popped last: the walk is depth first in
+        // lexicographic answer order.
+        for i in plen..asked {
             let base: Vec<i64> = oracle.taken[..i].iter().map(|t| t.1).collect();
             let alts: Vec<i64> = match oracle.taken[i].0 {
                 Asked::Cond => vec![1],
@@ -120,15 +234,32 @@ pub fn enumerate_call<'p>(
                 pending.push(p);
             }
         }
-        paths.push(CallPath {
-            answers: oracle.taken.iter().map(|t| t.1).collect(),
-            events: rec.events,
-            after: rec.after,
-            state: interp.state.clone(),
-            markers: oracle.markers_true,
-        });
+        let answers: Vec<i64> = oracle.taken[..asked].iter().map(|t| t.1).collect();
+        let weight = match end {
+            End::Call => {
+                tree.paths.push(CallPath {
+                    answers,
+                    events: rec.events,
+                    after: rec.after,
+                    state: interp.state.clone(),
+                    markers: oracle.markers_true,
+                });
+                1
+            }
+            End::Join(i, node, _) => {
+                let events = rec.events[..interp.stage_starts()[i].events].to_vec();
+                let weight = below.get(node).copied().unwrap_or(0);
+                tree.joined.push(Joined { answers, events, node, weight });
+                weight
+            }
+        };
+        below.resize(nodes.len(), 0);
+        for n in passed {
+            below[n] = below[n].saturating_add(weight);
+        }
+        tree.total = tree.total.saturating_add(weight);
     }
-    Ok(CallTree { paths, cut: false })
+    Ok(tree)
 }
 
 #[cfg(test)]
@@ -160,5 +291,43 @@ mod tests {
         // f() true stays on the call stage
         let stays = interp.observe_state(&tree.paths[1].state);
         assert_eq!(stays, interp.observe_state(&init));
+    }
+
+    #[test]
+    fn runs_joined_at_stage_starts_stand_for_every_path() {
+        // two loops in a row bounded by n and m: 127 values of n enter the first loop (the
+        // call ends), 129 leave it at once and the call reaches the second loop, whose 256
+        // values each end the call: 127 + 129 × 256 paths
+        let plan = crate::front::parse_str(
+            "t.xml",
+            r#"<flight_plan name="t" lat0="43.5" lon0="1.4" alt="250" ground_alt="150"
+            security_height="30" max_dist_from_home="1000">
+          <waypoints><waypoint name="HOME" x="0" y="0"/></waypoints>
+          <blocks><block name="B"><for var="i" from="1" to="n"><call_once fun="a()"/></for>
+          <for var="j" from="1" to="m"><call_once fun="b()"/></for></block></blocks>
+          </flight_plan>"#,
+        )
+        .expect("parses");
+        let fp = crate::passes::lower::lower(&plan).expect("lowers");
+        let space = crate::semantics::space::Space::new(&fp, Default::default());
+        let mut interp = Interp::new(&fp);
+        let init = interp.state.clone();
+        let key = |s: &State<'_>| space.stage_key(s);
+        let tree = enumerate_joined(&mut interp, &init, 10_000, &key).expect("runs");
+        assert_eq!(tree.total, 127 + 129 * 256);
+        // the first run that leaves the first loop goes on to the second loop's start; the
+        // other 128 stop there, joined to it. Below it, likewise: 127 values of m enter the
+        // second loop, the first that leaves it goes on to the block's end, the other 128
+        // stop there. Runs to the end: 127 + 127 + 1.
+        assert_eq!((tree.paths.len(), tree.joined.len()), (255, 256));
+        for answers in [1, 2] {
+            let at: Vec<usize> =
+                tree.joined.iter().filter(|j| j.answers.len() == answers).map(|j| j.node).collect();
+            assert_eq!(at.len(), 128);
+            assert!(at.iter().all(|n| *n == at[0]));
+        }
+        let full = enumerate_call(&mut interp, &init, 100_000).expect("runs");
+        assert_eq!(full.paths.len() as u128, tree.total);
+        assert!(full.joined.is_empty() && !full.cut && !tree.cut);
     }
 }

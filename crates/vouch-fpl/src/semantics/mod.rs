@@ -90,6 +90,17 @@ pub struct Interp<'p> {
     forbidden_off: bool,
     /// Where the events of the last call came from, when recorded ([`Interp::record_origins`]).
     origins: Option<Vec<Origin>>,
+    /// The state at every stage start of the last call, when recorded
+    /// ([`Interp::record_stage_starts`]).
+    starts: Option<Vec<StageStart<'p>>>,
+}
+
+/// The state when a stage starts within a call (the C's `Stage(n)` label), and how many
+/// events the call had produced before it.
+#[derive(Debug, Clone)]
+pub struct StageStart<'p> {
+    pub events: usize,
+    pub state: State<'p>,
 }
 
 /// The source of a call's events from `first_event` on (until the next origin): the stage,
@@ -162,7 +173,16 @@ impl<'p> Interp<'p> {
             counters: HashMap::new(),
             last_wp: 0,
         };
-        Interp { fp, first, ends, state, calls: 0, forbidden_off: false, origins: None }
+        Interp {
+            fp,
+            first,
+            ends,
+            state,
+            calls: 0,
+            forbidden_off: false,
+            origins: None,
+            starts: None,
+        }
     }
 
     fn full_of(fp: &'p Fp, block: BlockIx) -> Vec<Item<'p>> {
@@ -182,6 +202,17 @@ impl<'p> Interp<'p> {
     /// (read with [`Interp::origins`]); used to locate differences in the plan's files.
     pub fn record_origins(&mut self) {
         self.origins = Some(Vec::new());
+    }
+
+    /// From now on, remember the state at every stage start of a call (read with
+    /// [`Interp::stage_starts`]); the exploration of one call joins paths there.
+    pub fn record_stage_starts(&mut self) {
+        self.starts = Some(Vec::new());
+    }
+
+    /// The stage starts of the last call (empty unless recorded).
+    pub fn stage_starts(&self) -> &[StageStart<'p>] {
+        self.starts.as_deref().unwrap_or(&[])
     }
 
     /// The origins of the events of the last call (empty unless recorded).
@@ -335,6 +366,9 @@ impl<'p> Interp<'p> {
         if let Some(o) = &mut self.origins {
             o.clear();
         }
+        if let Some(st) = &mut self.starts {
+            st.clear();
+        }
         let fp = self.fp;
         if !self.exceptions(&mut ev, oracle, &fp.exceptions) {
             let b = self.state.block;
@@ -427,6 +461,9 @@ impl<'p> Interp<'p> {
     ) -> Result<(), StepError> {
         let bound = 2 * self.ends.get(b).copied().unwrap_or(0) + 2;
         for _ in 0..bound {
+            if let Some(st) = &mut self.starts {
+                st.push(StageStart { events: ev.len(), state: self.state.clone() });
+            }
             let Some(top) = self.state.remaining.last().copied() else {
                 // IR-3 / IR-4: no stage left, next block (the last block re-enters itself).
                 let nb = self.fp.blocks.len();

@@ -16,7 +16,7 @@
  *
  *   I                       auto_nav_init() from the initial state:
  *                             I, its event lines, Z <state hex>
- *   X <jumps> <hex> <n> <hex1> .. <hexn>
+ *   X <jumps> <hex> <n> <k> <hex1> .. <hexn>
  *                           every path of one auto_nav() call from state <hex>: at each question
  *                           (condition 0/1, non-literal value: every int8_t) the call is run
  *                           again from the restored state with a longer answer prefix:
@@ -29,12 +29,24 @@
  *                           drops changed; T gives the changes from copy i, or "!" (then that
  *                           run's event lines, and no more T lines for the record) when it asked
  *                           other questions or produced other events.
- *                           <changes>: " offset=value" for every byte that differs.
+ *                           <changes>: " offset=value" for every byte that differs. With
+ *                           joining (K), a run from copy k or later that meets the explored
+ *                           run at a stage start with only put-back counters differing stops:
+ *                           T a-b = for copies a to b (the rest is the explored run's, those
+ *                           counters at each copy's own start values).
  *   W <calls> <n> a1 .. an  one plain run from the initial state in a child process, answers
  *                           beyond n are 0, printed in the format of tests/stub/driver.c.
+ *   K <join> <mask> <bytes> <n> ...  join the runs of one call at stage starts (X requests): n loops
+ *                           as (counter variable id, block, init stage, loop-back stage), whose
+ *                           counters are put back at stages outside the loop when <mask> is 1;
+ *                           a run that reaches a stage start in the state an earlier run of
+ *                           the call had there stops: P k a1..ak, event lines, M <node>;
+ *                           the join points may take <bytes> of memory (0: no limit)
  *   F                       the decimal constants of the plan's comparisons as compiled
  *                           (vouch_consts.h): F <hex of the double's bytes, lowest first>
  *
+ *   done <cut>              after an X request: 0 complete, 1 the run budget was reached, 2
+ *                           no memory was left for the join points (and no jumps were made)
  *   H <offset>              (after a record) its runs wrote outside the registered variables
  *   A <signal> k a1..ak     the process dies (crash, time-out) on that answer prefix (or
  *   A <signal> J b          during the jump to block b); the answer is then "done 0" and the
@@ -72,6 +84,11 @@ struct vouch_var { unsigned long magic; long id; void *addr; unsigned long size;
   static struct vouch_var vouch_var_##id __attribute__((used, section("vouch_vars"))) = \
     { VOUCH_MAGIC, id, (void *)&(name), sizeof(name) };
 #include "fp_stub.h"
+/* Every stage start of the header's auto_nav also reports to the driver, where the runs of one
+ * call are joined (see vouch_at_stage). */
+void vouch_at_stage(void);
+#undef Stage
+#define Stage(s) case s: set_nav_stage(s); vouch_at_stage();
 #include "vouch_runtime_vars.h"
 #include "vouch_consts.h"
 #define NAV_C
@@ -108,7 +125,30 @@ struct driver {
   int deviated;
   int jumping;             /* the block of the operator jump in progress, or -1 */
   long question_limit, leaf_budget, value_lo, value_hi;
-  jmp_buf too_long;
+  jmp_buf too_long;        /* longjmp 1: too many questions, 2: joined an earlier run */
+  /* joining the runs of one call (request K): at a stage start, the counters of the loops the
+   * stage is not inside are put back as they were at the start of the call (`start`); a run
+   * that then holds a state an earlier run of this call held at a stage start stops there */
+  int join, mask;
+  size_t join_bytes;       /* memory the join points may take (0: no limit) */
+  long *loops;             /* n_loops × (variable id, block, init stage, loop-back stage) */
+  size_t n_loops;
+  const unsigned char *start;
+  unsigned char *nodes;    /* n_nodes states */
+  size_t n_nodes, cap_nodes;
+  long *slots;             /* hash table of node numbers + 1 */
+  size_t n_slots;
+  long joined;             /* the node the run joined */
+  /* the stage starts of the last explored run (state, events, answers at each), so that a
+   * copy's run whose changes are all put back can stop where it meets that run again */
+  unsigned char *snaps;
+  size_t *snap_ev, *snap_taken;
+  long *snap_node;         /* the join point of each stage start */
+  unsigned long *met;      /* hash set of (copy, join point) + 1 where a copy's run met */
+  size_t n_met, n_met_slots;
+  size_t n_snaps, cap_snaps, snap_seen;
+  size_t first_stoppable;  /* copies from this one on may stop so (request X) */
+  int stoppable;
   /* output: events are recorded into *rec when it is set */
   struct buf *rec;
   struct buf ev, ev2, out;
@@ -152,10 +192,15 @@ static void capture(unsigned char *s)
     if (D->vars[i]) { memcpy(s + D->offset[i], D->vars[i]->addr, D->vars[i]->size); }
   }
 }
+/* Only variables whose bytes differ are written: a `const` plan variable lives in read-only
+ * storage, and its bytes never differ. */
 static void restore(const unsigned char *s)
 {
   for (size_t i = 0; i < D->n_vars; i++) {
-    if (D->vars[i]) { memcpy(D->vars[i]->addr, s + D->offset[i], D->vars[i]->size); }
+    struct vouch_var *v = D->vars[i];
+    if (v && memcmp(v->addr, s + D->offset[i], v->size) != 0) {
+      memcpy(v->addr, s + D->offset[i], v->size);
+    }
   }
 }
 
@@ -231,6 +276,8 @@ static void put_hidden(void)
   }
   D->n_hidden = 0;
 }
+
+#include "explore_join.h"
 
 /* ---- answers ---- */
 static void push_pending(size_t keep, long alt)
@@ -350,18 +397,25 @@ static void put_changes(const unsigned char *from, const unsigned char *to)
 }
 
 /* One call (jump_to < 0) or an operator jump from state `s` with the current prefix; events
- * in `ev`, the state after in D->after; 0 when the call asked more questions than allowed. */
+ * in `ev`, the state after in D->after; 1 when it ended, 0 when the call asked more questions
+ * than allowed, 2 when it joined an earlier run of the call at a stage start (D->joined), 3
+ * when a copy's run met the explored run (meets_explored_run), 4 when there was no memory
+ * left for a join point. */
 static int run_from(const unsigned char *s, struct buf *ev, enum mode mode, int jump_to)
 {
   restore(s);
+  D->start = s;
+  D->snap_seen = 0;
+  if (mode == EXPLORE) { D->n_snaps = 0; }
   D->mode = mode;
   D->n_taken = 0;
   D->deviated = 0;
   ev->len = 0;
   D->rec = ev;
-  int ended = setjmp(D->too_long) == 0;
+  int stop = setjmp(D->too_long);
+  int ended = stop == 0 ? 1 : stop >= 2 ? stop : 0;
   D->jumping = jump_to;
-  if (ended) {
+  if (stop == 0) {
     if (jump_to < 0) { auto_nav(); } else { nav_goto_block((uint8_t)jump_to); }
   }
   D->jumping = -1;
@@ -377,7 +431,20 @@ static int replay_copy(size_t n, size_t i, int jump_to)
 {
   const unsigned char *s2 = D->copies + i * D->state_len;
   D->n_prefix = n;
-  int ended = run_from(s2, &D->ev2, FORCED, jump_to);
+  D->stoppable = i >= D->first_stoppable && jump_to < 0;
+  int r = 0;
+  for (size_t j = 0; D->stoppable && j < D->n_snaps; j++) {
+    if (met_find(met_key(i, D->snap_node[j]), 0)) { r = 3; break; }
+  }
+  if (r != 3) {
+    r = run_from(s2, &D->ev2, FORCED, jump_to);
+    if (r == 3) { met_find(met_key(i, D->snap_node[D->snap_seen - 1]), 1); }
+  }
+  D->stoppable = 0;
+  /* met: the rest of the run is the explored run's, with the put-back counters at the copy's
+   * own start values (put_run prints these as ranges: T a-b =) */
+  if (r == 3) { return 2; }
+  int ended = r == 1;
   put_s(&D->out, "T ");
   put_l(&D->out, (long)i);
   if (!ended || D->deviated || D->n_taken != n || D->ev2.len != D->ev.len
@@ -389,6 +456,15 @@ static int replay_copy(size_t n, size_t i, int jump_to)
   }
   put_changes(s2, D->after);
   return 1;
+}
+
+static void put_met(size_t a, size_t b)
+{
+  put_s(&D->out, "T ");
+  put_l(&D->out, (long)a);
+  put_s(&D->out, "-");
+  put_l(&D->out, (long)b);
+  put_s(&D->out, " =\n");
 }
 
 /* P or J record of the run just made (events in D->ev, answers in D->taken). */
@@ -408,9 +484,18 @@ static void put_run(int jump_to)
   size_t n = D->n_taken;
   /* the answers of this run, for every copy (the copies' runs overwrite D->taken) */
   memcpy(D->prefix, D->taken, n * sizeof(long));
+  size_t met_from = 0;
+  int streak = 0;
   for (size_t i = 0; i < D->n_copies; i++) {
-    if (!replay_copy(n, i, jump_to)) { break; }
+    int r = replay_copy(n, i, jump_to);
+    if (r == 2) {
+      if (!streak) { met_from = i; streak = 1; }
+      continue;
+    }
+    if (streak) { put_met(met_from, i - 1); streak = 0; }
+    if (!r) { break; }
   }
+  if (streak) { put_met(met_from, D->n_copies - 1); }
   put_hidden();
 }
 
@@ -420,12 +505,32 @@ static void explore(int jumps)
   int cut = 0;
   D->n_pending = 0;
   D->n_prefix = 0;
+  D->n_nodes = 0;
+  if (D->slots) { memset(D->slots, 0, D->n_slots * sizeof(long)); }
+  D->n_met = 0;
+  if (D->met) { memset(D->met, 0, D->n_met_slots * sizeof *D->met); }
   for (;;) {
     if (leaves >= D->leaf_budget) { cut = 1; break; }
+    /* the time limit is per run: a call with many runs takes as long as it needs */
+    vouch_timer_arm(ALARM_SECONDS);
     int ended = run_from(D->state, &D->ev, EXPLORE, -1);
     leaves++;
-    if (ended) {
+    if (ended == 4) {
+      /* out of memory for join points: the request is cut, this run not reported */
+      cut = 2;
+      break;
+    }
+    if (ended == 1) {
       put_run(-1);
+    } else if (ended == 2) {
+      /* joined: its answers and events up to the stage start, and the node */
+      put_s(&D->out, "P ");
+      put_answers(&D->out, D->taken, D->n_taken);
+      put(&D->out, D->ev.p, D->ev.len);
+      put_s(&D->out, "M ");
+      put_l(&D->out, D->joined);
+      put_s(&D->out, "\n");
+      put_hidden();
     } else {
       put_s(&D->out, "L ");
       put_answers(&D->out, D->taken, D->n_taken);
@@ -434,7 +539,8 @@ static void explore(int jumps)
     if (D->out.len > (1 << 16)) { flush_out(); }
     if (!pop_pending()) { break; }
   }
-  for (int b = 0; jumps && b < NB_BLOCK; b++) {
+  for (int b = 0; jumps && cut != 2 && b < NB_BLOCK; b++) {
+    vouch_timer_arm(ALARM_SECONDS);
     D->n_prefix = 0;
     run_from(D->state, &D->ev, FORCED, b);
     put_run(b);
@@ -551,11 +657,29 @@ static void request(const char *line)
   const char *p = line + 1;
   if (line[0] == 'I') { initial(); return; }
   if (line[0] == 'F') { constants(); return; }
+  if (line[0] == 'K') {
+    /* K <join> <mask> <bytes> <n> then n × (variable id, block, init stage, loop-back
+     * stage) */
+    D->join = (int)strtol(p, &end, 10);
+    D->mask = (int)strtol(end, &end, 10);
+    D->join_bytes = (size_t)strtol(end, &end, 10);
+    long n = strtol(end, &end, 10);
+    D->n_loops = 0;
+    D->loops = grow(D->loops, (size_t)(n > 0 ? n : 1) * 4 * sizeof(long));
+    for (long i = 0; i < n; i++) {
+      for (int k = 0; k < 4; k++) { D->loops[4 * i + k] = strtol(end, &end, 10); }
+      D->n_loops++;
+    }
+    put_s(&D->out, "done 0\n");
+    return;
+  }
   if (line[0] == 'X') {
     int jumps = (int)strtol(p, &end, 10);
     p = end;
     if (!parse_hex(&p, D->state)) { put_s(&D->out, "done 0\n"); return; }
     long n = strtol(p, &end, 10);
+    p = end;
+    D->first_stoppable = (size_t)strtol(p, &end, 10);
     p = end;
     D->n_copies = 0;
     if (n > 0 && (size_t)n > D->cap_copies) {

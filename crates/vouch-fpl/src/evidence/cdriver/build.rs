@@ -18,6 +18,7 @@ use crate::evidence::cstate::Discovery;
 pub const DRIVER_C: &str = include_str!("../c/explore_driver.c");
 const PLATFORM_H: &str = include_str!("../c/vouch_platform.h");
 const TEXT_H: &str = include_str!("../c/driver_text.h");
+const JOIN_H: &str = include_str!("../c/explore_join.h");
 const HOST_RT_C: &str = include_str!("../c/host_rt.c");
 const TARGET_RT_C: &str = include_str!("../c/target_rt.c");
 const TARGET_LD: &str = include_str!("../c/target.ld");
@@ -218,12 +219,16 @@ pub(super) fn write_sources(
         ("explore_driver.c", DRIVER_C),
         ("vouch_platform.h", PLATFORM_H),
         ("driver_text.h", TEXT_H),
+        ("explore_join.h", JOIN_H),
         ("host_rt.c", HOST_RT_C),
         ("target_rt.c", TARGET_RT_C),
         ("target.ld", TARGET_LD),
     ]);
     let table = constants_header(constants);
     files.push(("vouch_consts.h", table.as_str()));
+    let known: Vec<&str> = STUB_FILES.iter().map(|f| f.1).collect();
+    let types = super::standins::standins(&discovery.registered_header, &known);
+    files.push(("vouch_types.h", types.as_str()));
     for (rel, text) in files {
         std::fs::write(dir.join(rel), text).map_err(io_err(rel))?;
     }
@@ -240,6 +245,8 @@ pub(super) fn compile(
     let cc = target.compiler();
     let mut cmd = Command::new(&cc);
     cmd.current_dir(dir).args(cflags).args(["-w", "-Iinclude", "-I."]).args(RENAMES);
+    // the stand-ins for the plan variables' types come before any source (`standins`)
+    cmd.args(["-include", "vouch_types.h"]);
     match target {
         // everything resolved at start-up, the GOT read-only: the watched segment then holds
         // only the program's own static variables

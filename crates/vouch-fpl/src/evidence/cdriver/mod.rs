@@ -11,6 +11,7 @@
 
 mod build;
 mod protocol;
+mod standins;
 
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, ChildStdout, Stdio};
@@ -50,6 +51,9 @@ pub struct Driver {
     pub watched: Option<usize>,
     /// Processes started after a crash.
     pub restarts: usize,
+    /// The `K` request (how the runs of one call are joined), sent again to a restarted
+    /// driver.
+    joining: Option<String>,
 }
 
 struct Proc {
@@ -65,6 +69,11 @@ pub enum Second {
     Same(Vec<u8>),
     /// Other questions or other events (those it produced).
     Differs(Vec<String>),
+    /// Same questions and events up to a stage start where the run met the explored run, its
+    /// state the same but for counters both had put back (each to its own start value): from
+    /// there on it is that run, so its state after keeps every rule of the changed-state runs
+    /// by construction (a changed counter ends as the explored run's or at its own start).
+    Met,
 }
 
 /// One run the C made from a requested state: a call path or an operator jump.
@@ -80,6 +89,9 @@ pub enum CRun {
         after: Vec<u8>,
         seconds: Vec<Second>,
         hidden: Vec<usize>,
+        /// The run stopped at a stage start, joined to this node of the call (its answers and
+        /// events are those before it; no state after, no runs from the copies).
+        joined: Option<usize>,
     },
     /// The call asked more questions than the limit (a loop inside one call).
     TooLong { answers: Vec<i64> },
@@ -104,8 +116,10 @@ impl CRun {
 pub struct Expansion {
     /// Call paths, then jumps (when asked for).
     pub runs: Vec<CRun>,
-    /// The path budget ran out.
+    /// The run budget ran out, or the memory for join points (`memory`).
     pub cut: bool,
+    /// The driver had no memory left for another join point (the emulated board's RAM).
+    pub memory: bool,
 }
 
 /// `auto_nav_init()` from the initial state.
@@ -211,6 +225,7 @@ impl Driver {
             offsets: Vec::new(),
             watched: None,
             restarts: 0,
+            joining: None,
         };
         d.read_table()?;
         Ok(d)
@@ -298,7 +313,40 @@ impl Driver {
         let _ = self.proc.child.wait();
         self.proc = Self::spawn(self.dir.path(), self.target, self.limits)?;
         self.restarts += 1;
-        self.read_table()
+        self.read_table()?;
+        match self.joining.clone() {
+            Some(line) => self.send_joining(&line),
+            None => Ok(()),
+        }
+    }
+
+    /// Joins the runs of one call at stage starts (see `vouch_at_stage` in the driver):
+    /// `ranges` are the counter variables as (id, block, init stage, loop-back stage); with
+    /// `mask`, a counter is put back to its value at the start of the call at every stage start
+    /// outside its loop. On an emulated core the join points may take 1 MiB; a call that needs
+    /// more is cut ([`Expansion::memory`]).
+    pub fn join_runs(&mut self, mask: bool, ranges: &[[usize; 4]]) -> Result<(), DriverError> {
+        // the emulated boards have 4 MiB for code, data, heap and stack: a quarter of it for
+        // the join points; beyond, the call is reported cut (no limit on the host)
+        let bytes = if self.target == Target::Host { 0 } else { 1 << 20 };
+        let mut line = format!("K 1 {} {bytes} {}", u8::from(mask), ranges.len());
+        for r in ranges {
+            for n in r {
+                line.push_str(&format!(" {n}"));
+            }
+        }
+        self.send_joining(&line)?;
+        self.joining = Some(line);
+        Ok(())
+    }
+
+    fn send_joining(&mut self, line: &str) -> Result<(), DriverError> {
+        self.send(line)?;
+        let l = self.read_line()?;
+        if !l.starts_with("done") {
+            return Err(protocol(format!("expected the end of the K request, got '{l}'")));
+        }
+        Ok(())
     }
 
     fn send(&mut self, line: &str) -> Result<(), DriverError> {
@@ -337,14 +385,18 @@ impl Driver {
     }
 
     /// Every path of one call from `state` (each repeated from every copy), then, when `jumps`
-    /// is set, an operator jump to every block.
+    /// is set, an operator jump to every block. With joined runs ([`Driver::join_runs`]), the
+    /// run from a copy numbered `stoppable` or later stops where it meets the explored run
+    /// with only put-back counters differing ([`Second::Met`]).
     pub fn expand(
         &mut self,
         state: &[u8],
         copies: &[Vec<u8>],
+        stoppable: usize,
         jumps: bool,
     ) -> Result<Expansion, DriverError> {
-        let mut line = format!("X {} {} {}", u8::from(jumps), hex::encode(state), copies.len());
+        let mut line =
+            format!("X {} {} {} {stoppable}", u8::from(jumps), hex::encode(state), copies.len());
         for c in copies {
             line.push(' ');
             line.push_str(&hex::encode(c));
@@ -376,7 +428,8 @@ impl Driver {
                 }
                 "done" => {
                     finish(&mut ex, cur.take());
-                    ex.cut = rest.trim() == "1";
+                    ex.cut = rest.trim() != "0";
+                    ex.memory = rest.trim() == "2";
                     return Ok(ex);
                 }
                 _ => record_line(&mut ex, &mut cur, &l, (state, copies))?,

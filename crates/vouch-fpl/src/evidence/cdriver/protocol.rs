@@ -15,6 +15,7 @@ pub(super) fn done_run(jump: Option<usize>, answers: Vec<i64>) -> CRun {
         after: Vec::new(),
         seconds: Vec::new(),
         hidden: Vec::new(),
+        joined: None,
     }
 }
 
@@ -51,19 +52,28 @@ pub(super) fn record_line(
             ex.runs.push(CRun::TooLong { answers: parse_answers(rest)? });
         }
         ("S", Some(CRun::Done { after, .. })) => *after = apply_changes(states.0, rest)?,
+        ("M", Some(CRun::Done { joined, .. })) => *joined = Some(parse_num(rest)?),
         ("T", Some(CRun::Done { seconds, .. })) => {
             let (i, changes) = rest.split_once(' ').unwrap_or((rest, ""));
+            if let Some((a, b)) = i.split_once('-') {
+                // copies a to b met the explored run (`T a-b =`)
+                let (a, b) = (parse_num(a)?, parse_num(b)?);
+                if b < a || b >= states.1.len() || changes.trim() != "=" {
+                    return Err(protocol(format!("bad T line '{l}'")));
+                }
+                seconds.extend((a..=b).map(|_| Second::Met));
+                return Ok(());
+            }
             let base = states.1.get(parse_num(i)?).ok_or_else(|| protocol("T line for no copy"))?;
-            seconds.push(if changes.trim() == "!" {
-                Second::Differs(Vec::new())
-            } else {
-                Second::Same(apply_changes(base, changes)?)
+            seconds.push(match changes.trim() {
+                "!" => Second::Differs(Vec::new()),
+                _ => Second::Same(apply_changes(base, changes)?),
             })
         }
         // (a run that did not end is reported as such already)
         ("H", Some(CRun::Done { hidden, .. })) => hidden.push(parse_num(rest)?),
         ("H", _) => {}
-        ("S" | "T", _) => return Err(protocol(format!("{tag} line outside a run"))),
+        ("S" | "T" | "M", _) => return Err(protocol(format!("{tag} line outside a run"))),
         (_, Some(CRun::Done { seconds, events, .. })) => match seconds.last_mut() {
             Some(Second::Differs(ev2)) => ev2.push(l.to_string()),
             _ => events.push(l.to_string()),

@@ -11,7 +11,7 @@ use super::{Options, ValidateError, state_line};
 use crate::evidence::cdriver::{CRun, Driver, Second};
 use crate::evidence::wcet::PlanBound;
 use crate::semantics::State;
-use crate::semantics::space::{Companion, Move, Space, Succ};
+use crate::semantics::space::{Companion, Joined, Move, Space, Succ, Successors};
 
 /// A disagreement, before its path is known: the node it starts from and the move that shows
 /// it (none: the node itself).
@@ -41,6 +41,12 @@ pub(super) struct CSide<'d> {
     pub jumps: bool,
     pub findings: Vec<Finding>,
     pub cut: Option<String>,
+    /// The driver puts dead counters back at stage starts (see `Driver::join_runs`).
+    pub masked: bool,
+    /// Nodes whose call the C side cut.
+    pub cut_nodes: Vec<usize>,
+    /// Paths of those calls the C side did not run (counted by the walk all the same).
+    pub not_run: u128,
     pub max_events_seen: usize,
     pub second_runs: usize,
 }
@@ -62,6 +68,9 @@ impl CSide<'_> {
             jumps: opts.operator_jumps,
             findings: Vec::new(),
             cut: None,
+            masked: false,
+            cut_nodes: Vec::new(),
+            not_run: 0,
             max_events_seen: 0,
             second_runs: 0,
         }
@@ -95,15 +104,26 @@ impl CSide<'_> {
         [a.block, a.stage, a.last_block, a.last_stage, s.state.last_wp % 256]
     }
 
-    /// The first counter whose C value differs from the interpreter's, as text.
-    fn counter_mismatch(&self, st: &State<'_>, after: &[u8]) -> Option<String> {
+    /// The first counter whose C value differs from the interpreter's, as text. With
+    /// `masked`, the driver put the counters of loops a stage start was outside back to their
+    /// value at the start of the call (`state`): a loop not live after the call may hold that.
+    fn counter_mismatch(
+        &self,
+        space: &Space<'_>,
+        st: &State<'_>,
+        state: &[u8],
+        after: &[u8],
+    ) -> Option<String> {
+        let live = space.live_loops(st);
         for (id, kind) in self.vars.kinds.iter().enumerate() {
             let Some(l) = self.vars.loop_of(id) else { continue };
             let crate::evidence::cstate::Kind::Counter { bound, .. } = kind else { continue };
             let (v, t) = st.counters.get(&l).copied().unwrap_or((0, 0));
             let want = if *bound { t } else { v } as u8;
             let got = self.driver.var_bytes(after, id).first().copied().unwrap_or(0);
-            if got != want {
+            let before = self.driver.var_bytes(state, id).first().copied().unwrap_or(0);
+            let put_back = self.masked && !live.contains(&l) && got == before;
+            if got != want && !put_back {
                 let name = &self.vars.names[id];
                 return Some(format!("{name} = {} (semantics: {})", got as i8, want as i8));
             }
@@ -131,6 +151,7 @@ impl CSide<'_> {
     ) -> Option<(String, Vec<String>)> {
         let (how, lines) = match second {
             Second::Differs(ev2) => ("its events differ".to_string(), ev2.clone()),
+            Second::Met => return None,
             Second::Same(after2) => {
                 let id =
                     cview::second_ok(&self.vars, self.driver, changes, state, copy, after, after2)?;
@@ -151,6 +172,33 @@ impl CSide<'_> {
             changed.join(", ")
         );
         Some((what, lines))
+    }
+
+    /// Compares a run the interpreter joined to an earlier one at a stage start with the C run
+    /// of the same answers: the same events before it, joined to the same point.
+    fn compare_joined(&mut self, node: usize, j: &Joined, run: Option<&CRun>) {
+        let want: Vec<String> = j.events.iter().map(|e| e.line()).collect();
+        let mut expected = want.clone();
+        expected.push(format!("(joins point {})", j.node));
+        let mv = Some(Move::Call(j.answers.clone()));
+        let (what, actual) = match run {
+            Some(CRun::Done { joined: Some(n), events, .. }) if *n == j.node && *events == want => {
+                return;
+            }
+            Some(CRun::Done { joined, events, .. }) => {
+                let mut actual = events.clone();
+                actual.push(match joined {
+                    Some(n) => format!("(joins point {n})"),
+                    None => "(goes on)".to_string(),
+                });
+                (
+                    "the C and the semantics do not reach the same states within the call: at a stage start the semantics is in the state an earlier path of this call reached, the C is not or has other events",
+                    actual,
+                )
+            }
+            _ => ("the semantics allows this path, the C does not take it", vec![]),
+        };
+        self.find(node, mv, what, expected, actual);
     }
 
     /// Compares one interpreter successor with the C run of the same move.
@@ -180,6 +228,14 @@ impl CSide<'_> {
                     expected,
                     vec![],
                 );
+                return None;
+            }
+            Some(CRun::Done { joined: Some(n), events, .. }) => {
+                let what = format!(
+                    "the C stops at a stage start in a state an earlier path of this call reached (join point {n}); the semantics goes on to the end of the call"
+                );
+                let actual = events.clone();
+                self.find(node, mv, what, expected, actual);
                 return None;
             }
             Some(CRun::Done { hidden, events, .. }) if !hidden.is_empty() => {
@@ -214,7 +270,7 @@ impl CSide<'_> {
             self.find(node, mv, "different events or state", expected, actual);
             return None;
         }
-        if let Some(m) = self.counter_mismatch(&s.state, after) {
+        if let Some(m) = self.counter_mismatch(space, &s.state, state, after) {
             self.find(node, mv, format!("different loop counter: {m}"), expected, actual);
             return None;
         }
@@ -282,17 +338,26 @@ impl<'p> Companion<'p> for CSide<'_> {
         id: usize,
         from: &State<'p>,
         c: &CState,
-        succ: &[Succ<'p>],
+        next: &Successors<'p>,
     ) -> Result<Vec<Option<CState>>, ValidateError> {
+        let succ = &next.succ;
         let copies = if self.perturb {
             cview::copies(&self.vars, self.driver, space, from, &c.bytes)
         } else {
             Vec::new()
         };
         let bytes: Vec<Vec<u8>> = copies.iter().map(|c| c.bytes.clone()).collect();
-        let ex = self.driver.expand(&c.bytes, &bytes, self.jumps)?;
-        if ex.cut {
-            self.cut = Some("the C side's path budget of one call ran out".into());
+        // the runs from copies that shift live counters may stop where those are put back
+        let shifted = |c: &cview::Copy| {
+            c.changes.iter().any(|x| matches!(x, Some(cview::Change::Shifted(_))))
+        };
+        let stoppable = copies.iter().position(shifted).unwrap_or(copies.len());
+        let ex = self.driver.expand(&c.bytes, &bytes, stoppable, self.jumps)?;
+        if ex.memory {
+            self.cut_nodes.push(id);
+            self.cut = Some("the C side had no memory left for the join points of one call".into());
+        } else if ex.cut {
+            self.cut = Some("the C side's run budget of one call ran out".into());
         }
         // the process died: the runs after it were never made; the crash is the finding
         if let Some(CRun::Crashed { status, answers, jump }) =
@@ -321,7 +386,23 @@ impl<'p> Companion<'p> for CSide<'_> {
                 Move::Call(a) => calls.remove(a.as_slice()),
                 Move::Jump(b) => jumps.remove(b),
             };
+            if run.is_none() && ex.memory {
+                // not run: the C side's exploration of the call was cut
+                if matches!(s.mv, Move::Call(_)) {
+                    self.not_run = self.not_run.saturating_add(1);
+                }
+                out.push(None);
+                continue;
+            }
             out.push(self.compare(space, id, from.block, s, run, &copies, &c.bytes));
+        }
+        for j in &next.joined {
+            let run = calls.remove(j.answers.as_slice());
+            if run.is_some() || !ex.memory {
+                self.compare_joined(id, j, run);
+            } else {
+                self.not_run = self.not_run.saturating_add(j.weight);
+            }
         }
         // whatever the C did that the semantics did not (only meaningful on complete trees)
         if !ex.cut {

@@ -41,18 +41,23 @@ pub(super) struct Vars {
     counters: HashMap<usize, ((BlockIx, usize), bool)>,
     /// Loop → (counter id, bound id).
     pairs: HashMap<(BlockIx, usize), (usize, usize)>,
+    /// Every counter variable: (id, block, init stage, loop-back stage): the stages inside
+    /// the loop are those after its init up to its loop-back.
+    pub ranges: Vec<[usize; 4]>,
 }
 
 fn loops_of<'p>(
     interp: &Interp<'p>,
     block: BlockIx,
     stages: &'p [FpStage],
-    out: &mut HashMap<(BlockIx, String), usize>,
+    out: &mut HashMap<(BlockIx, String), (usize, usize)>,
 ) {
     for s in stages {
         match s {
             FpStage::For { var, body, .. } => {
-                out.insert((block, var.clone()), interp.item_number(&Item::Stage(s)));
+                let range =
+                    (interp.item_number(&Item::Stage(s)), interp.item_number(&Item::LoopBack(s)));
+                out.insert((block, var.clone()), range);
                 loops_of(interp, block, body, out);
             }
             FpStage::While { body, .. } => loops_of(interp, block, body, out),
@@ -82,10 +87,12 @@ impl Vars {
         }
         let mut counters = HashMap::new();
         let mut pairs: HashMap<(BlockIx, usize), (Option<usize>, Option<usize>)> = HashMap::new();
+        let mut ranges = Vec::new();
         for v in vars {
             if let Kind::Counter { block, var, bound } = &v.kind
-                && let Some(&stage) = loops.get(&(*block, var.clone()))
+                && let Some(&(stage, back)) = loops.get(&(*block, var.clone()))
             {
+                ranges.push([v.id, *block, stage, back]);
                 counters.insert(v.id, ((*block, stage), *bound));
                 let e = pairs.entry((*block, stage)).or_default();
                 if *bound {
@@ -102,6 +109,7 @@ impl Vars {
             runtime,
             counters,
             pairs,
+            ranges,
         })
     }
 

@@ -57,7 +57,8 @@ pub struct Options {
     pub random_steps: usize,
     /// State budget (pairs).
     pub max_states: usize,
-    /// Paths of one call.
+    /// Runs of one call (each path, or with joins each run to the end of the call or to a
+    /// join point).
     pub max_paths_per_call: usize,
     /// Where the compiled C runs.
     pub target: Target,
@@ -74,7 +75,7 @@ impl Default for Options {
             random_runs: 3,
             random_steps: 500,
             max_states: 200_000,
-            max_paths_per_call: 100_000,
+            max_paths_per_call: 1_000_000,
             target: Target::Host,
             cflags: None,
         }
@@ -132,13 +133,26 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         record_edges: false,
         // parts are dropped from the states only when every run checks that the C ignores them
         drop_dead: opts.perturb,
+        join_paths: true,
     };
     let mut space = Space::new(fp, space_opts);
     let vars = cview::Vars::new(&driver, fp, space.interp())
         .map_err(|name| DriverError::Protocol(format!("the stub runtime declares no '{name}'")))?;
     let names = vars.names.clone();
+    // dead counters are put back at stage starts where the views drop them
+    let masked = opts.perturb && !space.abstraction.has_return;
+    driver.join_runs(masked, &vars.ranges)?;
     let mut side = CSide::new(&mut driver, vars, bound.clone(), opts);
-    let walk = space::explore(&mut space, &mut side)?;
+    side.masked = masked;
+    let mut walk = space::explore(&mut space, &mut side)?;
+    // states whose call the C side cut (its memory for join points) are cut states too
+    for &n in &side.cut_nodes {
+        if let Some(c) = walk.incomplete.get_mut(n) {
+            *c = true;
+        }
+    }
+    // and the paths the C did not run there were not compared
+    walk.transitions = walk.transitions.saturating_sub(side.not_run);
     let findings = std::mem::take(&mut side.findings);
     let (cut_c, max_events_seen, second_runs) =
         (side.cut.clone(), side.max_events_seen, side.second_runs);
@@ -160,6 +174,8 @@ pub fn validate_header(fp: &Fp, header: &str, opts: &Options) -> Result<Report, 
         operator_jumps: opts.operator_jumps,
         states: walk.nodes.len(),
         transitions: walk.transitions,
+        runs: walk.runs,
+        joined: walk.joined,
         max_depth: walk.max_depth,
         second_runs,
         abstracted: Abstracted {

@@ -183,8 +183,14 @@ pub struct Report {
     pub operator_jumps: bool,
     /// State pairs explored.
     pub states: usize,
-    /// Transitions compared (call paths and operator jumps).
-    pub transitions: usize,
+    /// Transitions compared (call paths and operator jumps), counting the paths a joined run
+    /// stands for (saturating at `u128::MAX`).
+    pub transitions: u128,
+    /// Runs the comparison made: call runs (to the end of the call or to a join point) and
+    /// jumps. Without joins, equal to `transitions`.
+    pub runs: usize,
+    /// Of the runs, those that stopped at a join point.
+    pub joined: usize,
     /// The largest number of transitions needed to reach a state.
     pub max_depth: usize,
     /// Runs repeated from a copy of the C state with its dropped parts changed.
@@ -238,9 +244,15 @@ impl Report {
             self.states, self.transitions, self.second_runs, self.random_calls, self.seconds
         );
         s.push_str(&format!("  compiled C: {}\n", self.built));
+        if self.joined > 0 {
+            s.push_str(&format!(
+                "  paths joined: {} runs made, {} of them joined at a stage start where an earlier run of the same call was in the same state (its future stands for theirs)\n",
+                self.runs, self.joined
+            ));
+        }
         if self.incomplete() {
             s.push_str(&format!(
-                "  NOT ESTABLISHED for the whole plan: {} state(s) cut — {}; their first paths (in answer order) were compared, their other paths and the states only those lead to were not\n",
+                "  NOT ESTABLISHED for the whole plan: {} state(s) cut — {}; their first runs (in answer order) were compared, with the paths those stand for; their other paths and the states only those lead to were not\n",
                 self.cut_states.len(),
                 self.cut_states.join(", ")
             ));

@@ -35,7 +35,8 @@ pub use walk::{Alone, Companion, Edge, Explored, Node, explore};
 
 use serde::Serialize;
 
-use super::explore::enumerate_call;
+pub use super::explore::Joined;
+use super::explore::{enumerate_call, enumerate_joined};
 use super::oracle::literal_value;
 use super::trace::{Event, Observation};
 use super::{Interp, Item, State, StepError};
@@ -60,6 +61,10 @@ pub struct SpaceOptions {
     /// Merge states that differ only in parts the plan cannot read (see the module
     /// documentation); `false` keeps every counter, the last position and `last_wp` as they are.
     pub drop_dead: bool,
+    /// Explore each call as a graph: runs that reach a stage start in the same state
+    /// ([`Space::stage_key`]) are joined (see [`enumerate_joined`]); `max_paths_per_call`
+    /// then bounds the runs. `false`: every path is run to the end of the call.
+    pub join_paths: bool,
 }
 
 impl Default for SpaceOptions {
@@ -72,6 +77,7 @@ impl Default for SpaceOptions {
             keep_last_block: false,
             record_edges: false,
             drop_dead: true,
+            join_paths: false,
         }
     }
 }
@@ -84,6 +90,20 @@ pub enum Move {
     Call(Vec<i64>),
     /// An operator jump to this block (`nav_goto_block`, no forbidden-deroute check).
     Jump(BlockIx),
+}
+
+/// The transitions of a state.
+#[derive(Debug, Clone)]
+pub struct Successors<'p> {
+    /// The runs of one call that reached its end, then the operator jumps.
+    pub succ: Vec<Succ<'p>>,
+    /// The runs of the call joined to an earlier one at a stage start (none unless
+    /// [`SpaceOptions::join_paths`]).
+    pub joined: Vec<Joined>,
+    /// Transitions these stand for: every path of the call, and the jumps (saturating).
+    pub transitions: u128,
+    /// A budget cut the call.
+    pub cut: bool,
 }
 
 /// A successor of a state.
@@ -180,6 +200,8 @@ pub struct Abstraction {
 /// The interpreter and what its view keeps.
 pub struct Space<'p> {
     interp: Interp<'p>,
+    /// Runs the calls explored with [`SpaceOptions::join_paths`] (made on first use).
+    runner: Option<Interp<'p>>,
     pub abstraction: Abstraction,
     pub opts: SpaceOptions,
 }
@@ -226,7 +248,7 @@ impl<'p> Space<'p> {
             keeps_last_block: opts.keep_last_block,
             symbolic,
         };
-        Space { interp, abstraction, opts }
+        Space { interp, runner: None, abstraction, opts }
     }
 
     pub fn interp(&self) -> &Interp<'p> {
@@ -302,13 +324,74 @@ impl<'p> Space<'p> {
         ViewKey { block: s.block, remaining: numbers(&s.remaining), last, counters, last_wp }
     }
 
+    /// The view of a state at a stage start within a call, where the runs of one call are
+    /// joined: [`Space::key`], except that the counters the view keeps are kept exactly (a
+    /// counter pair's class is what the *next call* can read; within the call the C holds the
+    /// pair itself) and, when the plan has a `return` stage or nothing is dropped, every
+    /// counter is kept. The C side joins its runs by the same rule (the validator's driver).
+    pub fn stage_key(&self, s: &State<'p>) -> ViewKey {
+        let mut k = self.key(s);
+        let counters: Vec<(BlockIx, usize)> =
+            if self.abstraction.has_return || self.abstraction.exact {
+                let mut all: Vec<_> = s.counters.keys().copied().collect();
+                all.sort_unstable();
+                all
+            } else {
+                k.counters.iter().map(|c| c.0).collect()
+            };
+        k.counters = counters
+            .into_iter()
+            .map(|l| {
+                let (v, t) = s.counters.get(&l).copied().unwrap_or((0, 0));
+                (l, CounterView::Value(v, t))
+            })
+            .collect();
+        k
+    }
+
+    /// Every transition of `s`: the runs of one call (joined at stage starts with
+    /// [`SpaceOptions::join_paths`], else every path), then, with operator jumps, a jump to
+    /// every block.
+    pub fn transitions(&mut self, s: &State<'p>) -> Result<Successors<'p>, StepError> {
+        if !self.opts.join_paths {
+            let (succ, cut) = self.successors(s)?;
+            let transitions = succ.len() as u128;
+            return Ok(Successors { succ, joined: Vec::new(), transitions, cut });
+        }
+        let max = self.opts.max_paths_per_call;
+        // the runs are made by a second interpreter: the key reads this one's numbering
+        let mut runner = self.runner.take();
+        let runner_ref = runner.get_or_insert_with(|| Interp::new(self.interp.fp()));
+        let space = &*self;
+        let key = |st: &State<'p>| space.stage_key(st);
+        let tree = enumerate_joined(runner_ref, s, max, &key);
+        self.runner = runner;
+        let tree = tree?;
+        let calls = tree.paths.len();
+        let succ = self.calls_and_jumps(s, tree.paths)?;
+        let jumps = (succ.len() - calls) as u128;
+        Ok(Successors {
+            succ,
+            joined: tree.joined,
+            transitions: tree.total.saturating_add(jumps),
+            cut: tree.cut,
+        })
+    }
+
     /// Every call path from `s`, then (with operator jumps) a jump to every block; whether the
     /// path budget cut the call.
     pub fn successors(&mut self, s: &State<'p>) -> Result<(Vec<Succ<'p>>, bool), StepError> {
         let tree = enumerate_call(&mut self.interp, s, self.opts.max_paths_per_call)?;
         let cut = tree.cut;
-        let mut out: Vec<Succ<'p>> = tree
-            .paths
+        Ok((self.calls_and_jumps(s, tree.paths)?, cut))
+    }
+
+    fn calls_and_jumps(
+        &mut self,
+        s: &State<'p>,
+        paths: Vec<super::explore::CallPath<'p>>,
+    ) -> Result<Vec<Succ<'p>>, StepError> {
+        let mut out: Vec<Succ<'p>> = paths
             .into_iter()
             .map(|p| Succ {
                 mv: Move::Call(p.answers),
@@ -331,7 +414,7 @@ impl<'p> Space<'p> {
                 });
             }
         }
-        Ok((out, cut))
+        Ok(out)
     }
 }
 
@@ -377,7 +460,7 @@ mod tests {
             let w = explore(&mut space, &mut Alone).expect("walks");
             assert!(w.fixpoint && !w.bounded && w.cut.is_none());
             assert_eq!(w.nodes.len(), 2, "B stage 0 and HOME stage 0");
-            assert_eq!((w.transitions, w.edges.len()), (transitions, transitions));
+            assert_eq!((w.transitions, w.edges.len()), (transitions as u128, transitions));
             let home = w.nodes.iter().position(|n| n.obs.block == 1).expect("HOME reached");
             // breadth first: HOME is one call away (the first path in answer order: e false,
             // f false), or one jump

@@ -3,7 +3,7 @@
 
 use std::collections::{HashMap, VecDeque};
 
-use super::{Move, Space, Succ, ViewKey};
+use super::{Move, Space, Successors, ViewKey};
 use crate::semantics::trace::Observation;
 use crate::semantics::{State, StepError};
 
@@ -16,16 +16,16 @@ pub trait Companion<'p> {
     type Error: From<StepError>;
     /// Its state at the start, beside the interpreter's initial state.
     fn initial(&mut self, space: &Space<'p>) -> Result<Self::State, Self::Error>;
-    /// Compares the transitions of node `id` (`succ`, from the interpreter state `from`) and
-    /// returns the companion's state after each (`None` where it disagreed: the companion
-    /// keeps the finding).
+    /// Compares the transitions of node `id` (`next`, from the interpreter state `from`) and
+    /// returns the companion's state after each of `next.succ` (`None` where it disagreed:
+    /// the companion keeps the finding).
     fn expand(
         &mut self,
         space: &Space<'p>,
         id: usize,
         from: &State<'p>,
         state: &Self::State,
-        succ: &[Succ<'p>],
+        next: &Successors<'p>,
     ) -> Result<Vec<Option<Self::State>>, Self::Error>;
     fn key(&self, state: &Self::State) -> Self::Key;
     /// The successor `mv` of node `from` has the interpreter view of node `existing` but
@@ -58,9 +58,9 @@ impl<'p> Companion<'p> for Alone {
         _: usize,
         _: &State<'p>,
         _: &(),
-        succ: &[Succ<'p>],
+        next: &Successors<'p>,
     ) -> Result<Vec<Option<()>>, StepError> {
-        Ok(vec![Some(()); succ.len()])
+        Ok(vec![Some(()); next.succ.len()])
     }
     fn key(&self, _: &()) {}
     fn conflict(&mut self, _: usize, _: &(), _: usize, _: &Move, _: &()) {}
@@ -95,8 +95,13 @@ pub struct Explored {
     pub nodes: Vec<Node>,
     /// With [`super::SpaceOptions::record_edges`].
     pub edges: Vec<Edge>,
-    /// Transitions taken (compared, when validating).
-    pub transitions: usize,
+    /// Transitions taken (compared, when validating): every path of every call and every
+    /// jump, also those explored once for several paths (saturating).
+    pub transitions: u128,
+    /// Runs made: call runs to the end or to a join point, and jumps.
+    pub runs: usize,
+    /// Of the runs, those that stopped at a join point.
+    pub joined: usize,
     /// Every reachable state was expanded: no budget, no depth bound and no stop on a
     /// disagreement cut the walk.
     pub fixpoint: bool,
@@ -151,15 +156,18 @@ pub fn explore<'p, C: Companion<'p>>(
             continue;
         }
         out.max_depth = out.max_depth.max(depth);
-        let (succ, cut) = space.successors(&st)?;
-        if cut {
+        let next = space.transitions(&st)?;
+        if next.cut {
+            let what = if space.opts.join_paths { "runs" } else { "paths" };
             out.cut =
-                Some(format!("more than {} paths in one call", space.opts.max_paths_per_call));
+                Some(format!("more than {} {what} in one call", space.opts.max_paths_per_call));
             out.incomplete[id] = true;
         }
-        let csucc = comp.expand(space, id, &st, &cst, &succ)?;
-        for (s, c) in succ.into_iter().zip(csucc) {
-            out.transitions += 1;
+        let csucc = comp.expand(space, id, &st, &cst, &next)?;
+        out.transitions = out.transitions.saturating_add(next.transitions);
+        out.runs += next.succ.len() + next.joined.len();
+        out.joined += next.joined.len();
+        for (s, c) in next.succ.into_iter().zip(csucc) {
             let Some(c) = c else { continue };
             let k = space.key(&s.state);
             let to = match index.get(&k) {
