@@ -35,6 +35,7 @@ pub mod bench;
 pub mod campaign;
 pub mod checks;
 pub mod core;
+pub mod costmap;
 pub mod diag;
 pub mod maps;
 pub mod picture;

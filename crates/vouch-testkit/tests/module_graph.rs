@@ -54,6 +54,7 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
             &["core"],
             &["checks"],
             &["maps", "rosbag"],
+            &["costmap"],
             &["planner"],
             &["suite"],
             &["picture"],
