@@ -7,8 +7,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use vouch_navfn::costmap::{
-    CostmapError, DEFAULT_PADDING, Footprint, INSCRIBED, InflationLayer, InflationParams, LETHAL,
-    costmap_resolution, sha256_hex,
+    Body, BodyCheck, BodyReport, CostmapError, DEFAULT_PADDING, Footprint, INSCRIBED,
+    InflationLayer, InflationParams, LETHAL, costmap_resolution, sha256_hex,
 };
 use vouch_navfn::maps::{RosMap, load_ros_map};
 
@@ -166,4 +166,83 @@ fn pgm_bytes(costs: &[u8], w: usize, h: usize) -> Vec<u8> {
         out.extend_from_slice(row);
     }
     out
+}
+
+/// The body the check uses: the disc of `--robot-radius` or the `--footprint` polygon as
+/// given (nav2's padding is a margin, not the robot).
+pub fn body_shape(args: &BodyArgs) -> Result<Option<Body>, Failure> {
+    let Some(f) = args.footprint()? else { return Ok(None) };
+    Ok(Some(match f.spec {
+        vouch_navfn::costmap::FootprintSpec::Radius(r) => Body::Disc(r),
+        vouch_navfn::costmap::FootprintSpec::Polygon(p) => Body::Polygon(p),
+    }))
+}
+
+/// The body check of `poses` (x, y, yaw) against the static layer of `map`.
+pub fn body_check(
+    map: &RosMap,
+    args: &BodyArgs,
+    window: f64,
+    poses: &[[f64; 3]],
+) -> Result<BodyReport, Failure> {
+    if !window.is_finite() || window < 0.0 {
+        return Err(Failure::usage(format!("--clearance-window {window}: expected ≥ 0")));
+    }
+    let body =
+        body_shape(args)?.ok_or_else(|| Failure::usage("no --robot-radius or --footprint"))?;
+    let check = BodyCheck {
+        costs: &map.costmap,
+        width: map.width,
+        height: map.height,
+        world: map.world(),
+        body,
+        window,
+    };
+    Ok(check.check(poses))
+}
+
+/// The picture's marks: contacts in magenta, the closest lethal cell in cyan.
+pub fn body_marks(b: &BodyReport) -> Vec<([usize; 2], [u8; 3])> {
+    let mut marks: Vec<([usize; 2], [u8; 3])> =
+        b.violations.iter().map(|v| (v.cell, [255, 0, 255])).collect();
+    marks.extend(b.min.map(|m| (m.cell, [0, 230, 230])));
+    marks.dedup();
+    marks
+}
+
+/// Contacts listed in the text form; the JSON form has them all.
+const CONTACTS_SHOWN: usize = 10;
+
+/// The body check as text: verdict, minimum clearance and where, each contact.
+pub fn print_body(ctx: &mut Ctx, b: &BodyReport) -> Result<(), Failure> {
+    let verdict =
+        if b.is_ok() { "ok".to_string() } else { format!("{} contacts", b.violations.len()) };
+    let clearance = match &b.min {
+        Some(m) => format!(
+            "min clearance {:.4} m at pose {} (lethal cell {},{} at {:.3},{:.3})",
+            m.clearance, m.pose, m.cell[0], m.cell[1], m.cell_xy[0], m.cell_xy[1]
+        ),
+        None => format!("min clearance ≥ {} m", b.window),
+    };
+    writeln!(ctx.out, "body {verdict}  {clearance}")?;
+    for v in b.violations.iter().take(CONTACTS_SHOWN) {
+        writeln!(
+            ctx.out,
+            "body contact: pose {} → {} touches lethal cell {},{} at {:.3},{:.3}",
+            v.pose,
+            v.pose + 1,
+            v.cell[0],
+            v.cell[1],
+            v.cell_xy[0],
+            v.cell_xy[1]
+        )?;
+    }
+    if b.violations.len() > CONTACTS_SHOWN {
+        writeln!(
+            ctx.out,
+            "body contact: … {} more (--json lists all)",
+            b.violations.len() - CONTACTS_SHOWN
+        )?;
+    }
+    Ok(())
 }

@@ -19,6 +19,7 @@ pub use report::{
 };
 pub use state::{CostmapKind, CostmapState, TfTree, translate_cost, untranslate};
 
+use crate::costmap::{Body, BodyCheck};
 use crate::planner::{PlannerParams, Pose};
 use crate::rosbag::msgs::{NavMessage, decode};
 use crate::rosbag::{Bag, BagError, read_bag};
@@ -94,6 +95,11 @@ pub struct BagCheckOptions {
     pub replay: ReplayMode,
     /// Render a picture of every failing plan.
     pub pictures: bool,
+    /// The robot's body: when given, each plan's swept body is checked against the static map
+    /// (the map topic's grid; the costmap in force when no map was recorded).
+    pub body: Option<Body>,
+    /// How far beyond the body lethal cells are looked for (metres).
+    pub body_window: f64,
 }
 
 impl Default for BagCheckOptions {
@@ -103,6 +109,8 @@ impl Default for BagCheckOptions {
             params: PlannerParams::default(),
             replay: ReplayMode::Check,
             pictures: false,
+            body: None,
+            body_window: 2.0,
         }
     }
 }
@@ -208,6 +216,27 @@ fn check_one(w: &Walk, frame: &str, poses: &[Pose], opts: &BagCheckOptions) -> P
             0,
             PathViolation::WrongFrame { plan: frame.to_string(), costmap: cm.frame_id.clone() },
         );
+    }
+    if let Some(body) = &opts.body {
+        let stat = w.map.as_ref().unwrap_or(cm);
+        let check = BodyCheck {
+            costs: &stat.costs,
+            width: stat.width,
+            height: stat.height,
+            world: stat.world,
+            body: body.clone(),
+            window: opts.body_window,
+        };
+        let xyyaw: Vec<[f64; 3]> =
+            poses.iter().map(|p| [p.position[0], p.position[1], p.yaw()]).collect();
+        let report = check.check(&xyyaw);
+        v.violations.extend(
+            report
+                .violations
+                .iter()
+                .map(|c| PathViolation::BodyContact { index: c.pose, cell: c.cell }),
+        );
+        v.body = Some(report);
     }
     v.costmap = Some(CostmapUsed {
         topic: cm.topic.clone(),

@@ -328,6 +328,6 @@ fn draw(
     };
     let mut png = Vec::new();
     // encoding into memory cannot fail for a well-formed image
-    let _ = write_png(&mut png, &render(&PictureInput { plan: view, flip_y: true }));
+    let _ = write_png(&mut png, &render(&PictureInput { plan: view, flip_y: true, marks: &[] }));
     png
 }

@@ -2,9 +2,11 @@
 //! `InflationLayer` for a robot footprint (`footprint.rs`, `inflation.rs`), and the checks of
 //! the robot's body along a plan against the static map (`body.rs`).
 
+pub mod body;
 pub mod footprint;
 pub mod inflation;
 
+pub use body::{Body, BodyCheck, BodyReport, Clearance};
 pub use footprint::{DEFAULT_PADDING, Footprint, FootprintSpec};
 pub use inflation::{INSCRIBED, InflationLayer, InflationParams, LETHAL, NO_INFORMATION};
 
