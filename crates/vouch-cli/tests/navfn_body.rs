@@ -129,3 +129,108 @@ fn bad_footprints_are_rejected_with_a_code() {
     assert_eq!(code(&o), 1);
     assert!(String::from_utf8_lossy(&o.stderr).contains("navfn::E121"));
 }
+
+fn inflation(extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "navfn",
+        "inflation",
+        CIRCULAR,
+        "--robot-radius",
+        "0.3",
+        "--cost-scaling-factor",
+        "3",
+        "--goals",
+        "4",
+        "--start-stride",
+        "8",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    vouch(&args)
+}
+
+/// Distance from the point `p` to the closed square of cell `c` (origin −10, −10; cells of
+/// 0.05 m as a float), computed here, not by the library.
+fn point_to_cell(p: [f64; 2], c: [usize; 2]) -> f64 {
+    let res = f64::from(0.05f32);
+    let (x0, y0) = (-10.0 + c[0] as f64 * res, -10.0 + c[1] as f64 * res);
+    let dx = (x0 - p[0]).max(p[0] - x0 - res).max(0.0);
+    let dy = (y0 - p[1]).max(p[1] - y0 - res).max(0.0);
+    dx.hypot(dy)
+}
+
+/// With nav2's padding (inscribed radius 0.304 m for a 0.3 m robot) no inflation radius keeps
+/// the body clear: the inscribed ring is measured between cell centres and nav2 places a path
+/// point at its cell's corner, so a path may pass √2 cells closer than the ring; with a padding
+/// of 0.08 m (inscribed 0.372 ≥ 0.3 + √2·0.05) the search finds a radius, and its
+/// counterexample at the radius below really touches.
+#[test]
+fn inflation_search_finds_the_radius_and_a_real_counterexample() {
+    if !shared() {
+        return;
+    }
+    let o = inflation(&[]);
+    assert_eq!(code(&o), 3, "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(json(&o)["smallest_safe_radius"].is_null());
+
+    let o = inflation(&["--footprint-padding", "0.08"]);
+    assert_eq!(code(&o), 0, "{}", String::from_utf8_lossy(&o.stderr));
+    let r = json(&o);
+    let safe = r["smallest_safe_radius"].as_f64().expect("a radius");
+    let cx = &r["counterexample"];
+    let failing = cx["inflation_radius"].as_f64().expect("failing radius");
+    assert!((safe - failing - f64::from(0.05f32)).abs() < 1e-9, "{safe} {failing}");
+    let poses = cx["poses"].as_array().expect("poses");
+    let i = cx["contact"]["pose"].as_u64().expect("pose") as usize;
+    let cell = [
+        cx["contact"]["cell"][0].as_u64().expect("x") as usize,
+        cx["contact"]["cell"][1].as_u64().expect("y") as usize,
+    ];
+    let xy = |k: usize| [poses[k][0].as_f64().expect("x"), poses[k][1].as_f64().expect("y")];
+    // the disc swept from pose i to i+1 reaches the cell: the closer end, or a point between
+    let (a, b) = (xy(i), xy((i + 1).min(poses.len() - 1)));
+    let closest = (0..=100)
+        .map(|t| {
+            let t = t as f64 / 100.0;
+            point_to_cell([a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t], cell)
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(closest <= 0.3 + 1e-6, "{closest}");
+}
+
+/// Shards split the goals; merged, they give the unsharded answer.
+#[test]
+fn inflation_search_shards_merge_to_the_whole() {
+    if !shared() {
+        return;
+    }
+    let whole = json(&inflation(&["--footprint-padding", "0.08"]));
+    let dir = std::env::temp_dir();
+    let mut files = Vec::new();
+    for i in 0..2 {
+        let f = dir.join(format!("vouch-infl-{}-{i}.json", std::process::id()));
+        let spec = format!("{i}/2");
+        let o = inflation(&[
+            "--footprint-padding",
+            "0.08",
+            "--shard",
+            &spec,
+            "-o",
+            f.to_str().expect("utf-8"),
+        ]);
+        assert!(code(&o) == 0 || code(&o) == 3);
+        files.push(f);
+    }
+    let mut args = vec!["navfn", "inflation", "--json", "--merge"];
+    args.extend(files.iter().map(|f| f.to_str().expect("utf-8")));
+    let merged = json(&vouch(&args));
+    assert_eq!(merged["smallest_safe_radius"], whole["smallest_safe_radius"]);
+    assert_eq!(
+        merged["counterexample"]["inflation_radius"],
+        whole["counterexample"]["inflation_radius"]
+    );
+    assert_eq!(merged["shards"], serde_json::json!(["0/2", "1/2"]));
+    for f in files {
+        let _ = std::fs::remove_file(f);
+    }
+}

@@ -37,6 +37,7 @@ pub mod checks;
 pub mod core;
 pub mod costmap;
 pub mod diag;
+pub mod guarantee;
 pub mod maps;
 pub mod picture;
 pub mod planner;

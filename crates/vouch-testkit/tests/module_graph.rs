@@ -59,6 +59,7 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
             &["suite"],
             &["picture"],
             &["campaign", "bagcheck"],
+            &["guarantee"],
             &["bench"],
         ],
     ),
