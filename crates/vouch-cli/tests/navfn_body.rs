@@ -76,6 +76,31 @@ fn body_touches_walls_when_inflation_is_smaller_than_the_robot() {
     }
     let o = plan("0.1");
     assert_eq!(code(&o), 3, "{}", String::from_utf8_lossy(&o.stdout));
+    let png = std::env::temp_dir().join(format!("vouch-body-{}.png", std::process::id()));
+    let text = vouch(&[
+        "navfn",
+        "plan",
+        CIRCULAR,
+        "--start",
+        "-8,-8",
+        "--goal",
+        "8,8",
+        "--robot-radius",
+        "0.3",
+        "--inflation-radius",
+        "0.1",
+        "--cost-scaling-factor",
+        "3",
+        "--png",
+        png.to_str().expect("utf-8"),
+    ]);
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        stdout.contains("body ") && stdout.contains(" contacts  min clearance 0.0000 m"),
+        "{stdout}"
+    );
+    assert!(std::fs::read(&png).expect("picture").starts_with(b"\x89PNG"));
+    let _ = std::fs::remove_file(png);
     let v = json(&o);
     let contacts = v["body"]["violations"].as_array().expect("violations");
     assert!(!contacts.is_empty());

@@ -20,8 +20,8 @@
 //!   goal): the same planner, with the roles of the two ends as in the paper.
 //! * **the body — exact for translations** (see `costmap::body`); segments whose end cells are
 //!   far from every lethal cell (centre distance above the body's radius plus 2.5 cells, a
-//!   bound no point of a segment shorter than a cell can beat) are skipped without the exact
-//!   test.
+//!   bound no point of a segment of at most √2 cells can beat) are skipped without the exact
+//!   test; longer segments always get it.
 //!
 //! Shards split the goals: shard `I` of `N` runs goal `g` when `g mod N = I`; the merged
 //! answer is the largest failing `k` over the shards.
@@ -263,11 +263,12 @@ fn to_poses(map: &RosMap, path: &[[f32; 2]]) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Cells whose centre lies within the body's radius (plus the end margin) plus 2.5 cells of a lethal cell's centre.
-/// A segment shorter than a cell whose end cells are both outside stays farther than the
-/// body's radius from every lethal square: a point of it is within half a segment (½ cell)
-/// of an end, which is within √2/2 cell of its cell's centre, and a lethal square's points
-/// are within √2/2 cell of its centre (½ + √2 < 2.5).
+/// Cells whose centre lies within the body's radius (plus the end margin) plus 2.5 cells of a
+/// lethal cell's centre. A segment of at most √2 cells (NavFn's half-cell steps, a grid step,
+/// the final step onto the goal) whose end cells are both outside stays farther than the body's
+/// radius from every lethal square: a point of it is within √2/2 of an end, which is within
+/// √2/2 of its cell's centre, and a lethal square's points are within √2/2 of its centre
+/// (3·√2/2 < 2.5). Longer segments always get the exact test.
 fn near_lethal(map: &RosMap, body: &Body, margin: f64, res: f64) -> Vec<bool> {
     let (w, h) = (map.width, map.height);
     let mut dist: Vec<f32> = map
@@ -308,11 +309,15 @@ fn body_fits(map: &RosMap, body: &Body, margin: f64, near: &[bool]) -> Vec<bool>
 
 fn touches_near(poses: &[[f64; 3]], map: &RosMap, near: &[bool]) -> bool {
     let world = map.world();
-    poses.iter().any(|p| {
-        world
-            .costmap_world_to_map([p[0], p[1]], map.width, map.height)
-            .is_none_or(|c| near[c.y * map.width + c.x])
-    })
+    let longest = std::f64::consts::SQRT_2 * world.resolution;
+    let long_step =
+        poses.windows(2).any(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]) > longest);
+    long_step
+        || poses.iter().any(|p| {
+            world
+                .costmap_world_to_map([p[0], p[1]], map.width, map.height)
+                .is_none_or(|c| near[c.y * map.width + c.x])
+        })
 }
 
 /// Merge shard reports of one search: the largest failing radius wins.
