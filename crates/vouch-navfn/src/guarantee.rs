@@ -54,6 +54,9 @@ pub struct SearchConfig {
     pub start_stride: usize,
     /// Largest radius tried (metres).
     pub max_radius: f64,
+    /// Smallest radius tried (metres; 0 for the whole search, `max_radius` to check one
+    /// radius: a body-check campaign at that inflation radius).
+    pub min_radius: f64,
     /// The goals of this shard.
     pub shard: Shard,
     /// Starts and goals are the cells where the body (its circumscribed disc) clears every
@@ -110,6 +113,9 @@ pub struct SearchReport {
     pub start_stride: usize,
     /// Largest radius tried (metres).
     pub max_radius: f64,
+    /// Smallest radius tried (metres).
+    #[serde(default)]
+    pub min_radius: f64,
     /// Shards merged (`I/N` specs).
     pub shards: Vec<String>,
     /// Smallest safe radius `k·res` (None: even `max_radius` fails).
@@ -129,6 +135,7 @@ pub fn search(map: &RosMap, cfg: &SearchConfig) -> Result<SearchReport, CostmapE
     let res = costmap_resolution(map);
     let inscribed = cfg.footprint.inscribed_radius();
     let kmax = (cfg.max_radius / res).ceil().max(0.0) as u32;
+    let kmin = ((cfg.min_radius / res).ceil().max(0.0) as u32).min(kmax);
     let mut report = SearchReport {
         resolution: res,
         inscribed_radius: inscribed,
@@ -137,6 +144,7 @@ pub fn search(map: &RosMap, cfg: &SearchConfig) -> Result<SearchReport, CostmapE
         seed: cfg.seed,
         start_stride: cfg.start_stride.max(1),
         max_radius: f64::from(kmax) * res,
+        min_radius: f64::from(kmin) * res,
         shards: vec![cfg.shard.spec()],
         smallest_safe_radius: None,
         counterexample: None,
@@ -154,7 +162,7 @@ pub fn search(map: &RosMap, cfg: &SearchConfig) -> Result<SearchReport, CostmapE
     }
     let near = near_lethal(map, &cfg.body, margin, res);
     let fits = body_fits(map, &cfg.body, report.end_clearance, &near);
-    for k in (0..=kmax).rev() {
+    for k in (kmin..=kmax).rev() {
         // a radius inside the class of k: ceil(r / res) = k whatever the rounding
         let radius = if k == 0 { 0.0 } else { (f64::from(k) - 0.5) * res };
         let params = InflationParams { inflation_radius: radius, ..cfg.params };
@@ -170,7 +178,7 @@ pub fn search(map: &RosMap, cfg: &SearchConfig) -> Result<SearchReport, CostmapE
             return Ok(report);
         }
     }
-    report.smallest_safe_radius = Some(0.0);
+    report.smallest_safe_radius = Some(f64::from(kmin) * res);
     Ok(report)
 }
 

@@ -57,6 +57,10 @@ pub struct InflationArgs {
     /// default one cell)
     #[arg(long, value_name = "M")]
     end_clearance: Option<f64>,
+    /// Smallest radius tried in metres (with --max-radius the same value: check that one
+    /// inflation radius, a body-check campaign over every start of the sampled goals)
+    #[arg(long, default_value_t = 0.0, value_name = "M")]
+    min_radius: f64,
     /// Run only goals g with g mod N = I, or `auto` (Slurm array, Kubernetes Indexed Job)
     #[arg(long, value_parser = parse_shard_arg, value_name = "I/N|auto")]
     shard: Option<ShardArg>,
@@ -93,8 +97,9 @@ fn run_search(a: &InflationArgs) -> Result<SearchReport, Failure> {
         a.body.footprint()?.ok_or_else(|| Failure::usage("give --robot-radius or --footprint"))?;
     let body = body_shape(&a.body)?.ok_or_else(|| Failure::usage("no body"))?;
     let max_radius = a.max_radius.unwrap_or(4.0 * body.circumscribed());
-    if !max_radius.is_finite() || max_radius < 0.0 || a.goals == 0 {
-        return Err(Failure::usage("--max-radius must be ≥ 0 and --goals ≥ 1"));
+    let radii_ok = max_radius.is_finite() && a.min_radius.is_finite() && a.min_radius >= 0.0;
+    if !radii_ok || a.min_radius > max_radius || a.goals == 0 {
+        return Err(Failure::usage("need 0 ≤ --min-radius ≤ --max-radius and --goals ≥ 1"));
     }
     let params = super::costmap::InflationArgs {
         inflation_radius: 0.0,
@@ -111,6 +116,7 @@ fn run_search(a: &InflationArgs) -> Result<SearchReport, Failure> {
         seed: a.seed,
         start_stride: a.start_stride,
         max_radius,
+        min_radius: a.min_radius,
         shard: resolve_shard(a.shard, ShardBy::Map)?,
         end_clearance: a.end_clearance,
     };
@@ -131,8 +137,8 @@ fn merge_files(paths: &[PathBuf]) -> Result<SearchReport, Failure> {
         let same = first.as_ref().is_some_and(|f| {
             (f.resolution, f.inscribed_radius, f.cost_scaling_factor, f.goals, f.seed)
                 == (r.resolution, r.inscribed_radius, r.cost_scaling_factor, r.goals, r.seed)
-                && (f.start_stride, f.max_radius, f.end_clearance)
-                    == (r.start_stride, r.max_radius, r.end_clearance)
+                && (f.start_stride, f.max_radius, f.min_radius, f.end_clearance)
+                    == (r.start_stride, r.max_radius, r.min_radius, r.end_clearance)
         });
         if !same {
             return Err(Failure::usage("the reports are of different searches"));
@@ -145,20 +151,27 @@ fn summary(r: &SearchReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "inscribed radius {:.4} m, cost_scaling_factor {}, {} goals (seed {}), starts every {} cell(s), end clearance {:.3} m, radii {} … {:.3} m by {:.3} m; {} paths checked; shards {}",
+        "inscribed radius {:.4} m, cost_scaling_factor {}, {} goals (seed {}), starts every {} cell(s), end clearance {:.3} m, radii {:.3} … {:.3} m by {:.3} m; {} paths checked; shards {}",
         r.inscribed_radius,
         r.cost_scaling_factor,
         r.goals,
         r.seed,
         r.start_stride,
         r.end_clearance,
-        0,
+        r.min_radius,
         r.max_radius,
         r.resolution,
         r.paths,
         r.shards.join(",")
     );
     match r.smallest_safe_radius {
+        Some(v) if r.counterexample.is_none() && v > 0.0 => {
+            let _ = writeln!(
+                s,
+                "every inflation_radius from {v:.4} m to {:.4} m is safe",
+                r.max_radius
+            );
+        }
         Some(v) => {
             let _ = writeln!(s, "smallest safe inflation_radius: {v:.4} m");
         }
