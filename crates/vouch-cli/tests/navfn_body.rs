@@ -259,3 +259,36 @@ fn inflation_search_shards_merge_to_the_whole() {
         let _ = std::fs::remove_file(f);
     }
 }
+
+/// A polygon footprint: nav2's inscribed radius of the padded rectangle drives the costmap, the
+/// rectangle as given is swept along the plan.
+#[test]
+fn plan_with_a_footprint_polygon() {
+    if !shared() {
+        return;
+    }
+    let o = vouch(&[
+        "navfn",
+        "plan",
+        CIRCULAR,
+        "--start",
+        "-8,-8",
+        "--goal",
+        "8,8",
+        "--footprint",
+        "[[0.25,0.2],[0.25,-0.2],[-0.25,-0.2],[-0.25,0.2]]",
+        "--inflation-radius",
+        "0.7",
+        "--cost-scaling-factor",
+        "3",
+        "--json",
+    ]);
+    assert_eq!(code(&o), 0, "{}", String::from_utf8_lossy(&o.stderr));
+    let v = json(&o);
+    assert_eq!(v["status"], "ok");
+    let body = &v["body"];
+    assert!(body["motions"].as_u64().expect("motions") > 100);
+    let clearance = body["min"]["clearance"].as_f64().expect("a clearance within 2 m");
+    assert!(clearance >= 0.0);
+    assert_eq!(body["violations"].as_array().expect("violations").is_empty(), clearance > 0.0);
+}

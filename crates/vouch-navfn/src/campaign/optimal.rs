@@ -247,6 +247,22 @@ mod tests {
     }
 
     #[test]
+    fn any_angle_path_is_costed_as_its_cells() {
+        // 3×2 map; the straight line (0,0)→(2,1) at half-cell steps: its points round (half away
+        // from zero) to the cells (0,0) (1,0) (1,1) (2,1) (2,1) — three straight moves
+        let c = vec![50u8, 60, 70, 80, 90, 100];
+        let p = [(0.0f32, 0.0f32), (0.5, 0.25), (1.0, 0.5), (1.5, 0.75), (2.0, 1.0)];
+        assert_eq!(path_cells(3, 2, &p), vec![(0, 0), (1, 0), (1, 1), (2, 1)]);
+        // (50+60)/2 + (60+90)/2 + (90+100)/2 = 55 + 75 + 95
+        assert!((path_cost(&c, 3, 2, &p) - 225.0).abs() < 1e-12);
+        // never below the optimum: here the optimum is (0,0)→(1,0)→(2,1) = 55 + √2·80
+        let opt = grid_optimum(&c, 3, 2, (0, 0), (2, 1)).expect("reachable").cost;
+        assert!(opt <= path_cost(&c, 3, 2, &p));
+        // a jump of two cells is bridged diagonally then straight
+        assert_eq!(path_cells(3, 2, &[(0.0, 0.0), (2.0, 1.0)]), vec![(0, 0), (1, 1), (2, 1)]);
+    }
+
+    #[test]
     fn path_cost_of_grid_path_equals_grid_cost() {
         let c = vec![50u8, 100, 150, 200];
         let p = [(0.0f32, 0.0f32), (1.0, 0.0), (1.0, 1.0)];
