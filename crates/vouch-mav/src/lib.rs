@@ -45,6 +45,7 @@ pub mod monitor;
 pub mod protocol;
 pub mod side;
 pub mod signing;
+pub mod text;
 pub mod vehicle_state;
 
 pub use codec::{Frame, FrameSplitter, MessageBuilder, MessageView, TlogReader, Value};

@@ -35,7 +35,6 @@ fn standard_library_checks() {
     for n in [
         "mission_upload",
         "mission_download",
-        "mission_clear",
         "param_set",
         "param_read",
         "param_list",

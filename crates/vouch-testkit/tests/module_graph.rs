@@ -36,7 +36,7 @@ const LAYERS: &[(&str, &[&[&str]])] = &[
     (
         "vouch-mav",
         &[
-            &["crc", "side"],
+            &["crc", "side", "text"],
             &["dialect"],
             &["codec"],
             &["signing"],

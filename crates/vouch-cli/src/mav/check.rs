@@ -1,10 +1,11 @@
 //! `vouch mav check`: recordings through the monitor, one report per file.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
-use vouch_mav::monitor::offline::{RecordingReport, check_tlog};
+use vouch_mav::monitor::offline::{RecordingError, RecordingReport, check_file};
+use vouch_mav::text::escape_controls;
 
 use super::{MonitorOpts, load_failure};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
@@ -29,30 +30,62 @@ pub struct CheckArgs {
     pub max_reports: usize,
 }
 
+/// Version of the `--json` document: 2 added `version`, per-file `bytes`, `unread_bytes`,
+/// `warnings` and `error` (a file that could not be checked).
+const CHECK_JSON_VERSION: u32 = 2;
+
 pub fn run(a: CheckArgs, ctx: &mut Ctx) -> CmdResult {
     let monitor = a.monitor.spec().build().map_err(load_failure)?;
     let mut text = String::new();
     let mut files = Vec::new();
     let mut violations = 0usize;
+    // The first file that could not be checked decides the exit status (I/O before rejected).
+    let mut failure: Option<RecordingError> = None;
     for file in &a.files {
-        let data = std::fs::read(file).map_err(|e| Failure::io(file, &e))?;
-        let report = check_tlog(&data, &mut monitor.fresh());
+        let shown = escape_controls(&file.display().to_string()).into_owned();
+        let report = match check_file(file, &mut monitor.fresh()) {
+            Ok(r) => r,
+            Err(e) => {
+                let line = format!("{shown}\n  error[{}]: {e}\n", code_of(&e));
+                if a.json {
+                    let error =
+                        serde_json::json!({ "code": code_of(&e), "message": e.to_string() });
+                    files.push(serde_json::json!({ "file": shown, "error": error }));
+                } else {
+                    emit(&mut text, ctx, a.output.is_some(), &line)?;
+                }
+                if failure.as_ref().is_none_or(|f| e.is_io() && !f.is_io()) {
+                    failure = Some(e);
+                }
+                continue;
+            }
+        };
         violations += report.violations.len();
+        let warning = report.unread_warning(file);
+        if let Some(w) = &warning {
+            ctx.warn(w);
+        }
         if a.json {
-            files.push(serde_json::json!({ "file": file.display().to_string(), "report": report }));
+            let warnings: Vec<_> = warning
+                .iter()
+                .map(|w| serde_json::json!({ "code": "mav::T003", "message": w.to_string() }))
+                .collect();
+            files
+                .push(serde_json::json!({ "file": shown, "report": report, "warnings": warnings }));
             continue;
         }
         let mut one = String::new();
-        write_report(&mut one, file, &report, a.max_reports)
+        write_report(&mut one, &shown, &report, a.max_reports)
             .map_err(|e| Failure::usage(format_args!("formatting the report: {e}")))?;
-        match a.output {
-            Some(_) => text.push_str(&one),
-            // File by file: a reader that stops early (`| head`) ends the command at once.
-            None => ctx.out.write_all(one.as_bytes())?,
-        }
+        emit(&mut text, ctx, a.output.is_some(), &one)?;
     }
     if a.json {
-        let doc = serde_json::json!({ "files": files, "violations": violations });
+        let doc = serde_json::json!({
+            "version": CHECK_JSON_VERSION,
+            "files": files,
+            "violations": violations,
+            "unreadable_files": files.iter().filter(|f| f.get("error").is_some()).count(),
+        });
         match &a.output {
             Some(_) => {
                 text = serde_json::to_string_pretty(&doc)
@@ -65,12 +98,32 @@ pub fn run(a: CheckArgs, ctx: &mut Ctx) -> CmdResult {
     if let Some(out) = &a.output {
         std::fs::write(out, text).map_err(|e| Failure::io(out, &e))?;
     }
-    Ok(if violations > 0 { Exit::Findings } else { Exit::Ok })
+    match failure {
+        // A checker never passes what it could not read: one such file fails the run.
+        Some(e) if e.is_io() => Err(Failure::Usage(miette::Report::new(e))),
+        Some(e) => Err(Failure::rejected(e)),
+        None => Ok(if violations > 0 { Exit::Findings } else { Exit::Ok }),
+    }
 }
 
-fn write_report(w: &mut String, file: &Path, r: &RecordingReport, max: usize) -> std::fmt::Result {
+/// The report of one file: into the output file's text, or at once to standard output (file by
+/// file: a reader that stops early, `| head`, ends the command at once).
+fn emit(text: &mut String, ctx: &mut Ctx, to_file: bool, one: &str) -> Result<(), Failure> {
+    if to_file {
+        text.push_str(one);
+        Ok(())
+    } else {
+        ctx.out.write_all(one.as_bytes())
+    }
+}
+
+fn code_of(e: &RecordingError) -> String {
+    miette::Diagnostic::code(e).map(|c| c.to_string()).unwrap_or_default()
+}
+
+fn write_report(w: &mut String, file: &str, r: &RecordingReport, max: usize) -> std::fmt::Result {
     let c = &r.codec;
-    writeln!(w, "{}", file.display())?;
+    writeln!(w, "{file}")?;
     writeln!(
         w,
         "  frames {} (v1 {}, v2 {}, signed {}), messages checked {}, relevant to protocols {}",
@@ -78,14 +131,17 @@ fn write_report(w: &mut String, file: &Path, r: &RecordingReport, max: usize) ->
     )?;
     writeln!(
         w,
-        "  input problems: bad crc {}, bad length {}, unknown id {}, bad incompat flags {}, truncated {}, garbage bytes {}, records skipped {}",
+        "  input problems: bad crc {}, bad length {}, unknown id {}, bad incompat flags {}, truncated {}, garbage bytes {}, records skipped {}; {} of {} bytes ({:.2} %) not frame records",
         c.bad_crc,
         c.bad_length,
         c.unknown_id,
         c.bad_incompat,
         c.truncated,
         c.garbage_bytes,
-        r.skipped_records
+        r.skipped_records,
+        r.unread_bytes,
+        r.bytes,
+        100.0 * r.unread_fraction()
     )?;
     let s = &r.summary;
     writeln!(

@@ -13,6 +13,7 @@ use vouch_mav::guard::{
 };
 use vouch_mav::monitor::MonitorSpec;
 use vouch_mav::signing::state;
+use vouch_mav::text::escape_controls;
 
 use super::guard_args::GuardArgs;
 use super::guard_setup::{endpoints, log_paths, merged_monitor};
@@ -93,7 +94,8 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
         ));
         for e in &eps {
             let c = &e.config;
-            writeln!(ctx.out, "{}\t{}\t{}", c.name, side_word(c.side), c.link)?;
+            let (name, link) = (escape_controls(&c.name), c.link.to_string());
+            writeln!(ctx.out, "{name}\t{}\t{}", side_word(c.side), escape_controls(&link))?;
         }
         return Ok(Exit::Ok);
     }
@@ -102,7 +104,8 @@ pub fn run(a: GuardArgs, ctx: &mut Ctx) -> CmdResult {
     for e in &eps {
         let c = &e.config;
         let bound = running.local_addr(&c.name).map_or(String::new(), |x| format!(" (bound {x})"));
-        ctx.note(format_args!("  {:<12} {:<7} {}{bound}", c.name, side_word(c.side), c.link));
+        let line = format!("  {:<12} {:<7} {}{bound}", c.name, side_word(c.side), c.link);
+        ctx.note(escape_controls(&line));
     }
     let report = a.report_stats.or(file.report_stats.then_some(Duration::from_secs(1)));
     let started = Instant::now();
@@ -173,7 +176,8 @@ fn note_event(ctx: &Ctx, ev: &GuardEvent) {
         }
         GuardEvent::Warning { endpoint, message } => format!("{endpoint}: warning: {message}"),
     };
-    ctx.note(format_args!("vouch mav guard: {line}"));
+    // Endpoint names, peers and reasons may come from configuration files or the network.
+    ctx.note(format_args!("vouch mav guard: {}", escape_controls(&line)));
 }
 
 /// Per-endpoint counters: a table on standard error, or a JSON line on standard output.

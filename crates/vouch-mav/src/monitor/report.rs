@@ -64,7 +64,11 @@ impl Reply {
             crc_extra: def.crc_extra,
             payload: b.payload().to_vec(),
             fields,
-            text_fields,
+            // Shown in reports: text from the wire never reaches a terminal raw.
+            text_fields: text_fields
+                .into_iter()
+                .map(|(f, t)| (f, crate::text::escape_controls(&t).into_owned()))
+                .collect(),
             from_sys: from.0,
             from_comp: from.1,
             to_sys: addressee.0,

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use super::Monitor;
 use crate::dialect::{Dialect, DialectError, load_dialect_file};
 use crate::protocol::{ProtocolError, load_protocols, stdlib};
+use crate::text::escape_controls;
 
 /// Where a monitor's dialect and protocols come from.
 #[derive(Clone, Debug, Default)]
@@ -31,13 +32,22 @@ pub enum LoadError {
     #[diagnostic(transparent)]
     Dialect(#[from] DialectError),
     /// A protocol file cannot be read.
-    #[error("cannot read protocol file {}: {source}", path.display())]
+    #[error("cannot read protocol file {}: {source}", escape_controls(&path.display().to_string()))]
     #[diagnostic(code(mav::M001))]
     Read {
         /// The file.
         path: PathBuf,
         /// Why.
         source: std::io::Error,
+    },
+    /// A protocol file is not text (UTF-8): another format, or damaged.
+    #[error("protocol file {path} is not UTF-8 text (first bad byte at offset {offset})")]
+    #[diagnostic(code(mav::M002))]
+    NotText {
+        /// The file, control characters escaped.
+        path: String,
+        /// Offset of the first byte that is not UTF-8.
+        offset: usize,
     },
     /// A protocol file was rejected (located).
     #[error(transparent)]
@@ -51,7 +61,7 @@ impl LoadError {
         match self {
             LoadError::Dialect(d) => d.is_io(),
             LoadError::Read { .. } => true,
-            LoadError::Protocol(_) => false,
+            LoadError::NotText { .. } | LoadError::Protocol(_) => false,
         }
     }
 }
@@ -80,8 +90,12 @@ impl MonitorSpec {
             Vec::new()
         };
         for p in &self.protocols {
-            let text = std::fs::read_to_string(p)
-                .map_err(|source| LoadError::Read { path: p.clone(), source })?;
+            let bytes =
+                std::fs::read(p).map_err(|source| LoadError::Read { path: p.clone(), source })?;
+            let text = String::from_utf8(bytes).map_err(|e| LoadError::NotText {
+                path: escape_controls(&p.display().to_string()).into_owned(),
+                offset: e.utf8_error().valid_up_to(),
+            })?;
             sources.push((p.display().to_string(), text));
         }
         Ok(sources)

@@ -95,7 +95,8 @@ pub fn lex_range(src: &str, start: usize, end: usize) -> Result<Vec<Token>, Prot
                     ErrorKind::Lex,
                     src,
                     Span::new(start, ch.len_utf8()),
-                    format!("unexpected character `{ch}`"),
+                    // Escaped: the character may be a control character that must not reach a terminal.
+                    format!("unexpected character `{}`", ch.escape_debug()),
                 ));
             }
         }

@@ -34,6 +34,16 @@ pub fn load_protocols(
     let mut set = ProtocolSet::default();
     for (file, (name, text)) in sources.iter().enumerate() {
         let ast = parser::parse(text).map_err(|e| e.in_file(name, text))?;
+        if ast.protocols.is_empty() && ast.effects.is_empty() {
+            // Nothing to check is no success: an empty or commented-out file is refused.
+            return Err(ProtocolError::at(
+                ErrorKind::Structure,
+                text,
+                Span::new(0, 0),
+                "the file declares no protocol and no effect".to_string(),
+            )
+            .in_file(name, text));
+        }
         let mut c = compile::Compiler::new(dialect, text, file, &mut set);
         c.file(&ast).map_err(|e| e.in_file(name, text))?;
     }
