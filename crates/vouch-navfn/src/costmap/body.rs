@@ -17,7 +17,6 @@
 
 use serde::Serialize;
 
-use super::footprint::distance_to_segment;
 use crate::maps::WorldParams;
 
 /// Largest heading step when a polygon's turn in place is sampled (radians, 1°).
@@ -246,6 +245,19 @@ fn segment_distance(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> f64 {
         .min(distance_to_segment(d, a, b))
 }
 
+/// Distance from `p` to the segment `a`–`b`; a point when `a = b` (a robot standing still, a
+/// repeated footprint vertex).
+fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (cx, cy) = (b[0] - a[0], b[1] - a[1]);
+    let len_sq = cx * cx + cy * cy;
+    let t = if len_sq > 0.0 {
+        (((p[0] - a[0]) * cx + (p[1] - a[1]) * cy) / len_sq).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a[0] + t * cx - p[0]).hypot(a[1] + t * cy - p[1])
+}
+
 fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 }
@@ -315,5 +327,17 @@ mod tests {
         let turning = [[1.5, 5.5, 0.0], [8.5, 5.5, std::f64::consts::FRAC_PI_2]];
         let r = check(bar, &map_with(&[(8, 6)]), &turning);
         assert!(!r.is_ok());
+    }
+
+    #[test]
+    fn degenerate_shapes_and_standing_still_give_numbers() {
+        let costs = map_with(&[(5, 7)]);
+        let still = [[5.5, 5.5, 0.0], [5.5, 5.5, 0.0]];
+        let r = check(Body::Disc(0.2), &costs, &still);
+        // from (5.5, 5.5) to the square [5, 6]×[7, 8]: 1.5, less the radius
+        assert!((r.min.unwrap().clearance - 1.3).abs() < 1e-12);
+        let dot = Body::Polygon(vec![[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]);
+        let r = check(dot, &costs, &still);
+        assert!((r.min.unwrap().clearance - 1.5).abs() < 1e-12);
     }
 }
