@@ -213,11 +213,27 @@ mod tests {
         assert!((f.inscribed_radius() - expect).abs() < 1e-12);
     }
 
+    proptest::proptest! {
+        /// Any string: a footprint or a located error, never a panic; the offset is in it.
+        #[test]
+        fn any_string_parses_or_is_located(text in "[\\[\\], 0-9.eE+x-]{0,40}") {
+            match Footprint::from_polygon_str(&text, 0.01) {
+                Ok(f) => proptest::prop_assert!(f.points.len() >= 3),
+                Err(CostmapError::Footprint { offset, .. }) => proptest::prop_assert!(offset <= text.len()),
+                Err(e) => proptest::prop_assert!(false, "{e}"),
+            }
+        }
+    }
+
     #[test]
     fn bad_polygons_are_located() {
-        for (text, offset) in
-            [("[[1, 2], [3]]", 11), ("[[1, 2], [3, x], [0, 0]]", 13), ("[[1,2],[2,3]]", 0)]
-        {
+        for (text, offset) in [
+            ("[[1, 2], [3]]", 11),
+            ("[[1, 2], [3, x], [0, 0]]", 13),
+            ("[[1,2],[2,3]]", 0),
+            ("[[é,1],[2,3],[4,5]]", 2),
+            ("[[1,2],[3,4],[5,6]", 18),
+        ] {
             match Footprint::from_polygon_str(text, 0.0) {
                 Err(CostmapError::Footprint { offset: o, .. }) => assert_eq!(o, offset, "{text}"),
                 other => panic!("{text}: {other:?}"),
