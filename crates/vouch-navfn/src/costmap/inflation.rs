@@ -168,8 +168,8 @@ impl InflationLayer {
 }
 
 /// Largest `ceil(inflation_radius / resolution)` accepted: the cost table has 100 entries per
-/// cell, and no map is wider than this.
-pub const MAX_CELL_RADIUS: u32 = 1 << 20;
+/// cell (6.5 MB here), and 2^16 cells is 3.3 km at 5 cm, beyond any inflation radius in use.
+pub const MAX_CELL_RADIUS: u32 = 1 << 16;
 
 /// Euclidean distance transform in place: input 0 at obstacles and `f32::MAX` elsewhere,
 /// output the distance in cells (`f32::MAX`-ish where no obstacle exists).
