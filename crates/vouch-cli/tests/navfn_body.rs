@@ -185,10 +185,10 @@ fn point_to_cell(p: [f64; 2], c: [usize; 2]) -> f64 {
 }
 
 /// With nav2's padding (inscribed radius 0.304 m for a 0.3 m robot) no inflation radius keeps
-/// the body clear: the inscribed ring is measured between cell centres and nav2 places a path
-/// point at its cell's corner, so a path may pass √2 cells closer than the ring; with a padding
-/// of 0.08 m (inscribed 0.372 ≥ 0.3 + √2·0.05) the search finds a radius, and its
-/// counterexample at the radius below really touches.
+/// the body clear on this map: the inscribed ring is measured between cell centres, nav2 places
+/// a path point at its cell's corner and the body meets the obstacle's square, so a path may
+/// pass closer than the ring says; with a padding of 0.08 m (inscribed 0.372 m) the search
+/// finds a radius for the sampled goals, and its counterexample at the radius below touches.
 #[test]
 fn inflation_search_finds_the_radius_and_a_real_counterexample() {
     if !shared() {
