@@ -27,7 +27,9 @@ pub enum CostmapError {
         msg: String,
     },
     /// A parameter out of its range (negative, not finite, too large for the map).
-    #[error("{name} = {value} is out of range (finite, ≥ 0; an inflation radius of at most 2^16 cells)")]
+    #[error(
+        "{name} = {value} is out of range (finite, ≥ 0; an inflation radius of at most 2^16 cells)"
+    )]
     #[diagnostic(code(navfn::E121))]
     Parameter {
         /// The parameter's nav2 name.
