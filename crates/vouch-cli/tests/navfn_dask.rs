@@ -78,3 +78,35 @@ fn dask_cluster_runs_the_paper_suite_in_eight_shards_and_merges_to_the_single_ru
          merged and compared, in {seconds:.1} s"
     );
 }
+
+/// The inflation-radius search on the same back-end: three tasks, each a shard of the goals,
+/// merged by `vouch navfn inflation --merge`, equal to one unsharded run.
+#[test]
+fn dask_cluster_shards_the_inflation_search() {
+    let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
+    let Some(python) = vouch_testkit::python_with(&["dask", "distributed"]) else { return };
+    let driver =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../vouch-navfn/distributed/dask_campaign.py");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("navfn_dask_inflation");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = Command::new(&python)
+        .arg(&driver)
+        .arg(shared.join("nav2_maps/map_circular.yaml"))
+        .args(["--inflation", "--shards", "3", "--local-workers", "2", "--compare-single"])
+        .arg("--vouch")
+        .arg(env!("CARGO_BIN_EXE_vouch"))
+        .arg("--out")
+        .arg(&out)
+        .args(["--", "--robot-radius", "0.3", "--footprint-padding", "0.08"])
+        .args(["--cost-scaling-factor", "3", "--goals", "4", "--start-stride", "8"])
+        .output()
+        .expect("the driver runs");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}\n{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(stdout.lines().last().expect("a summary line")).expect("JSON");
+    assert_eq!(summary["equal_to_single"], true);
+    assert!(summary["smallest_safe_radius"].as_f64().is_some());
+    let merged = json(&out.join("merged.json"));
+    assert_eq!(merged["shards"].as_array().expect("shards").len(), 3);
+}

@@ -15,6 +15,13 @@ must exist at the same paths on every worker (a shared file system or the same i
     dask_campaign.py SUITE --shards 64 --scheduler tcp://head:8786 --vouch /opt/vouch/bin/vouch \\
         -- --mode navfn --algo dijkstra
 
+With `--inflation`, the positional argument is a map and every task runs
+`vouch navfn inflation MAP --shard I/N --json` (the inflation-radius search, sharded over its
+goals); the reports are joined with `vouch navfn inflation --merge`, and `--compare-single`
+checks that the merged smallest safe radius and failing radius equal one unsharded run's:
+
+    dask_campaign.py map.yaml --inflation --shards 8 --compare-single -- --robot-radius 0.3
+
 Everything after `--` is passed to every `vouch navfn campaign` unchanged. Exit status: 0 when
 the merged report has no failures (and equals the single run when asked), 3 when the campaign
 found failures, 1 when the merged and single reports differ, 2 on a usage or run error.
@@ -36,9 +43,9 @@ RUN_FIELDS = ("shards", "runs")
 REPORT_STATUSES = (0, 3)
 
 
-def run_shard(vouch, suite, index, count, extra, threads):
+def run_shard(vouch, suite, index, count, extra, threads, command="campaign"):
     """One Dask task: run one shard (`count` 1 = the whole suite) and return its report text."""
-    cmd = [vouch, "-q", "navfn", "campaign", suite, "--json"]
+    cmd = [vouch, "-q", "navfn", command, suite, "--json"]
     if count > 1:
         cmd += ["--shard", f"{index}/{count}"]
     env = dict(os.environ)
@@ -147,6 +154,63 @@ def campaign(args, extra):
     return status
 
 
+def inflation(args, extra):
+    """The inflation-radius search: one task per shard of goals, gather, merge, compare."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    began = time.monotonic()
+    client, cluster = connect(args)
+    try:
+        futures = [
+            client.submit(run_shard, args.vouch, args.suite, i, args.shards, extra, args.threads,
+                          "inflation", key=f"navfn-inflation-{i}-of-{args.shards}", pure=False,
+                          retries=args.retries)
+            for i in range(args.shards)
+        ]
+        single = None
+        if args.compare_single:
+            single = client.submit(run_shard, args.vouch, args.suite, 0, 1, extra, args.threads,
+                                   "inflation", key="navfn-inflation-single", pure=False,
+                                   retries=args.retries)
+        texts = client.gather(futures)
+        single_text = single.result() if single is not None else None
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    files = []
+    for i, text in enumerate(texts):
+        f = out / f"inflation-{i}.json"
+        f.write_text(text)
+        files.append(f)
+    cmd = [args.vouch, "-q", "navfn", "inflation", "--json", "-o", str(out / "merged.json"),
+           "--merge"] + [str(f) for f in files]
+    done = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if done.returncode not in REPORT_STATUSES:
+        raise RuntimeError(f"inflation --merge exited {done.returncode}: {done.stderr.strip()}")
+    merged = json.loads(done.stdout)
+
+    def answer(report):
+        cx = report.get("counterexample") or {}
+        return [report.get("smallest_safe_radius"), cx.get("inflation_radius")]
+
+    summary = {
+        "shards": args.shards,
+        "smallest_safe_radius": merged["smallest_safe_radius"],
+        "largest_failing_radius": answer(merged)[1],
+        "seconds": round(time.monotonic() - began, 2),
+    }
+    status = 0 if merged["smallest_safe_radius"] is not None else 3
+    if single_text is not None:
+        (out / "single.json").write_text(single_text)
+        same = answer(merged) == answer(json.loads(single_text))
+        summary["equal_to_single"] = same
+        if not same:
+            status = 1
+    print(json.dumps(summary))
+    return status
+
+
 def failures(report):
     """Failed checks, exact relations and oracle disagreements of a report."""
     n = 0
@@ -174,11 +238,13 @@ def main(argv):
     p.add_argument("--retries", type=int, default=1, help="Dask retries of a failed shard")
     p.add_argument("--compare-single", action="store_true",
                    help="also run the whole suite in one task and compare")
+    p.add_argument("--inflation", action="store_true",
+                   help="the positional argument is a map: run the inflation-radius search")
     args = p.parse_args(argv)
     if args.shards < 1:
         p.error("--shards must be at least 1")
     try:
-        return campaign(args, extra)
+        return inflation(args, extra) if args.inflation else campaign(args, extra)
     except (RuntimeError, OSError, json.JSONDecodeError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2

@@ -6,9 +6,10 @@
 //! Layers, lowest first (each module imports only from its own layer or lower ones):
 //! `diag` (source spans) → `core` (NavFn arrays, the IR of a plan) → `checks` (run-time
 //! properties of every plan) → `maps` (front ends, located errors, the world frame) →
-//! `planner` (nav2's `NavfnPlanner`: world coordinates, swap, tolerance) → `suite` (call
-//! sequences of the golden modes, golden text) → `picture` (PNG) → `campaign` → `bench` (the
-//! harness of `vouch navfn bench`, only with the `bench` feature).
+//! `costmap` (nav2's inflation layer, the footprint, the body check) → `planner` (nav2's
+//! `NavfnPlanner`: world coordinates, swap, tolerance) → `suite` (call sequences of the golden
+//! modes, golden text) → `picture` (PNG) → `campaign`, `bagcheck` → `guarantee` (the inflation
+//! radius search) → `bench` (the harness of `vouch navfn bench`, only with the `bench` feature).
 //! The reference semantics is `shared/navfn/SEMANTICS.md`; the oracle is `shared/navfn/golden`.
 
 // The library never prints, exits or panics on its own: callers get data and typed errors.
@@ -35,7 +36,9 @@ pub mod bench;
 pub mod campaign;
 pub mod checks;
 pub mod core;
+pub mod costmap;
 pub mod diag;
+pub mod guarantee;
 pub mod maps;
 pub mod picture;
 pub mod planner;

@@ -14,12 +14,14 @@ pub struct PictureInput<'a> {
     pub plan: PlanView<'a>,
     /// Draw row 0 at the bottom (ROS maps), as the map image shows it.
     pub flip_y: bool,
+    /// Cells to ring in a colour (the body check's contacts and closest lethal cell).
+    pub marks: &'a [([usize; 2], [u8; 3])],
 }
 
 impl<'a> PictureInput<'a> {
     /// Picture of the last plan of `nav` (NavFn start/goal; set `flip_y` for ROS maps).
     pub fn of(nav: &'a NavFn, flip_y: bool) -> Self {
-        PictureInput { plan: PlanView::of(nav), flip_y }
+        PictureInput { plan: PlanView::of(nav), flip_y, marks: &[] }
     }
 }
 
@@ -111,7 +113,22 @@ pub fn render(pic: &PictureInput) -> Rgb {
     let centre = |c: Cell| to_px([c.x as f32, c.y as f32]);
     dot(&mut img, centre(p.start), marker, [20, 200, 60]);
     dot(&mut img, centre(p.goal), marker, [30, 90, 255]);
+    for &([x, y], colour) in pic.marks {
+        ring(&mut img, to_px([x as f32, y as f32]), marker + thick, thick, colour);
+    }
     img
+}
+
+fn ring(img: &mut Rgb, (cx, cy): (i64, i64), r: i64, thick: i64, c: [u8; 3]) {
+    let inner = (r - thick).max(0);
+    for dy in -r..=r {
+        for dx in -r..=r {
+            let d2 = dx * dx + dy * dy;
+            if d2 <= r * r && d2 >= inner * inner {
+                img.put(cx + dx, cy + dy, c);
+            }
+        }
+    }
 }
 
 fn dot(img: &mut Rgb, (cx, cy): (i64, i64), r: i64, c: [u8; 3]) {

@@ -77,14 +77,21 @@ fn golden_path(golden: &str, k: usize) -> Vec<(f32, f32)> {
 }
 
 /// The cost model stated in docs/navfn-campaign.md, written out here independently of the
-/// campaign's code: each segment costs its length times the mean cost of the cells of its
-/// two end points (nearest cell, half away from zero).
+/// campaign's code: the path's points read as cells (nearest cell, half away from zero),
+/// repeats dropped, each move between neighbouring cells costing its length (1 or √2) times
+/// the mean of the two cells' costs — the optimum's own metric.
 fn model_cost(costs: &[u8], w: usize, path: &[(f32, f32)]) -> f64 {
-    let cell = |p: (f32, f32)| f64::from(costs[p.1.round() as usize * w + p.0.round() as usize]);
-    path.windows(2)
-        .map(|s| {
-            let (dx, dy) = (f64::from(s[1].0 - s[0].0), f64::from(s[1].1 - s[0].1));
-            (dx * dx + dy * dy).sqrt() * (cell(s[0]) + cell(s[1])) / 2.0
+    let mut cells: Vec<(i64, i64)> =
+        path.iter().map(|p| (p.0.round() as i64, p.1.round() as i64)).collect();
+    cells.dedup();
+    let cost = |c: (i64, i64)| f64::from(costs[c.1 as usize * w + c.0 as usize]);
+    cells
+        .windows(2)
+        .map(|m| {
+            assert!((m[1].0 - m[0].0).abs() <= 1 && (m[1].1 - m[0].1).abs() <= 1, "a jump");
+            let len =
+                if m[0].0 != m[1].0 && m[0].1 != m[1].1 { std::f64::consts::SQRT_2 } else { 1.0 };
+            len * (cost(m[0]) + cost(m[1])) / 2.0
         })
         .sum()
 }

@@ -34,6 +34,21 @@ fn campaign_on_paper_suite_holds_every_property() {
     assert_eq!(report.failures(), 0);
     // Every found path (start ≠ goal) is compared with the optimum (all are 8-connected).
     assert_eq!(t.optimality.compared, 71_915);
+    // The derived bound: NavFn's cell path is an 8-connected path of traversable cells (every
+    // ValidPath check passed above) costed in the optimum's metric, so it cannot be cheaper
+    // than the optimum; only f64 summation order may differ (costs < 10^6, error < 10^-6).
+    assert!(
+        t.optimality.excess_min >= -1e-6,
+        "a path below the optimum: {}",
+        t.optimality.excess_min
+    );
+    println!(
+        "optimality: excess {:.2} %, ratio max {:.3}, {} paths above ×{}",
+        t.optimality.excess_percent(),
+        t.optimality.ratio_max,
+        t.optimality.suboptimal_paths,
+        opts.suboptimal_ratio
+    );
     // golden/README.md: 152 oscillation detections in paper mode; the paper: 0.13 % of the paths.
     assert_eq!(t.optimality.oscillating_paths, 152);
     // The paper: obtuse turns in 1.91 % of the paths (oscillations excluded).

@@ -72,7 +72,7 @@ pub enum ShardArg {
     Auto,
 }
 
-fn parse_shard_arg(s: &str) -> Result<ShardArg, String> {
+pub(super) fn parse_shard_arg(s: &str) -> Result<ShardArg, String> {
     if s == "auto" {
         return Ok(ShardArg::Auto);
     }
@@ -81,7 +81,7 @@ fn parse_shard_arg(s: &str) -> Result<ShardArg, String> {
 }
 
 /// The shard of `arg` split by `by` (the whole suite without `--shard`).
-fn resolve_shard(arg: Option<ShardArg>, by: ShardBy) -> Result<Shard, Failure> {
+pub(super) fn resolve_shard(arg: Option<ShardArg>, by: ShardBy) -> Result<Shard, Failure> {
     let shard = match arg {
         None => Ok(Shard::ALL),
         Some(ShardArg::Fixed(i, n)) => Shard::new(i, n, by),

@@ -10,6 +10,7 @@ use vouch_navfn::bagcheck::{
 use vouch_navfn::planner::PlannerParams;
 use vouch_navfn::rosbag::BagError;
 
+use super::costmap::{BodyArgs, body_shape};
 use super::{AlgoArg, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
@@ -93,11 +94,23 @@ pub struct CheckBagArgs {
     /// The planner's use_final_approach_orientation
     #[arg(long)]
     use_final_approach_orientation: bool,
+    /// The robot's body: every plan's swept body is checked against the static map
+    #[command(flatten)]
+    body: BodyArgs,
+    /// How far beyond the body lethal cells are looked for when reporting the clearance (m)
+    #[arg(long, default_value_t = 2.0, value_name = "M")]
+    clearance_window: f64,
 }
 
 impl CheckBagArgs {
-    fn options(&self) -> BagCheckOptions {
-        BagCheckOptions {
+    fn options(&self) -> Result<BagCheckOptions, Failure> {
+        if !self.clearance_window.is_finite() || self.clearance_window < 0.0 {
+            return Err(Failure::usage(format!(
+                "--clearance-window {}: expected ≥ 0",
+                self.clearance_window
+            )));
+        }
+        Ok(BagCheckOptions {
             topics: Topics {
                 map: self.map_topic.clone(),
                 costmap: self.costmap_topic.clone(),
@@ -123,13 +136,15 @@ impl CheckBagArgs {
                 ReplayArg::Off => ReplayMode::Off,
             },
             pictures: self.png_dir.is_some(),
-        }
+            body: body_shape(&self.body)?,
+            body_window: self.clearance_window,
+        })
     }
 }
 
 /// Runs `vouch navfn check-bag`.
 pub fn run(a: CheckBagArgs, ctx: &mut Ctx) -> CmdResult {
-    let report = check_bag_file(&a.bag, &a.options()).map_err(bag_failure)?;
+    let report = check_bag_file(&a.bag, &a.options()?).map_err(bag_failure)?;
     if let Some(dir) = &a.png_dir {
         std::fs::create_dir_all(dir).map_err(|e| Failure::io(dir, &e))?;
         for p in &report.plans {
@@ -154,6 +169,16 @@ pub fn run(a: CheckBagArgs, ctx: &mut Ctx) -> CmdResult {
 fn print_report(ctx: &mut Ctx, report: &BagReport) -> Result<(), Failure> {
     for p in &report.plans {
         writeln!(ctx.out, "{}", plan_line(p, report.replay_mode))?;
+        if let Some(b) = &p.body {
+            match &b.min {
+                Some(m) => writeln!(
+                    ctx.out,
+                    "  body: min clearance {:.4} m at pose {} (lethal cell {},{})",
+                    m.clearance, m.pose, m.cell[0], m.cell[1]
+                )?,
+                None => writeln!(ctx.out, "  body: min clearance ≥ {} m", b.window)?,
+            }
+        }
         // one line per kind of violation: the first one, and how many more
         let mut shown: Vec<&str> = Vec::new();
         for v in &p.violations {

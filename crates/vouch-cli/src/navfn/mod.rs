@@ -7,6 +7,8 @@
 mod bench;
 mod campaign;
 mod check_bag;
+mod costmap;
+mod inflation;
 mod plan;
 mod suite;
 
@@ -31,6 +33,16 @@ pub enum NavfnCmd {
     /// Every plan of an MCAP or sqlite3 bag is checked on the costmap in force when it was
     /// published, and replayed with vouch's planner.
     CheckBag(check_bag::CheckBagArgs),
+    /// Inflate a ROS map as nav2's InflationLayer does, for a robot radius or footprint
+    ///
+    /// The static layer (map_server + nav2's static layer) inflated with nav2's cost formula,
+    /// distance transform and cost table, byte for byte; a PGM or raw bytes.
+    Costmap(costmap::CostmapArgs),
+    /// Find the smallest inflation radius that keeps the robot's body off the obstacles
+    ///
+    /// Every radius (at the map's resolution) from --max-radius down; sampled goals, every
+    /// start; prints the plan that fails at the largest failing radius.
+    Inflation(inflation::InflationArgs),
     /// Suites in the paper's format (test.txt + map.bin): run, generate, compare
     #[command(
         subcommand,
@@ -77,6 +89,8 @@ pub fn run(cmd: NavfnCmd, ctx: &mut Ctx) -> CmdResult {
     match cmd {
         NavfnCmd::Plan(a) => plan::run(a, ctx),
         NavfnCmd::CheckBag(a) => check_bag::run(a, ctx),
+        NavfnCmd::Costmap(a) => costmap::run(a, ctx),
+        NavfnCmd::Inflation(a) => inflation::run(a, ctx),
         NavfnCmd::Suite(SuiteCmd::Run(a)) => suite::run(a, ctx),
         NavfnCmd::Suite(SuiteCmd::Gen(a)) => campaign::suite_gen(a, ctx),
         NavfnCmd::Suite(SuiteCmd::Diff(a)) => campaign::suite_diff(a, ctx),

@@ -13,6 +13,7 @@ use vouch_navfn::planner::{
     End, NavfnPlanner, PlanError, PlanStatus, PlannerParams, PlannerPlan, Pose, PosePlan,
 };
 
+use super::costmap::{BodyArgs, InflationArgs, body_check, body_marks, inflate, print_body};
 use super::{AlgoArg, map_failure, parse_pair, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
@@ -77,6 +78,15 @@ pub struct PlanArgs {
     /// Deprecated, the default now: a plan-check violation is a finding (exit 3)
     #[arg(long, hide = true)]
     checked: bool,
+    /// The robot's body: with it, the costmap is inflated as nav2's InflationLayer does and
+    /// the body swept along the plan is checked against the static map's lethal cells
+    #[command(flatten)]
+    body: BodyArgs,
+    #[command(flatten)]
+    inflation: InflationArgs,
+    /// How far beyond the body lethal cells are looked for when reporting the clearance (m)
+    #[arg(long, default_value_t = 2.0, value_name = "M")]
+    clearance_window: f64,
 }
 
 /// Runs `vouch navfn plan`.
@@ -95,7 +105,13 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
         max_cycles_factor: a.max_cycles_factor,
         use_final_approach_orientation: a.use_final_approach_orientation,
     };
-    let mut planner = NavfnPlanner::new(&map.costmap, map.width, map.height, map.world(), params)
+    let footprint = a.body.footprint()?;
+    // with a body, NavFn plans on the inflated costmap, as in nav2
+    let costs = match &footprint {
+        Some(f) => inflate(&map, Some(f), a.inflation.params())?.0,
+        None => map.costmap.clone(),
+    };
+    let mut planner = NavfnPlanner::new(&costs, map.width, map.height, map.world(), params)
         .map_err(Failure::rejected)?;
     let (start, goal) = if a.cells {
         let s = planner.cell_point(End::Start, a.start).map_err(Failure::rejected)?;
@@ -113,9 +129,17 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
     let nav = planner.nav();
     let ran_navfn = plan.navfn_goal.is_some();
     let report = if ran_navfn { check_plan(&PlanView::of(nav)) } else { CheckReport::default() };
+    let xyyaw: Vec<[f64; 3]> =
+        poses.iter().map(|p| [p.position[0], p.position[1], p.yaw()]).collect();
+    let body = footprint
+        .as_ref()
+        .map(|_| body_check(&map, &a.body, a.clearance_window, &xyyaw))
+        .transpose()?;
     if let Some(png) = &a.png {
         if ran_navfn {
+            let marks = body.as_ref().map(body_marks).unwrap_or_default();
             let mut pic = PictureInput::of(nav, true);
+            pic.marks = &marks;
             // robot start in green, robot goal in blue (NavFn runs them swapped)
             pic.plan.start = nav.goal();
             pic.plan.goal = nav.start();
@@ -129,11 +153,17 @@ pub fn run(a: PlanArgs, ctx: &mut Ctx) -> CmdResult {
     }
     if a.json {
         let ends = [start.xy(), goal.xy()];
-        ctx.out.json(&json_summary(&a, ends, &plan, &poses, &report, elapsed_ms))?;
+        let mut doc = json_summary(&a, ends, &plan, &poses, &report, elapsed_ms);
+        doc["body"] = serde_json::to_value(&body).unwrap_or_default();
+        ctx.out.json(&doc)?;
     } else {
         print_summary(ctx, &a, &plan, &poses, &report, elapsed_ms)?;
+        if let Some(b) = &body {
+            print_body(ctx, b)?;
+        }
     }
-    if !report.is_ok() {
+    let body_ok = body.as_ref().is_none_or(|b| b.is_ok());
+    if !report.is_ok() || !body_ok {
         return Ok(Exit::Findings);
     }
     // nav2 answers a start equal to the goal with a one-pose path

@@ -12,13 +12,14 @@ mod state;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-pub use plan_check::{DETOUR_CELLS, DETOUR_FACTOR, MAX_STEP_CELLS, check_plan_on};
+pub use plan_check::{DETOUR_CELLS, DETOUR_FACTOR, MAX_STEP_CELLS, PlanCheck, check_plan_on};
 pub use report::{
     BAG_REPORT_VERSION, BagReport, CostmapUsed, PathViolation, PlanVerdict, Replay, ReplayMode,
     Request, Source, Summary,
 };
 pub use state::{CostmapKind, CostmapState, TfTree, translate_cost, untranslate};
 
+use crate::costmap::{Body, BodyCheck, BodyReport};
 use crate::planner::{PlannerParams, Pose};
 use crate::rosbag::msgs::{NavMessage, decode};
 use crate::rosbag::{Bag, BagError, read_bag};
@@ -94,6 +95,11 @@ pub struct BagCheckOptions {
     pub replay: ReplayMode,
     /// Render a picture of every failing plan.
     pub pictures: bool,
+    /// The robot's body: when given, each plan's swept body is checked against the static map
+    /// (the map topic's grid; the costmap in force when no map was recorded).
+    pub body: Option<Body>,
+    /// How far beyond the body lethal cells are looked for (metres).
+    pub body_window: f64,
 }
 
 impl Default for BagCheckOptions {
@@ -103,6 +109,8 @@ impl Default for BagCheckOptions {
             params: PlannerParams::default(),
             replay: ReplayMode::Check,
             pictures: false,
+            body: None,
+            body_window: 2.0,
         }
     }
 }
@@ -208,13 +216,42 @@ fn check_one(w: &Walk, frame: &str, poses: &[Pose], opts: &BagCheckOptions) -> P
     let robot = w.robot.or_else(|| {
         w.tf.lookup(&opts.topics.global_frame, &opts.topics.robot_frame).map(|p| state::to_pose(&p))
     });
-    let mut v = check_plan_on(cm, poses, robot, w.goal, opts.params, opts.replay, opts.pictures);
+    let body =
+        opts.body.as_ref().map(|b| body_report(w.map.as_ref().unwrap_or(cm), b, poses, opts));
+    let found: Vec<PathViolation> = body
+        .iter()
+        .flat_map(|r| &r.violations)
+        .map(|c| PathViolation::BodyContact { index: c.pose, cell: c.cell })
+        .collect();
+    // the body check's cells are the map's; the picture is of the costmap in force
+    let marks: Vec<([usize; 2], [u8; 3])> = body
+        .iter()
+        .flat_map(|r| {
+            r.violations
+                .iter()
+                .map(|c| (c, [255, 0, 255]))
+                .chain(r.min.as_ref().map(|m| (m, [0, 230, 230])))
+        })
+        .filter_map(|(c, colour)| {
+            let cell = cm.world.costmap_world_to_map(c.cell_xy, cm.width, cm.height)?;
+            Some(([cell.x, cell.y], colour))
+        })
+        .collect();
+    let how = PlanCheck {
+        params: opts.params,
+        mode: opts.replay,
+        picture: opts.pictures,
+        found: &found,
+        marks: &marks,
+    };
+    let mut v = check_plan_on(cm, poses, robot, w.goal, how);
     if !frame.is_empty() && !cm.frame_id.is_empty() && frame != cm.frame_id {
         v.violations.insert(
             0,
             PathViolation::WrongFrame { plan: frame.to_string(), costmap: cm.frame_id.clone() },
         );
     }
+    v.body = body;
     v.costmap = Some(CostmapUsed {
         topic: cm.topic.clone(),
         kind: cm.kind,
@@ -224,6 +261,26 @@ fn check_one(w: &Walk, frame: &str, poses: &[Pose], opts: &BagCheckOptions) -> P
         exact: cm.exact,
     });
     v
+}
+
+/// The body swept along `poses` against the lethal cells of `map`.
+fn body_report(
+    map: &CostmapState,
+    body: &Body,
+    poses: &[Pose],
+    opts: &BagCheckOptions,
+) -> BodyReport {
+    let check = BodyCheck {
+        costs: &map.costs,
+        width: map.width,
+        height: map.height,
+        world: map.world,
+        body: body.clone(),
+        window: opts.body_window,
+    };
+    let xyyaw: Vec<[f64; 3]> =
+        poses.iter().map(|p| [p.position[0], p.position[1], p.yaw()]).collect();
+    check.check(&xyyaw)
 }
 
 fn summarise(plans: &[PlanVerdict], grids: usize, mode: ReplayMode) -> Summary {

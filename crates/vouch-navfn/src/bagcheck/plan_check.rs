@@ -27,6 +27,21 @@ pub const DETOUR_CELLS: f64 = 3.0;
 /// Sampling step of the straight segments between poses, in cells.
 const SEGMENT_STEP: f64 = 0.2;
 
+/// How one plan is checked beyond the costmap and the request.
+#[derive(Clone, Copy, Debug)]
+pub struct PlanCheck<'a> {
+    /// The planner's parameters.
+    pub params: PlannerParams,
+    /// How replays count.
+    pub mode: ReplayMode,
+    /// Render a picture when the plan fails.
+    pub picture: bool,
+    /// Violations found beforehand (the body check), added before the verdict.
+    pub found: &'a [PathViolation],
+    /// Cells of the costmap to ring on the picture, with their colour.
+    pub marks: &'a [([usize; 2], [u8; 3])],
+}
+
 /// Checks one recorded plan (`poses`, robot start to goal) against `cm`. `start`/`goal` are the
 /// recorded request, when there is one; missing ends are taken from the plan itself.
 pub fn check_plan_on(
@@ -34,10 +49,9 @@ pub fn check_plan_on(
     poses: &[Pose],
     start: Option<Pose>,
     goal: Option<Pose>,
-    params: PlannerParams,
-    mode: ReplayMode,
-    picture: bool,
+    how: PlanCheck<'_>,
 ) -> PlanVerdict {
+    let PlanCheck { params, mode, picture, found, marks } = how;
     let mut v = PlanVerdict::new(poses.len());
     let (Some(first), Some(last)) = (poses.first(), poses.last()) else {
         v.violations.push(PathViolation::EmptyPath);
@@ -80,8 +94,9 @@ pub fn check_plan_on(
         let report = check_potential(&PlanView::of(nav));
         v.violations.extend(report.violations.into_iter().map(PathViolation::Potential));
     }
+    v.violations.extend_from_slice(found);
     if picture && !v.passed(mode) {
-        v.picture = Some(draw(cm, &costs, nav.potential(), ran, &cells, &request));
+        v.picture = Some(draw(cm, &costs, nav.potential(), ran, &cells, &request, marks));
     }
     v
 }
@@ -311,6 +326,7 @@ fn draw(
     ran: bool,
     cells: &[[f64; 2]],
     r: &Request,
+    marks: &[([usize; 2], [u8; 3])],
 ) -> Vec<u8> {
     let unreached = vec![POT_HIGH; costs.len()];
     let path: Vec<[f32; 2]> = cells.iter().map(|p| [p[0] as f32, p[1] as f32]).collect();
@@ -328,6 +344,6 @@ fn draw(
     };
     let mut png = Vec::new();
     // encoding into memory cannot fail for a well-formed image
-    let _ = write_png(&mut png, &render(&PictureInput { plan: view, flip_y: true }));
+    let _ = write_png(&mut png, &render(&PictureInput { plan: view, flip_y: true, marks }));
     png
 }

@@ -127,6 +127,14 @@ pub enum PathViolation {
         /// Goal position.
         goal: [f64; 2],
     },
+    /// The robot's body, swept from this pose to the next, touches a lethal cell of the static
+    /// map (only with a footprint).
+    BodyContact {
+        /// Pose index.
+        index: usize,
+        /// The lethal cell (column, row).
+        cell: [usize; 2],
+    },
     /// `PositionSafe` or `Progress` of the planner's potential on this costmap.
     // Already tagged by the plan check's own `kind`.
     #[serde(untagged)]
@@ -151,6 +159,7 @@ impl PathViolation {
             Detour { .. } => "Detour",
             StartMismatch { .. } => "StartMismatch",
             GoalMismatch { .. } => "GoalMismatch",
+            BodyContact { .. } => "BodyContact",
             Potential(_) => "Potential",
         }
     }
@@ -182,6 +191,11 @@ impl fmt::Display for PathViolation {
             PoseOnUnreachedCell { index, cell } => write!(
                 f,
                 "pose {index} at cell ({:.2}, {:.2}) lies where the potential never reached (FinitePotentialPath)",
+                cell[0], cell[1]
+            ),
+            BodyContact { index, cell } => write!(
+                f,
+                "the body moving from pose {index} touches the lethal cell ({}, {}) of the static map",
                 cell[0], cell[1]
             ),
             Jump { index, cells } => {
@@ -274,6 +288,9 @@ pub struct PlanVerdict {
     pub violations: Vec<PathViolation>,
     /// The replay.
     pub replay: Replay,
+    /// The body check (with a footprint).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body: Option<crate::costmap::BodyReport>,
     /// A PNG picture of the plan when it failed and pictures were asked for.
     #[serde(skip)]
     pub picture: Option<Vec<u8>>,
@@ -290,6 +307,7 @@ impl PlanVerdict {
             request: None,
             violations: Vec::new(),
             replay: Replay::Skipped,
+            body: None,
             picture: None,
         }
     }

@@ -30,8 +30,8 @@ pub struct CampaignOptions {
     /// Compute the 8-connected optimum of every found path.
     pub optimality: bool,
     /// A path whose campaign-model cost exceeds the optimum by this factor is a counterexample.
-    /// The default 1.10 sits above the 8.24 % any-angle/octile metric gap, so a finding is a real
-    /// detour, not a metric artefact.
+    /// Both costs are of 8-connected cell paths in one metric, so every ratio above 1 is a real
+    /// detour (none can be below 1); the default 1.10 keeps the findings to detours of 10 %.
     pub suboptimal_ratio: f64,
     /// Cases per work unit (a unit = consecutive cases of one map, sharing one NavFn and one
     /// optimum cache).

@@ -7,11 +7,13 @@
 //!   Diagonal moves between two obstacle corners are allowed, because NavFn's grid-following
 //!   fallback may take them too; the optimum is therefore a lower bound for such paths.
 //! * The **optimum** is the least grid-path cost from start to goal (Dijkstra in f64).
-//! * NavFn's path (a polyline of float points) costs `Σ |p_{i+1} − p_i| · (c(p_i) + c(p_{i+1})) / 2`
-//!   where `c(p)` is the cost of the cell `(round(x), round(y))` (half away from zero).
-//!   On a grid path this is exactly the grid cost, so the two are comparable.
-//! * Any-angle paths can be cheaper than the 8-connected optimum by up to the octile/Euclidean
-//!   ratio (≤ 8.24 %), so small negative excesses are expected on open maps.
+//! * NavFn's path (a polyline of float points) is costed in the same model: the cells its
+//!   points lie in (`(round(x), round(y))`, half away from zero), in order, form an 8-connected
+//!   cell path from the start cell to the goal cell, costed move by move like the optimum's.
+//!   The optimum is the least such cost, so `optimum ≤ NavFn` holds by construction whenever
+//!   NavFn's cells are traversable: the bound is 1, derived, not quoted. (Sampling cell costs
+//!   at the points only, with Euclidean segment lengths, mixed two models and could put an
+//!   any-angle path 20 % *below* the optimum, which no metric bound explains.)
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -129,24 +131,49 @@ pub fn grid_optimum(
     Some(Optimum { cost: dist[g], cells })
 }
 
-/// Cost of the cell a float point lies in (nearest cell centre), 254 outside the map.
-fn point_cell_cost(costs: &[u8], w: u32, h: u32, p: (f32, f32)) -> f64 {
-    let (x, y) = (p.0.round(), p.1.round());
-    if x < 0.0 || y < 0.0 || x >= w as f32 || y >= h as f32 {
-        return f64::from(OBSTACLE);
-    }
-    f64::from(costs[y as usize * w as usize + x as usize])
+/// The cell a float point lies in (nearest cell centre, half away from zero), clamped to the
+/// map (a point outside it, which NavFn never records, counts as the nearest border cell).
+fn point_cell(w: u32, h: u32, p: (f32, f32)) -> (i64, i64) {
+    let x = (p.0.round() as i64).clamp(0, i64::from(w) - 1);
+    let y = (p.1.round() as i64).clamp(0, i64::from(h) - 1);
+    (x, y)
 }
 
-/// Cost of a float polyline in the campaign model (see module doc).
+/// NavFn's path read as the 8-connected cell path it visits: the cells of its points in order,
+/// repeats dropped; two consecutive cells that are not neighbours (NavFn's half-cell steps
+/// never do this, the bridge is for completeness) are joined by diagonal then straight steps.
+pub fn path_cells(w: u32, h: u32, path: &[(f32, f32)]) -> Vec<(i64, i64)> {
+    let mut cells: Vec<(i64, i64)> = Vec::with_capacity(path.len());
+    for &p in path {
+        let c = point_cell(w, h, p);
+        while let Some(&last) = cells.last() {
+            if last == c {
+                break;
+            }
+            let step = ((c.0 - last.0).signum(), (c.1 - last.1).signum());
+            cells.push((last.0 + step.0, last.1 + step.1));
+        }
+        if cells.is_empty() {
+            cells.push(c);
+        }
+    }
+    cells
+}
+
+/// Cost of NavFn's path in the optimum's own model: its cell path ([`path_cells`]) costed move
+/// by move as the grid optimum costs a move, `len · (cost[a] + cost[b]) / 2`, summed from the
+/// start in f64. Both sides of the comparison are then costs of 8-connected cell paths between
+/// the same two cells under one metric, and the optimum is the least of them: `optimum ≤ cost`
+/// for every path whose cells are traversable (ValidPath), so a ratio above 1 is a real detour
+/// and none can fall below 1 (`tests/campaign_suite.rs` checks it on the paper's suite).
 pub fn path_cost(costs: &[u8], w: u32, h: u32, path: &[(f32, f32)]) -> f64 {
+    let cells = path_cells(w, h, path);
+    let cost_of = |c: (i64, i64)| f64::from(costs[c.1 as usize * w as usize + c.0 as usize]);
     let mut total = 0.0;
-    for seg in path.windows(2) {
-        let (a, b) = (seg[0], seg[1]);
-        let dx = f64::from(b.0) - f64::from(a.0);
-        let dy = f64::from(b.1) - f64::from(a.1);
-        let len = (dx * dx + dy * dy).sqrt();
-        total += len * (point_cell_cost(costs, w, h, a) + point_cell_cost(costs, w, h, b)) / 2.0;
+    for pair in cells.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let len = if a.0 != b.0 && a.1 != b.1 { SQRT2 } else { 1.0 };
+        total += len * (cost_of(a) + cost_of(b)) / 2.0;
     }
     total
 }
@@ -217,6 +244,22 @@ mod tests {
         assert!(grid_optimum(&c, 5, 5, (1, 1), (0, 0)).is_none());
         let same = grid_optimum(&c, 5, 5, (2, 2), (2, 2)).expect("trivial");
         assert_eq!(same.cost, 0.0);
+    }
+
+    #[test]
+    fn any_angle_path_is_costed_as_its_cells() {
+        // 3×2 map; the straight line (0,0)→(2,1) at half-cell steps: its points round (half away
+        // from zero) to the cells (0,0) (1,0) (1,1) (2,1) (2,1) — three straight moves
+        let c = vec![50u8, 60, 70, 80, 90, 100];
+        let p = [(0.0f32, 0.0f32), (0.5, 0.25), (1.0, 0.5), (1.5, 0.75), (2.0, 1.0)];
+        assert_eq!(path_cells(3, 2, &p), vec![(0, 0), (1, 0), (1, 1), (2, 1)]);
+        // (50+60)/2 + (60+90)/2 + (90+100)/2 = 55 + 75 + 95
+        assert!((path_cost(&c, 3, 2, &p) - 225.0).abs() < 1e-12);
+        // never below the optimum: here the optimum is (0,0)→(1,0)→(2,1) = 55 + √2·80
+        let opt = grid_optimum(&c, 3, 2, (0, 0), (2, 1)).expect("reachable").cost;
+        assert!(opt <= path_cost(&c, 3, 2, &p));
+        // a jump of two cells is bridged diagonally then straight
+        assert_eq!(path_cells(3, 2, &[(0.0, 0.0), (2.0, 1.0)]), vec![(0, 0), (1, 1), (2, 1)]);
     }
 
     #[test]

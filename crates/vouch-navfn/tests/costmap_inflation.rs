@@ -1,0 +1,98 @@
+//! nav2's inflation layer byte for byte: the five nav2 system-test maps × six parameter sets
+//! (`tests/data/inflation/`, goldens of nav2's layer built stand-alone; see the README there).
+
+mod common;
+
+use std::path::Path;
+
+use vouch_navfn::costmap::{
+    Footprint, InflationParams, costmap_resolution, inflated_costmap, sha256_hex,
+};
+use vouch_navfn::maps::load_ros_map;
+
+struct Set {
+    name: String,
+    footprint: Footprint,
+    params: InflationParams,
+}
+
+fn sets() -> Vec<Set> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/inflation");
+    let text = std::fs::read_to_string(dir.join("params.txt")).unwrap();
+    text.lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split('|').collect();
+            let footprint = match f[1] {
+                "radius" => Footprint::from_radius(f[2].parse().unwrap(), 0.01f32 as f64),
+                _ => Footprint::from_polygon_str(f[2], 0.01f32 as f64),
+            }
+            .unwrap();
+            let params = InflationParams {
+                inflation_radius: f[3].parse().unwrap(),
+                cost_scaling_factor: f[4].parse().unwrap(),
+                inflate_unknown: f[5] == "1",
+                inflate_around_unknown: f[6] == "1",
+            };
+            Set { name: f[0].to_string(), footprint, params }
+        })
+        .collect()
+}
+
+#[test]
+fn inflation_is_bit_exact_on_nav2_maps() {
+    let Some(shared) = common::shared_navfn() else { return };
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/inflation");
+    let goldens = std::fs::read_to_string(dir.join("goldens.txt")).unwrap();
+    let sets = sets();
+    let mut checked = 0;
+    let mut failures = Vec::new();
+    for line in goldens.lines() {
+        let g: Vec<&str> = line.split(' ').collect();
+        let (map_name, set_name) = (g[0], g[1]);
+        let path = match map_name {
+            "map" => shared.join("nav2_maps/map.pgm"),
+            m => shared.join(format!("nav2_maps/{m}.yaml")),
+        };
+        let map = load_ros_map(&path, true).unwrap();
+        assert_eq!(sha256_hex(&map.costmap), g[4], "{map_name}: static layer input changed");
+        let set = sets.iter().find(|s| s.name == set_name).unwrap();
+        let inscribed = set.footprint.inscribed_radius();
+        assert_eq!(format!("{inscribed:?}").parse::<f64>().unwrap(), g[2].parse::<f64>().unwrap());
+        let cells = (set.params.inflation_radius / costmap_resolution(&map)).ceil();
+        assert_eq!(cells.to_string(), g[3], "{map_name} {set_name}: cell radius");
+        let out = inflated_costmap(&map, &set.footprint, set.params).unwrap();
+        if sha256_hex(&out) != g[5] {
+            failures.push(format!("{map_name} {set_name}"));
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 30);
+    assert!(failures.is_empty(), "inflation differs from nav2's layer: {failures:?}");
+}
+
+/// Independent reasoning, no oracle: a single lethal cell in a free 41×41 map at 0.05 m/cell,
+/// radius 0.22 (padded), inflation 0.55, k = 3: cells within the inscribed radius are 253,
+/// cells beyond 11 cells stay free, and costs fall with distance.
+#[test]
+fn one_obstacle_costs_by_distance() {
+    let (w, h) = (41usize, 41usize);
+    let mut costs = vec![0u8; w * h];
+    costs[20 * w + 20] = 254;
+    let fp = Footprint::from_radius(0.22, 0.01f32 as f64).unwrap();
+    let params =
+        InflationParams { inflation_radius: 0.55, cost_scaling_factor: 3.0, ..Default::default() };
+    let layer = vouch_navfn::costmap::InflationLayer::new(
+        params,
+        f64::from(0.05f32),
+        fp.inscribed_radius(),
+    )
+    .unwrap();
+    layer.inflate(&mut costs, w, h);
+    assert_eq!(costs[20 * w + 20], 254);
+    assert_eq!(costs[20 * w + 24], 253); // 0.20 m < 0.2255 m
+    assert_eq!(costs[20 * w + 32], 0); // 12 cells: beyond the inflation radius
+    let along: Vec<u8> = (25..=31).map(|x| costs[20 * w + x]).collect();
+    assert!(along.windows(2).all(|p| p[0] >= p[1]), "{along:?}");
+    // 5 cells = 0.25 m: 252·exp(−3·(0.25 − 0.2255)) = 252·0.9291 ≈ 234.1
+    assert_eq!(costs[20 * w + 25], 234);
+}
