@@ -145,7 +145,8 @@ impl InflationLayer {
                 if obstacle { 0.0 } else { f32::MAX }
             })
             .collect();
-        distance_transform_2d(&mut dist, width, height);
+        squared_distances(&mut dist, width, height, true);
+        eigen_sqrt(&mut dist);
         self.apply(costmap, &dist);
     }
 
@@ -182,23 +183,30 @@ const EXACT_BINARY_HEIGHT: usize = 4096;
 /// output the distance in cells (`f32::MAX`-ish where no obstacle exists). The bytes are
 /// nav2's: the column pass, then the row pass, then Eigen's square root.
 pub fn distance_transform_2d(img: &mut [f32], width: usize, height: usize) {
+    // (a fold without early exit, so that the test vectorises)
+    let binary = img.iter().fold(true, |all, &x| all & ((x == 0.0) | (x == f32::MAX)));
+    squared_distances(img, width, height, binary);
+    eigen_sqrt(img);
+}
+
+/// The two passes of the transform (squared distances); `binary`: the input holds only 0 and
+/// `f32::MAX`.
+fn squared_distances(img: &mut [f32], width: usize, height: usize, binary: bool) {
     if img.len() != width * height || width == 0 {
         return;
     }
-    let binary = img.iter().all(|&x| x == 0.0 || x == f32::MAX);
     if binary && height <= EXACT_BINARY_HEIGHT {
         column_pass_binary(img, width);
     } else {
         column_pass(img, width, height);
     }
     let mut d = vec![0f32; width];
-    let mut v = vec![0usize; width];
+    let mut sites = vec![Site::default(); width];
     let mut z = vec![0f32; width + 1];
     for row in img.chunks_exact_mut(width) {
-        transform_1d(row, &mut d, &mut v, &mut z);
+        transform_1d(row, &mut d, &mut sites, &mut z);
         row.copy_from_slice(&d);
     }
-    eigen_sqrt(img);
 }
 
 /// The column pass as nav2 computes it, one column's transform after another. The columns
@@ -207,7 +215,7 @@ pub fn distance_transform_2d(img: &mut [f32], width: usize, height: usize) {
 /// touches a cache line per cell and a new page every few rows on a large map).
 fn column_pass(img: &mut [f32], width: usize, height: usize) {
     let mut d = vec![0f32; height];
-    let mut v = vec![0usize; height];
+    let mut sites = vec![Site::default(); height];
     let mut z = vec![0f32; height + 1];
     let mut block = vec![0f32; COLUMN_BLOCK * height];
     for x0 in (0..width).step_by(COLUMN_BLOCK) {
@@ -218,7 +226,7 @@ fn column_pass(img: &mut [f32], width: usize, height: usize) {
             }
         }
         for column in block.chunks_exact_mut(height).take(cols) {
-            transform_1d(column, &mut d, &mut v, &mut z);
+            transform_1d(column, &mut d, &mut sites, &mut z);
             column.copy_from_slice(&d);
         }
         for (y, row) in img.chunks_exact_mut(width).enumerate() {
@@ -309,37 +317,46 @@ fn rsqrt4(x: [f32; 4]) -> [f32; 4] {
     x.map(|v| 1.0 / v.sqrt())
 }
 
+/// A parabola of the lower envelope: its site `v`, `v²` as the C++'s `int` product, and `f[v]`
+/// (kept with the site so that an envelope step does not wait on a load through `v`).
+#[derive(Clone, Copy, Default)]
+struct Site {
+    v: i32,
+    square: i32,
+    f: f32,
+}
+
 /// The lower envelope of parabolas in one dimension, squared distances in `f32`; the integer
-/// part `q² − v²` in `i32` as the C++ computes it. `d` and `v` hold at least `f.len()` elements
-/// and `z` one more.
+/// part `q² − v²` in `i32` as the C++ computes it. `d` and `sites` hold at least `f.len()`
+/// elements and `z` one more.
 ///
 /// Same operations and order as nav2's; the envelope's end marker `z[k+1] = ∞` is written
 /// once after the envelope is built instead of at every site: the envelope loop reads `z`
 /// only at indices up to `k`, which it has written itself, so only the last marker is read.
-fn transform_1d(f: &[f32], d: &mut [f32], v: &mut [usize], z: &mut [f32]) {
+fn transform_1d(f: &[f32], d: &mut [f32], sites: &mut [Site], z: &mut [f32]) {
     let n = f.len();
-    if n == 0 || d.len() < n || v.len() < n || z.len() <= n {
+    if n == 0 || d.len() < n || sites.len() < n || z.len() <= n {
         return;
     }
-    let (d, v, z) = (&mut d[..n], &mut v[..n], &mut z[..=n]);
+    let (d, sites, z) = (&mut d[..n], &mut sites[..n], &mut z[..=n]);
     let inf = f32::MAX;
-    let square = |i: usize| (i as i32).wrapping_mul(i as i32);
-    let parabola = |q: usize, fq: f32, vk: usize| {
-        (fq - f[vk] + square(q).wrapping_sub(square(vk)) as f32)
-            / (2.0f32 * (q as i32 - vk as i32) as f32)
+    let parabola = |q: i32, fq: f32, qq: i32, site: Site| {
+        (fq - site.f + qq.wrapping_sub(site.square) as f32) / (2.0f32 * (q - site.v) as f32)
     };
     let mut k = 0usize;
-    v[0] = 0;
+    sites[0] = Site { v: 0, square: 0, f: f[0] };
     z[0] = -inf;
     for (q, &fq) in f.iter().enumerate().skip(1) {
-        let mut s = parabola(q, fq, v[k]);
+        let q = q as i32;
+        let qq = q.wrapping_mul(q);
+        let mut s = parabola(q, fq, qq, sites[k]);
         // s > −FLT_MAX always (f ≥ 0), so k never passes 0; the guard keeps that visible
         while k > 0 && s <= z[k] {
             k -= 1;
-            s = parabola(q, fq, v[k]);
+            s = parabola(q, fq, qq, sites[k]);
         }
         k += 1;
-        v[k] = q;
+        sites[k] = Site { v: q, square: qq, f: fq };
         z[k] = s;
     }
     z[k + 1] = inf;
@@ -348,9 +365,9 @@ fn transform_1d(f: &[f32], d: &mut [f32], v: &mut [usize], z: &mut [f32]) {
         while z[k + 1] < q as f32 {
             k += 1;
         }
-        let vk = v[k];
-        let diff = q as i32 - vk as i32;
-        *out = diff.wrapping_mul(diff) as f32 + f[vk];
+        let site = sites[k];
+        let diff = q as i32 - site.v;
+        *out = diff.wrapping_mul(diff) as f32 + site.f;
     }
 }
 
