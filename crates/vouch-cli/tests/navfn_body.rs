@@ -46,8 +46,10 @@ fn costmap_command_writes_nav2_layer_bytes() {
     let _ = std::fs::remove_file(out);
 }
 
-fn plan(inflation: &str) -> std::process::Output {
-    vouch(&[
+/// `vouch navfn plan` across map_circular, from (−8, −8) to (8, 8) on a costmap inflated with
+/// a cost scaling factor of 3, with `body` (the robot, the inflation radius, outputs).
+fn plan_across(body: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "navfn",
         "plan",
         CIRCULAR,
@@ -55,15 +57,22 @@ fn plan(inflation: &str) -> std::process::Output {
         "-8,-8",
         "--goal",
         "8,8",
-        "--robot-radius",
-        "0.3",
-        "--inflation-radius",
-        inflation,
         "--cost-scaling-factor",
         "3",
-        "--checked",
-        "--json",
-    ])
+    ];
+    args.extend_from_slice(body);
+    vouch(&args)
+}
+
+/// [`plan_across`] with a disc robot of radius 0.3 m on a costmap inflated by `inflation`.
+fn disc_plan(inflation: &str, outputs: &[&str]) -> std::process::Output {
+    let mut args = vec!["--robot-radius", "0.3", "--inflation-radius", inflation];
+    args.extend_from_slice(outputs);
+    plan_across(&args)
+}
+
+fn plan(inflation: &str) -> std::process::Output {
+    disc_plan(inflation, &["--checked", "--json"])
 }
 
 /// A body of radius 0.3 m on a costmap inflated by only 0.1 m: NavFn's path may pass 0.15 m
@@ -77,23 +86,7 @@ fn body_touches_walls_when_inflation_is_smaller_than_the_robot() {
     let o = plan("0.1");
     assert_eq!(code(&o), 3, "{}", String::from_utf8_lossy(&o.stdout));
     let png = std::env::temp_dir().join(format!("vouch-body-{}.png", std::process::id()));
-    let text = vouch(&[
-        "navfn",
-        "plan",
-        CIRCULAR,
-        "--start",
-        "-8,-8",
-        "--goal",
-        "8,8",
-        "--robot-radius",
-        "0.3",
-        "--inflation-radius",
-        "0.1",
-        "--cost-scaling-factor",
-        "3",
-        "--png",
-        png.to_str().expect("utf-8"),
-    ]);
+    let text = disc_plan("0.1", &["--png", png.to_str().expect("utf-8")]);
     let stdout = String::from_utf8_lossy(&text.stdout);
     assert!(
         stdout.contains("body ") && stdout.contains(" contacts  min clearance 0.0000 m"),
@@ -267,20 +260,11 @@ fn plan_with_a_footprint_polygon() {
     if !shared() {
         return;
     }
-    let o = vouch(&[
-        "navfn",
-        "plan",
-        CIRCULAR,
-        "--start",
-        "-8,-8",
-        "--goal",
-        "8,8",
+    let o = plan_across(&[
         "--footprint",
         "[[0.25,0.2],[0.25,-0.2],[-0.25,-0.2],[-0.25,0.2]]",
         "--inflation-radius",
         "0.7",
-        "--cost-scaling-factor",
-        "3",
         "--json",
     ]);
     let v = json(&o);

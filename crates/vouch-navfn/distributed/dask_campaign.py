@@ -34,6 +34,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Callable, NamedTuple
 
 # What a report says about its shards and timings: the only fields a merged report and a
 # single run may differ in.
@@ -43,7 +44,7 @@ RUN_FIELDS = ("shards", "runs")
 REPORT_STATUSES = (0, 3)
 
 
-def run_shard(vouch, suite, index, count, extra, threads, command="campaign"):
+def run_shard(vouch, suite, index, count, extra, threads, command):
     """One Dask task: run one shard (`count` 1 = the whole suite) and return its report text."""
     cmd = [vouch, "-q", "navfn", command, suite, "--json"]
     if count > 1:
@@ -98,31 +99,55 @@ def connect(args):
     return Client(cluster), cluster
 
 
-def merge(vouch, files, out):
-    """`vouch navfn report merge` of the shard files into `out`; the merged report."""
-    cmd = [vouch, "-q", "navfn", "report", "merge", "--json", "-o", str(out)] + [str(f) for f in files]
+class Job(NamedTuple):
+    """What differs between the sharded commands."""
+
+    task: str         # the shard tasks' names on the cluster: TASK-I-of-N
+    single_task: str  # the single run's task name
+    stem: str         # the shard files: OUT/STEM-I.json
+    merge_name: str   # the merge, as its errors name it
+    merge_args: Callable[[Path, list], list]  # `vouch navfn` arguments merging files into out
+
+
+JOBS = {
+    "campaign": Job(
+        "navfn-shard", "navfn-single", "shard", "report merge",
+        lambda out, files: ["report", "merge", "--json", "-o", str(out), *map(str, files)]),
+    "inflation": Job(
+        "navfn-inflation", "navfn-inflation-single", "inflation", "inflation --merge",
+        lambda out, files: ["inflation", "--json", "-o", str(out), "--merge", *map(str, files)]),
+}
+
+
+def merge(vouch, job, files, out):
+    """The job's merge of the shard files into `out`; the merged report."""
+    cmd = [vouch, "-q", "navfn", *job.merge_args(out, files)]
     done = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if done.returncode not in REPORT_STATUSES:
-        raise RuntimeError(f"report merge exited {done.returncode}: {done.stderr.strip()}")
+        raise RuntimeError(f"{job.merge_name} exited {done.returncode}: {done.stderr.strip()}")
     return json.loads(done.stdout)
 
 
-def campaign(args, extra):
-    """Fan the shards out, gather, merge, and (when asked) compare with one unsharded run."""
+def run_sharded(args, extra, command):
+    """Fan the shards of `vouch navfn COMMAND` out as Dask tasks (with --compare-single, one
+    unsharded run as one more task), gather them into OUT/STEM-I.json and merge those into
+    OUT/merged.json; the single run's report goes to OUT/single.json. Returns the merged report
+    and the single run's report text (None when not asked)."""
+    job = JOBS[command]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    began = time.monotonic()
     client, cluster = connect(args)
     try:
         futures = [
             client.submit(run_shard, args.vouch, args.suite, i, args.shards, extra, args.threads,
-                          key=f"navfn-shard-{i}-of-{args.shards}", pure=False, retries=args.retries)
+                          command, key=f"{job.task}-{i}-of-{args.shards}", pure=False,
+                          retries=args.retries)
             for i in range(args.shards)
         ]
         single = None
         if args.compare_single:
             single = client.submit(run_shard, args.vouch, args.suite, 0, 1, extra, args.threads,
-                                   key="navfn-single", pure=False, retries=args.retries)
+                                   command, key=job.single_task, pure=False, retries=args.retries)
         texts = client.gather(futures)
         single_text = single.result() if single is not None else None
     finally:
@@ -131,10 +156,19 @@ def campaign(args, extra):
             cluster.close()
     files = []
     for i, text in enumerate(texts):
-        f = out / f"shard-{i}.json"
+        f = out / f"{job.stem}-{i}.json"
         f.write_text(text)
         files.append(f)
-    merged = merge(args.vouch, files, out / "merged.json")
+    merged = merge(args.vouch, job, files, out / "merged.json")
+    if single_text is not None:
+        (out / "single.json").write_text(single_text)
+    return merged, single_text
+
+
+def campaign(args, extra):
+    """Fan the shards out, gather, merge, and (when asked) compare with one unsharded run."""
+    began = time.monotonic()
+    merged, single_text = run_sharded(args, extra, "campaign")
     summary = {
         "shards": args.shards,
         "cases": merged["cases"],
@@ -144,7 +178,6 @@ def campaign(args, extra):
     }
     status = 3 if failures(merged) else 0
     if single_text is not None:
-        (out / "single.json").write_text(single_text)
         diff = first_difference(results_of(merged), results_of(json.loads(single_text)))
         summary["equal_to_single"] = diff is None
         if diff:
@@ -156,39 +189,8 @@ def campaign(args, extra):
 
 def inflation(args, extra):
     """The inflation-radius search: one task per shard of goals, gather, merge, compare."""
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     began = time.monotonic()
-    client, cluster = connect(args)
-    try:
-        futures = [
-            client.submit(run_shard, args.vouch, args.suite, i, args.shards, extra, args.threads,
-                          "inflation", key=f"navfn-inflation-{i}-of-{args.shards}", pure=False,
-                          retries=args.retries)
-            for i in range(args.shards)
-        ]
-        single = None
-        if args.compare_single:
-            single = client.submit(run_shard, args.vouch, args.suite, 0, 1, extra, args.threads,
-                                   "inflation", key="navfn-inflation-single", pure=False,
-                                   retries=args.retries)
-        texts = client.gather(futures)
-        single_text = single.result() if single is not None else None
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
-    files = []
-    for i, text in enumerate(texts):
-        f = out / f"inflation-{i}.json"
-        f.write_text(text)
-        files.append(f)
-    cmd = [args.vouch, "-q", "navfn", "inflation", "--json", "-o", str(out / "merged.json"),
-           "--merge"] + [str(f) for f in files]
-    done = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if done.returncode not in REPORT_STATUSES:
-        raise RuntimeError(f"inflation --merge exited {done.returncode}: {done.stderr.strip()}")
-    merged = json.loads(done.stdout)
+    merged, single_text = run_sharded(args, extra, "inflation")
 
     def answer(report):
         cx = report.get("counterexample") or {}
@@ -202,7 +204,6 @@ def inflation(args, extra):
     }
     status = 0 if merged["smallest_safe_radius"] is not None else 3
     if single_text is not None:
-        (out / "single.json").write_text(single_text)
         same = answer(merged) == answer(json.loads(single_text))
         summary["equal_to_single"] = same
         if not same:

@@ -18,18 +18,24 @@
 //! ends the call or jumps past its own loop-back. So each stage of the block is visited at most
 //! twice per call, and the loop is bounded by `2 * stages + 2` iterations. The bound is also
 //! enforced ([`StepError::Diverged`]), so `step` terminates even if that argument were wrong.
+//!
+//! One stage within a call (IR-5…IR-9) is in `stage.rs`; the record of the states at stage
+//! starts, where the exploration of a call joins its runs, in [`explore::joins`].
 
 pub mod explore;
 pub mod oracle;
 pub mod sim;
 pub mod space;
+mod stage;
 pub mod trace;
 
 use std::collections::HashMap;
 
 use crate::ast::Resume;
-use crate::passes::fp::{BlockIx, Code, Fp, FpStage, NavStage, Reset};
+use crate::passes::fp::{BlockIx, Code, Fp, FpStage, Reset};
+pub use explore::joins::StageStart;
 use oracle::Oracle;
+use stage::Flow;
 use trace::{Event, Observation, Run, StepRecord};
 
 /// A position in the remaining stages of a block.
@@ -95,14 +101,6 @@ pub struct Interp<'p> {
     starts: Option<Vec<StageStart<'p>>>,
 }
 
-/// The state when a stage starts within a call (the C's `Stage(n)` label), and how many
-/// events the call had produced before it.
-#[derive(Debug, Clone)]
-pub struct StageStart<'p> {
-    pub events: usize,
-    pub state: State<'p>,
-}
-
 /// The source of a call's events from `first_event` on (until the next origin): the stage,
 /// exception or block whose code produced them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -144,14 +142,6 @@ fn push_list<'p>(stack: &mut Vec<Item<'p>>, stages: &'p [FpStage]) {
     for s in stages.iter().rev() {
         stack.push(Item::Stage(s));
     }
-}
-
-/// How a stage ended within the call.
-enum Flow {
-    /// Continue with the next remaining stage in the same call.
-    Continue,
-    /// End of the call (`break`, a block change).
-    Break,
 }
 
 impl<'p> Interp<'p> {
@@ -202,17 +192,6 @@ impl<'p> Interp<'p> {
     /// (read with [`Interp::origins`]); used to locate differences in the plan's files.
     pub fn record_origins(&mut self) {
         self.origins = Some(Vec::new());
-    }
-
-    /// From now on, remember the state at every stage start of a call (read with
-    /// [`Interp::stage_starts`]); the exploration of one call joins paths there.
-    pub fn record_stage_starts(&mut self) {
-        self.starts = Some(Vec::new());
-    }
-
-    /// The stage starts of the last call (empty unless recorded).
-    pub fn stage_starts(&self) -> &[StageStart<'p>] {
-        self.starts.as_deref().unwrap_or(&[])
     }
 
     /// The origins of the events of the last call (empty unless recorded).
@@ -366,9 +345,7 @@ impl<'p> Interp<'p> {
         if let Some(o) = &mut self.origins {
             o.clear();
         }
-        if let Some(st) = &mut self.starts {
-            st.clear();
-        }
+        self.clear_stage_starts();
         let fp = self.fp;
         if !self.exceptions(&mut ev, oracle, &fp.exceptions) {
             let b = self.state.block;
@@ -461,9 +438,7 @@ impl<'p> Interp<'p> {
     ) -> Result<(), StepError> {
         let bound = 2 * self.ends.get(b).copied().unwrap_or(0) + 2;
         for _ in 0..bound {
-            if let Some(st) = &mut self.starts {
-                st.push(StageStart { events: ev.len(), state: self.state.clone() });
-            }
+            self.note_stage_start(ev.len());
             let Some(top) = self.state.remaining.last().copied() else {
                 // IR-3 / IR-4: no stage left, next block (the last block re-enters itself).
                 let nb = self.fp.blocks.len();
@@ -483,176 +458,5 @@ impl<'p> Interp<'p> {
             }
         }
         Err(StepError::Diverged { block: b })
-    }
-
-    fn pop(&mut self) {
-        self.state.remaining.pop();
-    }
-
-    fn exec(
-        &mut self,
-        ev: &mut Vec<Event>,
-        oracle: &mut dyn Oracle,
-        b: BlockIx,
-        item: Item<'p>,
-    ) -> Flow {
-        match item {
-            Item::Stage(s) => self.exec_stage(ev, oracle, b, s),
-            Item::LoopBack(s) => {
-                // Goto the loop test: the while stage itself, or the for test.
-                self.pop();
-                match s {
-                    FpStage::For { .. } => self.state.remaining.push(Item::ForTest(s)),
-                    _ => self.state.remaining.push(Item::Stage(s)),
-                }
-                Flow::Continue
-            }
-            Item::ForTest(s) => {
-                let FpStage::For { body, .. } = s else { return Flow::Break };
-                let key = (b, self.item_number(&Item::Stage(s)));
-                let (i, to) = self.state.counters.get(&key).copied().unwrap_or((0, 0));
-                let i = i.wrapping_add(1);
-                self.state.counters.insert(key, (i, to));
-                self.pop();
-                if i > to {
-                    Flow::Continue
-                } else {
-                    self.state.remaining.push(Item::LoopBack(s));
-                    push_list(&mut self.state.remaining, body);
-                    Flow::Break
-                }
-            }
-            Item::NavMain(s) => match s {
-                FpStage::Nav(n) => self.exec_nav(ev, oracle, n),
-                _ => Flow::Break,
-            },
-        }
-    }
-
-    fn exec_stage(
-        &mut self,
-        ev: &mut Vec<Event>,
-        oracle: &mut dyn Oracle,
-        b: BlockIx,
-        s: &'p FpStage,
-    ) -> Flow {
-        match s {
-            FpStage::While { cond, body, .. } => {
-                self.pop();
-                if Self::cond(ev, oracle, cond) {
-                    // IR-6: the body, then the loop-back that re-tests.
-                    self.state.remaining.push(Item::LoopBack(s));
-                    push_list(&mut self.state.remaining, body);
-                    Flow::Break
-                } else {
-                    // IR-7
-                    Flow::Continue
-                }
-            }
-            FpStage::For { var: _, from, to, .. } => {
-                let vf = oracle.value(from);
-                ev.push(Event::Value { text: from.clone(), value: vf });
-                let vt = oracle.value(to);
-                ev.push(Event::Value { text: to.clone(), value: vt });
-                // C: `_var = from - 1; _var_to = to;` on int8_t (modulo 256, as gcc does).
-                let i = (vf as i32).wrapping_sub(1) as i8;
-                let t = vt as i32 as i8;
-                let key = (b, self.item_number(&Item::Stage(s)));
-                self.state.counters.insert(key, (i, t));
-                self.pop();
-                self.state.remaining.push(Item::ForTest(s));
-                Flow::Continue
-            }
-            FpStage::Set { code, .. } => {
-                // IR-5
-                Self::code(ev, code);
-                self.pop();
-                Flow::Continue
-            }
-            FpStage::Call { fun, loop_: true, brk, until, .. } => {
-                if !Self::cond(ev, oracle, fun) {
-                    self.pop();
-                    if *brk { Flow::Break } else { Flow::Continue }
-                } else {
-                    if let Some(u) = until
-                        && Self::cond(ev, oracle, u)
-                    {
-                        self.pop();
-                    }
-                    Flow::Break
-                }
-            }
-            FpStage::Call { fun, loop_: false, brk, .. } => {
-                ev.push(Event::Code { text: fun.clone() });
-                self.pop();
-                if *brk { Flow::Break } else { Flow::Continue }
-            }
-            FpStage::Deroute { target, .. } => {
-                // The deroute stays the current stage while saved as last (quirk 1).
-                self.goto_block(ev, oracle, *target);
-                Flow::Break
-            }
-            FpStage::Return { reset, .. } => {
-                self.do_return(ev, reset);
-                Flow::Break
-            }
-            FpStage::Nav(n) => {
-                if let Some(lines) = &n.init {
-                    // IR-9: the init step, then the stage continues as NAV(mode, false).
-                    for c in lines {
-                        Self::code(ev, c);
-                    }
-                    self.pop();
-                    self.state.remaining.push(Item::NavMain(s));
-                    Flow::Break
-                } else {
-                    self.exec_nav(ev, oracle, n)
-                }
-            }
-        }
-    }
-
-    /// IR-8, with upstream's code shape: every navigation stage ends the call.
-    fn exec_nav(&mut self, ev: &mut Vec<Event>, oracle: &mut dyn Oracle, n: &'p NavStage) -> Flow {
-        if let Some(c) = &n.pre_call {
-            Self::code(ev, c);
-        }
-        for c in &n.before {
-            Self::code(ev, c);
-        }
-        let mut run_lines = true;
-        if let Some((cond, wp)) = &n.approach {
-            if Self::cond(ev, oracle, cond) {
-                if let Some(c) = &n.post_call {
-                    Self::code(ev, c);
-                }
-                self.state.last_wp = *wp;
-                self.pop();
-                return Flow::Break;
-            }
-            // the lines are the else branch
-            for c in &n.lines {
-                Self::code(ev, c);
-            }
-            run_lines = false;
-        }
-        if run_lines {
-            for c in &n.lines {
-                Self::code(ev, c);
-            }
-        }
-        if let Some(u) = &n.until
-            && Self::cond(ev, oracle, u)
-        {
-            if let Some(c) = &n.post_call {
-                Self::code(ev, c);
-            }
-            self.pop();
-            return Flow::Break;
-        }
-        if let Some(c) = &n.post_call {
-            Self::code(ev, c);
-        }
-        Flow::Break
     }
 }

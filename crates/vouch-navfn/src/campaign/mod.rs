@@ -5,6 +5,7 @@
 //! * `exec` — one case with the search-trace property observer, `trace` — per-cycle trace format;
 //! * `oracle` + `diff` — the oracle contract and the differential harness;
 //! * `optimal` — cost model, 8-connected optimum, obtuse turns and oscillations;
+//!   `optimality_stats` — their mergeable statistics;
 //! * `transform` + `metamorphic` — grid symmetries, embedding, and the relations between runs;
 //! * `names` — properties, relations, outcomes and finding kinds as types;
 //! * `evaluate` — everything measured on one case; `runner` — the streamed, parallel campaign;
@@ -26,6 +27,7 @@ pub mod merge;
 pub mod metamorphic;
 pub mod names;
 pub mod optimal;
+pub mod optimality_stats;
 pub mod oracle;
 pub mod pictures;
 pub mod report;

@@ -62,6 +62,12 @@
  * state — is behind the small platform interface below, implemented by host_rt.c (POSIX:
  * signals, alarm, fork, /proc/self/maps) and target_rt.c (Cortex-M: fault handlers, SysTick,
  * linker symbols, semihosting I/O through newlib).
+ *
+ * Its parts, included here in this order: driver_text.h (buffers, number printing, the line
+ * input), driver_vars.h (the registered variables and the watch of static storage),
+ * explore_join.h (joining the runs of one call at stage starts), driver_answers.h (the
+ * oracle: answers from the prefix, pending prefixes); this file holds the runs, the records
+ * and the requests.
  */
 /* The stub runtime is compiled in the same cc call with its own oracle renamed away
  * (-Dfp_cond=vouch_stub_fp_cond ...); this file defines the real ones. */
@@ -157,211 +163,11 @@ struct driver {
 static struct driver *D;
 
 static void flush_out(void) { write_all(D->out.p, D->out.len); D->out.len = 0; }
-/* ---- the registered variables and the watched segment ---- */
-static void collect_vars(void)
-{
-  size_t n = 0, max_id = 0;
-  char *p = (char *)__start_vouch_vars, *q = (char *)__stop_vouch_vars;
-  /* entries may be padded apart: find them by their magic word */
-  for (char *c = p; c + sizeof(struct vouch_var) <= q; c += sizeof(long)) {
-    struct vouch_var *v = (struct vouch_var *)c;
-    if (v->magic == VOUCH_MAGIC) { n++; if ((size_t)v->id > max_id) { max_id = (size_t)v->id; } }
-  }
-  D->n_vars = n ? max_id + 1 : 0;
-  D->vars = grow(NULL, D->n_vars * sizeof *D->vars);
-  D->offset = grow(NULL, (D->n_vars + 1) * sizeof *D->offset);
-  memset(D->vars, 0, D->n_vars * sizeof *D->vars);
-  for (char *c = p; c + sizeof(struct vouch_var) <= q; c += sizeof(long)) {
-    struct vouch_var *v = (struct vouch_var *)c;
-    if (v->magic == VOUCH_MAGIC) { D->vars[v->id] = v; }
-  }
-  D->state_len = 0;
-  for (size_t i = 0; i < D->n_vars; i++) {
-    D->offset[i] = D->state_len;
-    D->state_len += D->vars[i] ? D->vars[i]->size : 0;
-  }
-  D->offset[D->n_vars] = D->state_len;
-  D->init_state = grow(NULL, D->state_len);
-  D->state = grow(NULL, D->state_len);
-  D->after = grow(NULL, D->state_len);
-}
-
-static void capture(unsigned char *s)
-{
-  for (size_t i = 0; i < D->n_vars; i++) {
-    if (D->vars[i]) { memcpy(s + D->offset[i], D->vars[i]->addr, D->vars[i]->size); }
-  }
-}
-/* Only variables whose bytes differ are written: a `const` plan variable lives in read-only
- * storage, and its bytes never differ. */
-static void restore(const unsigned char *s)
-{
-  for (size_t i = 0; i < D->n_vars; i++) {
-    struct vouch_var *v = D->vars[i];
-    if (v && memcmp(v->addr, s + D->offset[i], v->size) != 0) {
-      memcpy(v->addr, s + D->offset[i], v->size);
-    }
-  }
-}
-
-static int registered(const char *a)
-{
-  for (size_t i = 0; i < D->n_vars; i++) {
-    const char *v = D->vars[i] ? (const char *)D->vars[i]->addr : NULL;
-    if (v != NULL && a >= v && a < v + D->vars[i]->size) { return 1; }
-  }
-  return 0;
-}
-
-/* The program's static storage as the platform knows it; bytes outside every registered
- * variable are compared with their image after every run. */
-static void watch_segment(void)
-{
-  char *lo, *hi;
-  if (!vouch_watch_range(&lo, &hi) || hi <= lo) { return; }
-  D->lo = lo;
-  D->hi = hi;
-  D->image = grow(NULL, (size_t)(D->hi - D->lo));
-  D->clean = grow(NULL, sizeof *D->clean);
-  D->n_clean = 0;
-  /* runs of bytes outside every registered variable */
-  for (char *c = D->lo; c < D->hi;) {
-    while (c < D->hi && registered(c)) { c++; }
-    char *s = c;
-    while (c < D->hi && !registered(c)) { c++; }
-    if (c > s) {
-      D->clean = grow(D->clean, (D->n_clean + 1) * sizeof *D->clean);
-      D->clean[D->n_clean][0] = (size_t)(s - D->lo);
-      D->clean[D->n_clean][1] = (size_t)(c - D->lo);
-      D->n_clean++;
-    }
-  }
-  memcpy(D->image, D->lo, (size_t)(D->hi - D->lo));
-  D->watching = 1;
-}
-
-/* Puts the watched bytes back as they were at start-up (after an in-process walk). */
-static void reset_watched(void)
-{
-  for (size_t k = 0; D->watching && k < D->n_clean; k++) {
-    size_t a = D->clean[k][0], b = D->clean[k][1];
-    memcpy(D->lo + a, D->image + a, b - a);
-  }
-}
-
-/* Notes bytes written outside the registered variables (D->hidden, printed with the record of
- * the run) and puts them back. */
-static void hidden_check(void)
-{
-  if (!D->watching) { return; }
-  for (size_t k = 0; k < D->n_clean; k++) {
-    size_t a = D->clean[k][0], b = D->clean[k][1];
-    if (memcmp(D->lo + a, D->image + a, b - a) == 0) { continue; }
-    for (size_t i = a; i < b; i++) {
-      if ((unsigned char)D->lo[i] != D->image[i]) {
-        if (D->n_hidden < sizeof D->hidden / sizeof D->hidden[0]) { D->hidden[D->n_hidden++] = (long)i; }
-        break;
-      }
-    }
-    memcpy(D->lo + a, D->image + a, b - a);
-  }
-}
-
-static void put_hidden(void)
-{
-  for (size_t i = 0; i < D->n_hidden; i++) {
-    put_s(&D->out, "H ");
-    put_l(&D->out, D->hidden[i]);
-    put_s(&D->out, "\n");
-  }
-  D->n_hidden = 0;
-}
+#include "driver_vars.h"
 
 #include "explore_join.h"
 
-/* ---- answers ---- */
-static void push_pending(size_t keep, long alt)
-{
-  size_t need = D->n_pending + keep + 2;
-  if (need > D->cap_pending) {
-    D->cap_pending = need * 2;
-    D->pending = grow(D->pending, D->cap_pending * sizeof(long));
-  }
-  memcpy(D->pending + D->n_pending, D->taken, keep * sizeof(long));
-  D->pending[D->n_pending + keep] = alt;
-  D->pending[D->n_pending + keep + 1] = (long)(keep + 1);
-  D->n_pending += keep + 2;
-}
-
-static int pop_pending(void)
-{
-  if (D->n_pending == 0) { return 0; }
-  size_t n = (size_t)D->pending[D->n_pending - 1];
-  D->n_pending -= n + 1;
-  memcpy(D->prefix, D->pending + D->n_pending, n * sizeof(long));
-  D->n_prefix = n;
-  return 1;
-}
-
-static void reserve_answers(size_t n)
-{
-  if (n > D->cap_answers) {
-    D->cap_answers = n * 2;
-    D->prefix = grow(D->prefix, D->cap_answers * sizeof(long));
-    D->taken = grow(D->taken, D->cap_answers * sizeof(long));
-  }
-}
-
-static long next_number(int is_value)
-{
-  long n;
-  if (D->mode == SCRIPT) {
-    n = D->n_taken < D->n_prefix ? D->prefix[D->n_taken] : 0;
-    D->n_taken++;
-    return n;
-  }
-  if (D->n_taken >= (size_t)D->question_limit) { longjmp(D->too_long, 1); }
-  if (D->n_taken < D->n_prefix) {
-    n = D->prefix[D->n_taken];
-  } else if (D->mode == EXPLORE) {
-    n = 0;
-    if (is_value) {
-      for (long v = D->value_hi; v >= D->value_lo; v--) {
-        if (v != 0) { push_pending(D->n_taken, 2 * v); }
-      }
-    } else {
-      push_pending(D->n_taken, 1);
-    }
-  } else {
-    D->deviated |= D->mode == FORCED;
-    n = 0;
-  }
-  D->taken[D->n_taken++] = n;
-  return n;
-}
-
-bool fp_cond(const char *text)
-{
-  bool v = (next_number(0) & 1) != 0;
-  if (D->rec) { put_s(D->rec, v ? "C 1 " : "C 0 "); put_text(D->rec, text); }
-  return v;
-}
-
-void fp_code(const char *text)
-{
-  if (D->rec) { put_s(D->rec, "X "); put_text(D->rec, text); }
-}
-
-int fp_value(const char *text)
-{
-  long v;
-  /* same literal test and number-to-value map as the stub runtime's own oracle */
-  if (!fp_literal_value(text, &v)) {
-    v = fp_value_of_number(next_number(1));
-  }
-  if (D->rec) { put_s(D->rec, "V "); put_l(D->rec, v); put_s(D->rec, " "); put_text(D->rec, text); }
-  return (int)v;
-}
+#include "driver_answers.h"
 
 /* ---- crashes and time-outs (called by the platform's handlers) ---- */
 static void on_crash(int status)

@@ -18,7 +18,9 @@ use crate::evidence::cstate::Discovery;
 pub const DRIVER_C: &str = include_str!("../c/explore_driver.c");
 const PLATFORM_H: &str = include_str!("../c/vouch_platform.h");
 const TEXT_H: &str = include_str!("../c/driver_text.h");
+const VARS_H: &str = include_str!("../c/driver_vars.h");
 const JOIN_H: &str = include_str!("../c/explore_join.h");
+const ANSWERS_H: &str = include_str!("../c/driver_answers.h");
 const HOST_RT_C: &str = include_str!("../c/host_rt.c");
 const TARGET_RT_C: &str = include_str!("../c/target_rt.c");
 const TARGET_LD: &str = include_str!("../c/target.ld");
@@ -219,7 +221,9 @@ pub(super) fn write_sources(
         ("explore_driver.c", DRIVER_C),
         ("vouch_platform.h", PLATFORM_H),
         ("driver_text.h", TEXT_H),
+        ("driver_vars.h", VARS_H),
         ("explore_join.h", JOIN_H),
+        ("driver_answers.h", ANSWERS_H),
         ("host_rt.c", HOST_RT_C),
         ("target_rt.c", TARGET_RT_C),
         ("target.ld", TARGET_LD),

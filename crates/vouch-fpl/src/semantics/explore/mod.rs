@@ -13,8 +13,12 @@
 //! The state-space walk of [`super::space`], hence the validator and the model checker, build
 //! on this, so they explore the same tree.
 
+pub mod joins;
+
 use std::collections::HashMap;
 use std::hash::Hash;
+
+use joins::{End, join_points};
 
 use super::oracle::{Oracle, literal_value};
 use super::trace::{Event, Observation};
@@ -144,42 +148,6 @@ pub fn enumerate_joined<'p, K: Eq + Hash>(
     key: &dyn Fn(&State<'p>) -> K,
 ) -> Result<CallTree<'p>, StepError> {
     enumerate(interp, from, max_runs, Some(key))
-}
-
-/// Where a run ends: the end of the call, or a join point (its index in the stage starts,
-/// the node, the answers consumed before it).
-enum End {
-    Call,
-    Join(usize, usize, usize),
-}
-
-/// The join points a run passes and where it ends (see [`enumerate_joined`]).
-fn join_points<'p, K: Eq + Hash>(
-    interp: &Interp<'p>,
-    events: &[Event],
-    prefix_len: usize,
-    key: &dyn Fn(&State<'p>) -> K,
-    nodes: &mut HashMap<K, usize>,
-) -> (Vec<usize>, End) {
-    let mut passed = Vec::new();
-    let (mut asked, mut seen) = (0, 0);
-    for (i, start) in interp.stage_starts().iter().enumerate() {
-        asked += events[seen..start.events].iter().filter(|e| asks(e)).count();
-        seen = start.events;
-        let k = key(&start.state);
-        if asked < prefix_len {
-            // replaying the prefix: an earlier run of this prefix registered the point
-            passed.extend(nodes.get(&k).copied());
-            continue;
-        }
-        if let Some(&node) = nodes.get(&k) {
-            return (passed, End::Join(i, node, asked));
-        }
-        let node = nodes.len();
-        nodes.insert(k, node);
-        passed.push(node);
-    }
-    (passed, End::Call)
 }
 
 fn enumerate<'p, K: Eq + Hash>(
