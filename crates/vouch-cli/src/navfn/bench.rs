@@ -40,14 +40,15 @@ impl From<BenchMode> for RunMode {
         [
             "vouch navfn bench examples/navfn/suite --passes 3",
             "vouch navfn bench examples/navfn/suite --oracle ./my-navfn-oracle",
-            "vouch navfn bench --scale 100,200,500,1000 --modes navfn-dijkstra,navfn-astar"
+            "vouch navfn bench --scale 100,200,500,1000 --modes navfn-dijkstra,navfn-astar",
+            "vouch navfn bench --inflation 1000,4000 --inflation-oracle ./my-inflation-layer"
         ],
         "0 measured, 1 suite or map rejected, 2 usage, I/O or oracle error"
     )
 )]
 pub struct BenchArgs {
     /// Suite to time: a test file, or a folder searched recursively for test.txt (raw NavFn costs)
-    #[arg(required_unless_present = "scale")]
+    #[arg(required_unless_present_any = ["scale", "inflation"])]
     suite: Option<PathBuf>,
     /// External implementation of the oracle contract to measure side by side (a command line,
     /// split into words like a shell would and run without one; it must also answer
@@ -79,9 +80,18 @@ pub struct BenchArgs {
     /// directory, removed afterwards)
     #[arg(long, value_name = "DIR")]
     scale_dir: Option<PathBuf>,
-    /// Scale: seed of the random costs
+    /// Scale and inflation: seed of the generated maps
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Inflation: time nav2's inflation layer update on generated static layers of these
+    /// sides (cells), e.g. 1000,4000
+    #[arg(long, value_delimiter = ',', value_name = "N,N,…")]
+    inflation: Vec<usize>,
+    /// Inflation: an external inflation layer to measure side by side (a command line taking
+    /// `IN.bin W H RESOLUTION radius R INFLATION_RADIUS K 0|1 0|1 OUT.bin --time R`, see
+    /// docs/navfn-body.md)
+    #[arg(long, value_name = "CMD", requires = "inflation")]
+    inflation_oracle: Option<String>,
     /// Also time one planner request on this map in this process (map_server YAML, PGM or PNG)
     #[arg(long, value_name = "MAP", requires_all = ["start", "goal"])]
     plan_map: Option<PathBuf>,
@@ -139,6 +149,8 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
         scale: a.scale.clone(),
         scale_dir: a.scale_dir.clone(),
         seed: a.seed,
+        inflation: a.inflation.clone(),
+        inflation_oracle: a.inflation_oracle.clone(),
     };
     let mut rows = bench::run(&cfg, &mut |line| ctx.note(line)).map_err(bench_failure)?;
     if let (Some(map), Some(start), Some(goal)) = (&a.plan_map, a.start, a.goal) {
@@ -157,7 +169,7 @@ pub fn run(a: BenchArgs, ctx: &mut Ctx) -> CmdResult {
 }
 
 fn print_table(a: &BenchArgs, rows: &[Row], ctx: &mut Ctx) -> CmdResult {
-    let with_oracle = a.oracle.is_some();
+    let with_oracle = a.oracle.is_some() || a.inflation_oracle.is_some();
     writeln!(
         ctx.out,
         "vouch navfn bench: every figure measured in this run; {} passes{}; median [minimum]",

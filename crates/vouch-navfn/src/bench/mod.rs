@@ -14,8 +14,11 @@
 //!   in one process for a suite, one process per map for the scale maps; CPU time of the
 //!   process;
 //! * scale: random-cost maps of the given sides, corner to corner, and cases of growing
-//!   length on one map (explored cells), time and peak resident set.
+//!   length on one map (explored cells), time and peak resident set;
+//! * inflation: nav2's inflation layer update on generated static layers (`inflation.rs`),
+//!   against an external layer given with `inflation_oracle`.
 
+mod inflation;
 mod scale;
 mod side;
 mod timing;
@@ -52,6 +55,10 @@ pub struct BenchConfig {
     pub scale_dir: Option<PathBuf>,
     /// Seed of the random costs.
     pub seed: u64,
+    /// Sides of the static layers of the inflation workload (cells).
+    pub inflation: Vec<usize>,
+    /// The external inflation layer (a command line, split into words like a shell would).
+    pub inflation_oracle: Option<String>,
 }
 
 /// The unit of a row's samples.
@@ -66,6 +73,9 @@ pub enum Unit {
     /// Planning time per plan, milliseconds.
     #[serde(rename = "ms/plan")]
     MsPerPlan,
+    /// Time of one full-map inflation update, milliseconds.
+    #[serde(rename = "ms/update")]
+    MsPerUpdate,
 }
 
 impl Unit {
@@ -75,6 +85,7 @@ impl Unit {
             Unit::MicrosPerCase => "µs/case",
             Unit::MsCpu => "ms CPU",
             Unit::MsPerPlan => "ms/plan",
+            Unit::MsPerUpdate => "ms/update",
         }
     }
 }
@@ -148,6 +159,10 @@ pub enum BenchError {
         /// What happened (exit status and the first lines of its stderr).
         message: String,
     },
+    /// The inflation workload's layer could not be built.
+    #[error("inflation layer: {0}")]
+    #[diagnostic(code(navfn::E094))]
+    Inflation(String),
     /// A generated input could not be written.
     #[error("{}: {source}", path.display())]
     #[diagnostic(code(navfn::E093))]
@@ -191,7 +206,19 @@ pub fn run(cfg: &BenchConfig, note: &mut dyn FnMut(String)) -> Result<Vec<Row>, 
     if !cfg.scale.is_empty() {
         b.scale_rows(note)?;
     }
+    if !cfg.inflation.is_empty() {
+        b.inflation_rows(note)?;
+    }
     Ok(b.rows)
+}
+
+/// A fresh private folder (mode 0700, a name no other user can predict or plant) for generated
+/// inputs, removed when dropped.
+fn private_dir() -> Result<tempfile::TempDir, BenchError> {
+    tempfile::Builder::new()
+        .prefix("vouch-bench-")
+        .tempdir()
+        .map_err(|e| BenchError::io(&std::env::temp_dir(), e))
 }
 
 struct Bench<'a> {
@@ -333,16 +360,10 @@ impl Bench<'_> {
         sides.sort_unstable();
         sides.dedup();
         let explore = sides.iter().copied().filter(|&s| s <= 2000).max();
-        // Without --scale-dir the maps go to a fresh private directory (mode 0700, a name no
-        // other user can predict or plant), removed when it is dropped.
+        // without --scale-dir the maps go to a fresh private directory
         let temporary = match &self.cfg.scale_dir {
             Some(_) => None,
-            None => Some(
-                tempfile::Builder::new()
-                    .prefix("vouch-bench-")
-                    .tempdir()
-                    .map_err(|e| BenchError::io(&std::env::temp_dir(), e))?,
-            ),
+            None => Some(private_dir()?),
         };
         let root = match &temporary {
             Some(t) => t.path().to_path_buf(),
@@ -350,6 +371,25 @@ impl Bench<'_> {
         };
         scale::generate(&root, &sides, explore, self.cfg.seed)
             .and_then(|(by_size, by_distance)| self.scale_workloads(&by_size, &by_distance, note))
+    }
+
+    /// The inflation update on generated static layers, vouch and the external layer
+    /// alternating.
+    fn inflation_rows(&mut self, note: &mut dyn FnMut(String)) -> Result<(), BenchError> {
+        let oracle = match &self.cfg.inflation_oracle {
+            Some(cmd) => Some(
+                shlex::split(cmd)
+                    .filter(|w| !w.is_empty())
+                    .ok_or_else(|| BenchError::OracleCommand(cmd.clone()))?,
+            ),
+            None => None,
+        };
+        let dir = private_dir()?;
+        let settings = (self.passes(), self.cfg.repeat, self.cfg.seed);
+        let rows =
+            inflation::rows(dir.path(), &self.cfg.inflation, oracle.as_deref(), settings, note)?;
+        self.rows.extend(rows);
+        Ok(())
     }
 
     fn scale_workloads(

@@ -15,7 +15,7 @@ use crate::planner::{NavfnPlanner, PlannerParams};
 use crate::suite::{CaseRunner, CostInput, MapRef, RunMode};
 
 /// Thread CPU time of `f` (wall time where the clock is unavailable), seconds.
-fn cpu_seconds(f: impl FnOnce()) -> f64 {
+pub(crate) fn cpu_seconds(f: impl FnOnce()) -> f64 {
     let c0 = ThreadTime::try_now().ok();
     let t0 = Instant::now();
     f();

@@ -2,9 +2,13 @@
 //!
 //! Corner to corner on a large map the propagation front crosses every row, and each update
 //! reads three rows of three arrays: with 4 KiB pages the front's working set is thousands
-//! of pages, far more than the TLB holds, and every update pays page walks. Arrays of at least
-//! [`HUGE_PAGE`] bytes are therefore anonymous mappings advised as transparent huge pages
-//! (`memmap2`, no `unsafe` here); smaller ones stay plain vectors. The mapping is exactly as
+//! of pages, far more than the TLB holds, and every update pays page walks. On request
+//! ([`super::NavFn::set_huge_pages`]) arrays of at least [`HUGE_PAGE`] bytes are anonymous
+//! mappings advised as transparent huge pages (`memmap2`, no `unsafe` here); otherwise, and for
+//! smaller arrays, they are plain vectors. Not by default: the first touch of a fresh huge page
+//! can cost far more kernel time than the page walks it saves (on virtual machines whose host
+//! backs guest memory lazily, a one-shot 4000² plan then varied by a third in CPU time), so it
+//! pays in a long-running planner that keeps its arrays, not in a process that plans once. The mapping is exactly as
 //! long as the array, so a huge page never extends past it: only the 2 MiB-aligned ranges
 //! inside get huge pages, and the memory taken is what a vector of the same length takes
 //! (untouched parts take none). Where the kernel declines the advice (THP disabled, other
@@ -30,10 +34,11 @@ enum Store<T> {
 }
 
 impl<T: Pod> CellArray<T> {
-    /// `len` zeroed elements.
-    pub(crate) fn zeroed(len: usize) -> Self {
+    /// `len` zeroed elements, on huge pages if `huge` and the array is large.
+    pub(crate) fn zeroed(len: usize, huge: bool) -> Self {
         let bytes = len * size_of::<T>();
-        if bytes >= HUGE_PAGE
+        if huge
+            && bytes >= HUGE_PAGE
             && let Some(store) = Self::mapped(bytes)
         {
             return CellArray { store };
@@ -42,8 +47,8 @@ impl<T: Pod> CellArray<T> {
     }
 
     /// `len` copies of `v`.
-    pub(crate) fn filled(len: usize, v: T) -> Self {
-        let mut a = Self::zeroed(len);
+    pub(crate) fn filled(len: usize, v: T, huge: bool) -> Self {
+        let mut a = Self::zeroed(len, huge);
         a.fill(v);
         a
     }
@@ -87,15 +92,15 @@ mod tests {
     /// Small and mapped arrays have their length, start zeroed and hold what is written.
     #[test]
     fn arrays_small_and_mapped() {
-        for len in [0, 1, 1000, HUGE_PAGE / 4 + 3] {
-            let mut a = CellArray::<f32>::filled(len, 1.5);
+        for (len, huge) in [(0, true), (1, true), (1000, false), (HUGE_PAGE / 4 + 3, true)] {
+            let mut a = CellArray::<f32>::filled(len, 1.5, huge);
             assert_eq!(a.len(), len);
             assert!(a.iter().all(|&v| v == 1.5));
             if let Some(last) = a.last_mut() {
                 *last = 2.0;
             }
             assert_eq!(a.iter().filter(|&&v| v == 2.0).count(), (len > 0) as usize);
-            let z = CellArray::<u8>::zeroed(len * 4);
+            let z = CellArray::<u8>::zeroed(len * 4, huge);
             assert_eq!(z.len(), len * 4);
             assert!(z.iter().all(|&v| v == 0));
         }

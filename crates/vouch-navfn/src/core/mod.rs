@@ -133,6 +133,8 @@ pub struct NavFn {
     pub(crate) last_path_cost: f32,
     /// Threshold increment `priInc` (a NavFn member upstream; only perturbation tests change it).
     pub(crate) pri_inc: f32,
+    /// Large arrays on transparent huge pages ([`NavFn::set_huge_pages`]).
+    pub(crate) huge_pages: bool,
 }
 
 impl NavFn {
@@ -143,10 +145,10 @@ impl NavFn {
             nx,
             ny,
             ns,
-            cost: CellArray::filled(ns, COST_NEUTRAL),
-            pot: CellArray::filled(ns, POT_HIGH),
+            cost: CellArray::filled(ns, COST_NEUTRAL, false),
+            pot: CellArray::filled(ns, POT_HIGH, false),
             grad: vec![[0.0; 2]; ns],
-            blocked: CellArray::zeroed(ns),
+            blocked: CellArray::zeroed(ns, false),
             grad_touched: Vec::new(),
             cur: PriorityBuf::new(),
             next: PriorityBuf::new(),
@@ -158,7 +160,26 @@ impl NavFn {
             path_len: 0,
             last_path_cost: POT_HIGH,
             pri_inc: PRI_INC,
+            huge_pages: false,
         })
+    }
+
+    /// Put the potential, cost and blocked arrays of 2 MiB and more on transparent huge pages
+    /// (Linux `madvise`; elsewhere, or where the kernel declines, ordinary pages). Fewer page
+    /// walks when a large map is planned on again and again in one process; the first touch of
+    /// each huge page costs kernel time, so a process that plans once gains nothing (the
+    /// figures are in docs/navfn-core.md). Takes effect now: the arrays are allocated afresh
+    /// (costs back to COST_NEUTRAL), as by a change of size.
+    pub fn set_huge_pages(&mut self, on: bool) {
+        if on != self.huge_pages {
+            self.huge_pages = on;
+            self.allocate();
+        }
+    }
+
+    /// Whether large arrays are on huge pages.
+    pub fn huge_pages(&self) -> bool {
+        self.huge_pages
     }
 
     /// Make the arrays fit an `nx`×`ny` map; keeps the allocation when the size is unchanged.
@@ -172,19 +193,25 @@ impl NavFn {
         self.nx = nx;
         self.ny = ny;
         self.ns = ns;
-        // fresh zeroed allocations rather than a fill: pages of the gradient array that a plan
-        // never touches then take no memory (most of them on large maps)
-        self.pot = CellArray::filled(ns, POT_HIGH);
+        self.allocate();
+        Ok(())
+    }
+
+    /// Fresh arrays for the current size. Fresh zeroed allocations rather than a fill: pages
+    /// of the gradient array that a plan never touches then take no memory (most of them on
+    /// large maps).
+    fn allocate(&mut self) {
+        let (ns, huge) = (self.ns, self.huge_pages);
+        self.pot = CellArray::filled(ns, POT_HIGH, huge);
         self.grad = vec![[0.0; 2]; ns];
-        self.cost = CellArray::filled(ns, COST_NEUTRAL);
-        self.blocked = CellArray::zeroed(ns);
+        self.cost = CellArray::filled(ns, COST_NEUTRAL, huge);
+        self.blocked = CellArray::zeroed(ns, huge);
         self.grad_touched.clear();
         self.cur.clear();
         self.next.clear();
         self.over.clear();
         self.path.clear();
         self.path_len = 0;
-        Ok(())
     }
 
     pub fn nx(&self) -> usize {
@@ -326,5 +353,35 @@ fn checked_size(nx: usize, ny: usize) -> Result<usize, CoreError> {
     match nx.checked_mul(ny) {
         Some(ns) if nx >= 1 && ny >= 1 && ns < i32::MAX as usize => Ok(ns),
         _ => Err(CoreError::BadSize { nx, ny }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Cell, NavFn, NoObserver};
+
+    /// Huge pages change where the arrays live, never a result: the same plan on a map of
+    /// several MiB per array with and without them, switched on before and after a plan.
+    #[test]
+    fn huge_pages_change_no_result() {
+        let (nx, ny) = (1100, 600);
+        let costs: Vec<u8> = (0..nx * ny).map(|i| 50 + (i * 31 % 150) as u8).collect();
+        let plan = |nav: &mut NavFn| {
+            nav.set_costs_raw(&costs).expect("size");
+            nav.set_goal(Cell::new(5, 5)).expect("inside");
+            nav.set_start(Cell::new(900, 400)).expect("inside");
+            nav.calc_astar(&mut NoObserver);
+            nav.calc_path(4 * nx, &mut NoObserver);
+            (nav.potential().iter().map(|p| p.to_bits()).collect::<Vec<_>>(), nav.path().to_vec())
+        };
+        let mut plain = NavFn::new(nx, ny).expect("size");
+        let expected = plan(&mut plain);
+        assert!(!expected.1.is_empty(), "a path");
+        let mut huge = NavFn::new(nx, ny).expect("size");
+        huge.set_huge_pages(true);
+        assert!(huge.huge_pages());
+        assert_eq!(plan(&mut huge), expected);
+        huge.set_huge_pages(false);
+        assert_eq!(plan(&mut huge), expected);
     }
 }

@@ -145,7 +145,8 @@ impl InflationLayer {
                 if obstacle { 0.0 } else { f32::MAX }
             })
             .collect();
-        distance_transform_2d(&mut dist, width, height);
+        squared_distances(&mut dist, width, height, true);
+        eigen_sqrt(&mut dist);
         self.apply(costmap, &dist);
     }
 
@@ -171,29 +172,113 @@ impl InflationLayer {
 /// cell (6.5 MB here), and 2^16 cells is 3.3 km at 5 cm, beyond any inflation radius in use.
 pub const MAX_CELL_RADIUS: u32 = 1 << 16;
 
+/// Columns transformed together in the generic column pass (one 64-byte cache line of floats).
+const COLUMN_BLOCK: usize = 16;
+
+/// Tallest column for which [`column_pass_binary`] is exact (see there): below it every
+/// `q² − v²` of the transform is an integer that `f32` holds exactly.
+const EXACT_BINARY_HEIGHT: usize = 4096;
+
 /// Euclidean distance transform in place: input 0 at obstacles and `f32::MAX` elsewhere,
-/// output the distance in cells (`f32::MAX`-ish where no obstacle exists).
+/// output the distance in cells (`f32::MAX`-ish where no obstacle exists). The bytes are
+/// nav2's: the column pass, then the row pass, then Eigen's square root.
 pub fn distance_transform_2d(img: &mut [f32], width: usize, height: usize) {
-    let n = width.max(height);
-    let mut f = vec![0f32; n];
-    let mut d = vec![0f32; n];
-    let mut v = vec![0i32; n];
-    let mut z = vec![0f32; n + 1];
-    for x in 0..width {
-        for y in 0..height {
-            f[y] = img[y * width + x];
-        }
-        transform_1d(&f[..height], &mut d[..height], &mut v, &mut z);
-        for y in 0..height {
-            img[y * width + x] = d[y];
-        }
-    }
-    for row in img.chunks_exact_mut(width) {
-        f[..width].copy_from_slice(row);
-        transform_1d(&f[..width], &mut d[..width], &mut v, &mut z);
-        row.copy_from_slice(&d[..width]);
-    }
+    // (a fold without early exit, so that the test vectorises)
+    let binary = img.iter().fold(true, |all, &x| all & ((x == 0.0) | (x == f32::MAX)));
+    squared_distances(img, width, height, binary);
     eigen_sqrt(img);
+}
+
+/// The two passes of the transform (squared distances); `binary`: the input holds only 0 and
+/// `f32::MAX`.
+fn squared_distances(img: &mut [f32], width: usize, height: usize, binary: bool) {
+    if img.len() != width * height || width == 0 {
+        return;
+    }
+    if binary && height <= EXACT_BINARY_HEIGHT {
+        column_pass_binary(img, width);
+    } else {
+        column_pass(img, width, height);
+    }
+    let mut d = vec![0f32; width];
+    let mut sites = vec![Site::default(); width];
+    let mut z = vec![0f32; width + 1];
+    for row in img.chunks_exact_mut(width) {
+        transform_1d(row, &mut d, &mut sites, &mut z);
+        row.copy_from_slice(&d);
+    }
+}
+
+/// The column pass as nav2 computes it, one column's transform after another. The columns
+/// are read a block at a time: a block's cells of one row are one cache line, copied into a
+/// column-major scratch block, transformed and copied back (reading one column at a time
+/// touches a cache line per cell and a new page every few rows on a large map).
+fn column_pass(img: &mut [f32], width: usize, height: usize) {
+    let mut d = vec![0f32; height];
+    let mut sites = vec![Site::default(); height];
+    let mut z = vec![0f32; height + 1];
+    let mut block = vec![0f32; COLUMN_BLOCK * height];
+    for x0 in (0..width).step_by(COLUMN_BLOCK) {
+        let cols = COLUMN_BLOCK.min(width - x0);
+        for (y, row) in img.chunks_exact(width).enumerate() {
+            for (j, &value) in row[x0..x0 + cols].iter().enumerate() {
+                block[j * height + y] = value;
+            }
+        }
+        for column in block.chunks_exact_mut(height).take(cols) {
+            transform_1d(column, &mut d, &mut sites, &mut z);
+            column.copy_from_slice(&d);
+        }
+        for (y, row) in img.chunks_exact_mut(width).enumerate() {
+            for (j, value) in row[x0..x0 + cols].iter_mut().enumerate() {
+                *value = block[j * height + y];
+            }
+        }
+    }
+}
+
+/// The column pass for a binary input (0 at obstacles, `f32::MAX` elsewhere) of at most
+/// [`EXACT_BINARY_HEIGHT`] rows, with the same result bit for bit: each cell gets the squared
+/// row distance to the nearest obstacle of its column, `f32::MAX` in a column without one.
+/// Computed as two sweeps over the rows (nearest obstacle above, then below), which run
+/// along memory and vectorise, instead of a transform per column.
+///
+/// Why the transform gives exactly that on such input. Every `q² − v²` is an integer below
+/// 2^24, so held exactly. Between two obstacle sites `a < b` the envelope boundary
+/// `(b² − a²) / (2(b − a))` is the midpoint `(a + b)/2`, exactly (a multiple of ½, and the
+/// division rounds correctly); between two free sites likewise. Between a free and an
+/// obstacle site, `f` differs by `f32::MAX`, which absorbs the integer part (its ulp is
+/// 2^104), so the boundary is `±f32::MAX / (2(q − v))`, beyond ±4·10^34: outside the column.
+/// A free site therefore never wins a cell while the column has an obstacle, the boundaries
+/// between obstacles are the exact midpoints, and each cell takes `(q − v)² + 0` for a
+/// nearest obstacle `v` (at a tie either one: same value). Without an obstacle every cell
+/// takes its own site, `0 + f32::MAX`. Tested against the transform on random and edge
+/// columns below.
+fn column_pass_binary(img: &mut [f32], width: usize) {
+    // rows are below 4096, so `i32` rows and `f32` squares are exact; -1: no obstacle yet
+    let square = |from: i32, to: i32| {
+        let d = (to - from) as f32;
+        if from < 0 { f32::MAX } else { d * d }
+    };
+    // down the rows: the squared distance to the nearest obstacle at or above
+    let mut last = vec![-1i32; width];
+    for (y, row) in img.chunks_exact_mut(width).enumerate() {
+        let y = y as i32;
+        for (cell, last) in row.iter_mut().zip(last.iter_mut()) {
+            *last = if *cell == 0.0 { y } else { *last };
+            *cell = square(*last, y);
+        }
+    }
+    // up the rows: the nearer of that and the nearest obstacle at or below (the obstacles
+    // still read 0.0)
+    last.fill(-1);
+    for (y, row) in img.chunks_exact_mut(width).enumerate().rev() {
+        let y = y as i32;
+        for (cell, next) in row.iter_mut().zip(last.iter_mut()) {
+            *next = if *cell == 0.0 { y } else { *next };
+            *cell = cell.min(square(*next, y));
+        }
+    }
 }
 
 /// The square root nav2's layer takes: Eigen 3.4's `cwiseSqrt` on a float array, which (with
@@ -232,42 +317,57 @@ fn rsqrt4(x: [f32; 4]) -> [f32; 4] {
     x.map(|v| 1.0 / v.sqrt())
 }
 
+/// A parabola of the lower envelope: its site `v`, `v²` as the C++'s `int` product, and `f[v]`
+/// (kept with the site so that an envelope step does not wait on a load through `v`).
+#[derive(Clone, Copy, Default)]
+struct Site {
+    v: i32,
+    square: i32,
+    f: f32,
+}
+
 /// The lower envelope of parabolas in one dimension, squared distances in `f32`; the integer
-/// part `q² − v²` in `i32` as the C++ computes it.
-fn transform_1d(f: &[f32], d: &mut [f32], v: &mut [i32], z: &mut [f32]) {
+/// part `q² − v²` in `i32` as the C++ computes it. `d` and `sites` hold at least `f.len()`
+/// elements and `z` one more.
+///
+/// Same operations and order as nav2's; the envelope's end marker `z[k+1] = ∞` is written
+/// once after the envelope is built instead of at every site: the envelope loop reads `z`
+/// only at indices up to `k`, which it has written itself, so only the last marker is read.
+fn transform_1d(f: &[f32], d: &mut [f32], sites: &mut [Site], z: &mut [f32]) {
     let n = f.len();
-    if n == 0 {
+    if n == 0 || d.len() < n || sites.len() < n || z.len() <= n {
         return;
     }
+    let (d, sites, z) = (&mut d[..n], &mut sites[..n], &mut z[..=n]);
     let inf = f32::MAX;
-    let parabola = |q: i32, vk: i32| {
-        (f[q as usize] - f[vk as usize]
-            + q.wrapping_mul(q).wrapping_sub(vk.wrapping_mul(vk)) as f32)
-            / (2.0f32 * (q - vk) as f32)
+    let parabola = |q: i32, fq: f32, qq: i32, site: Site| {
+        (fq - site.f + qq.wrapping_sub(site.square) as f32) / (2.0f32 * (q - site.v) as f32)
     };
     let mut k = 0usize;
-    v[0] = 0;
+    sites[0] = Site { v: 0, square: 0, f: f[0] };
     z[0] = -inf;
-    z[1] = inf;
-    for q in 1..n as i32 {
-        let mut s = parabola(q, v[k]);
+    for (q, &fq) in f.iter().enumerate().skip(1) {
+        let q = q as i32;
+        let qq = q.wrapping_mul(q);
+        let mut s = parabola(q, fq, qq, sites[k]);
         // s > −FLT_MAX always (f ≥ 0), so k never passes 0; the guard keeps that visible
         while k > 0 && s <= z[k] {
             k -= 1;
-            s = parabola(q, v[k]);
+            s = parabola(q, fq, qq, sites[k]);
         }
         k += 1;
-        v[k] = q;
+        sites[k] = Site { v: q, square: qq, f: fq };
         z[k] = s;
-        z[k + 1] = inf;
     }
+    z[k + 1] = inf;
     k = 0;
     for (q, out) in d.iter_mut().enumerate() {
         while z[k + 1] < q as f32 {
             k += 1;
         }
-        let diff = q as i32 - v[k];
-        *out = diff.wrapping_mul(diff) as f32 + f[v[k] as usize];
+        let site = sites[k];
+        let diff = q as i32 - site.v;
+        *out = diff.wrapping_mul(diff) as f32 + site.f;
     }
 }
 
@@ -298,6 +398,43 @@ mod tests {
         for (a, b) in img.iter().zip(brute(&obst, w, h)) {
             assert!((f64::from(*a) - b).abs() < 1e-5, "{a} vs {b}");
         }
+    }
+
+    /// The two sweeps of the binary column pass give the transform's bytes: columns with no,
+    /// one and many obstacles, obstacles at both ends, ties between two obstacles, and the
+    /// tallest exact column, against nav2's per-column transform (`column_pass`).
+    #[test]
+    fn binary_column_pass_is_the_transform() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for (w, h, per_mille) in
+            [(1, 1, 500), (7, 1, 500), (5, 9, 0), (13, 17, 1000), (31, 64, 120), (9, 4096, 3)]
+        {
+            for _ in 0..4 {
+                let img: Vec<f32> = (0..w * h)
+                    .map(|_| if next() % 1000 < per_mille { 0.0 } else { f32::MAX })
+                    .collect();
+                let mut expected = img.clone();
+                column_pass(&mut expected, w, h);
+                let mut got = img.clone();
+                column_pass_binary(&mut got, w);
+                let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&got), bits(&expected), "{w}x{h} at {per_mille}‰");
+            }
+        }
+        // obstacles at both ends of a column, and two equidistant from its middle cell
+        let mut img = vec![f32::MAX; 9];
+        (img[0], img[8], img[2], img[6]) = (0.0, 0.0, 0.0, 0.0);
+        let mut expected = img.clone();
+        column_pass(&mut expected, 1, 9);
+        column_pass_binary(&mut img, 1);
+        assert_eq!(img, expected);
+        assert_eq!(img, [0.0, 1.0, 0.0, 1.0, 4.0, 1.0, 0.0, 1.0, 0.0]);
     }
 
     #[test]
