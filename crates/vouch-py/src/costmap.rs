@@ -80,7 +80,10 @@ pub fn inflate_costmap<'py>(
         inflate_around_unknown,
     };
     if !resolution.is_finite() || resolution <= 0.0 {
-        return Err(costmap_error(CostmapError::Parameter { name: "resolution", value: resolution }));
+        return Err(costmap_error(CostmapError::Parameter {
+            name: "resolution",
+            value: resolution,
+        }));
     }
     // as `costmap_resolution` reads a map: the message's float, widened
     let resolution = f64::from(resolution as f32);
@@ -99,7 +102,8 @@ fn plan_poses(poses: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 3]>> {
         3 => rows.map(|r| [r[0], r[1], r[2]]).collect(),
         7 => rows
             .map(|r| {
-                let p = Pose { position: [r[0], r[1], r[2]], orientation: [r[3], r[4], r[5], r[6]] };
+                let p =
+                    Pose { position: [r[0], r[1], r[2]], orientation: [r[3], r[4], r[5], r[6]] };
                 [r[0], r[1], p.yaw()]
             })
             .collect(),
