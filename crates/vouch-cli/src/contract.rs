@@ -57,6 +57,7 @@ impl Failure {
         Failure::Usage(miette::Report::new(CliError {
             kind: CliErrorKind::Usage,
             msg: msg.to_string(),
+            help: None,
         }))
     }
 
@@ -64,7 +65,7 @@ impl Failure {
     /// input, that cannot be read or written.
     pub fn io(path: &std::path::Path, e: &io::Error) -> Failure {
         let msg = format!("{}: {e}", path.display());
-        Failure::Usage(miette::Report::new(CliError { kind: CliErrorKind::Io, msg }))
+        Failure::Usage(miette::Report::new(CliError { kind: CliErrorKind::Io, msg, help: None }))
     }
 
     /// Reads a text file beside the main input (answers, jumps, …): a failed read is I/O
@@ -74,7 +75,11 @@ impl Failure {
         String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
             let msg = format!("{}: not a text file (invalid UTF-8 at byte {at})", path.display());
-            Failure::Rejected(miette::Report::new(CliError { kind: CliErrorKind::NotText, msg }))
+            Failure::Rejected(miette::Report::new(CliError {
+                kind: CliErrorKind::NotText,
+                msg,
+                help: None,
+            }))
         })
     }
 
@@ -107,6 +112,9 @@ enum CliErrorKind {
     Usage,
     /// A file read as text that is not text (`C003`, rejected input).
     NotText,
+    /// A command line that does not parse: an unknown option, a missing or invalid value
+    /// (`C004`, found by clap).
+    Syntax,
 }
 
 /// An error of the command line itself, coded `{family}::C001` or `{family}::C002`.
@@ -114,6 +122,7 @@ enum CliErrorKind {
 struct CliError {
     kind: CliErrorKind,
     msg: String,
+    help: Option<String>,
 }
 
 impl fmt::Display for CliError {
@@ -131,9 +140,26 @@ impl Diagnostic for CliError {
             CliErrorKind::Io => "C001",
             CliErrorKind::Usage => "C002",
             CliErrorKind::NotText => "C003",
+            CliErrorKind::Syntax => "C004",
         };
         Some(Box::new(format!("{family}::{n}")))
     }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        self.help.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+}
+
+/// A command line clap could not parse, as a coded usage failure (`{family}::C004`, exit 2):
+/// clap's first line is the message (without its `error: `), the rest (the usage, a hint) the
+/// help. Printed like every other diagnostic, so the input it quotes is escaped.
+pub fn syntax_failure(clap_text: &str) -> Failure {
+    let text = clap_text.trim();
+    let (first, rest) = text.split_once('\n').unwrap_or((text, ""));
+    let msg = first.strip_prefix("error: ").unwrap_or(first).to_string();
+    let rest = rest.trim();
+    let help = (!rest.is_empty()).then(|| rest.to_string());
+    Failure::Usage(miette::Report::new(CliError { kind: CliErrorKind::Syntax, msg, help }))
 }
 
 /// What every subcommand returns.

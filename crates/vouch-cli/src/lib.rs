@@ -123,13 +123,15 @@ enum Command {
 
 /// Parses the command line, runs the command and returns its exit code.
 pub fn run() -> ExitCode {
-    let cli = match Cli::try_parse_from(fpl::upstream_args(std::env::args_os())) {
+    let args = fpl::upstream_args(std::env::args_os());
+    let cli = match Cli::try_parse_from(&args) {
         Ok(cli) => cli,
-        Err(e) => {
-            // clap prints help/version on stdout with exit 0; real usage errors exit 2.
+        // clap prints help and version on stdout, exit 0
+        Err(e) if !e.use_stderr() => {
             let _ = e.print();
-            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            return ExitCode::SUCCESS;
         }
+        Err(e) => return command_line_error(&e, &args),
     };
     let verbosity = match (cli.quiet, cli.verbose) {
         (true, _) => Verbosity::Quiet,
@@ -151,6 +153,31 @@ pub fn run() -> ExitCode {
         Command::Man(a) => tooling::man(a, &mut ctx),
     };
     finish(result, &mut ctx).into()
+}
+
+/// A command line that does not parse: clap's message as a coded diagnostic of the family
+/// named on it (`vouch` when none is), in the `--message-format` given if that much can be
+/// read, escaped like every other message; exit 2.
+fn command_line_error(e: &clap::Error, args: &[std::ffi::OsString]) -> ExitCode {
+    let words: Vec<&str> = args.iter().skip(1).filter_map(|a| a.to_str()).collect();
+    let family = words
+        .iter()
+        .find_map(|w| ["fpl", "mav", "navfn"].into_iter().find(|f| f == w))
+        .unwrap_or("vouch");
+    contract::set_family(family);
+    let format = words
+        .iter()
+        .enumerate()
+        .find_map(|(i, w)| match w.strip_prefix("--message-format") {
+            Some("") => words.get(i + 1).copied(),
+            Some(v) => v.strip_prefix('='),
+            None => None,
+        })
+        .and_then(|v| <MessageFormat as clap::ValueEnum>::from_str(v, true).ok())
+        .unwrap_or_default();
+    let mut ctx = Ctx { out: Out::stdout(), format, verbosity: Verbosity::Normal };
+    let failure = contract::syntax_failure(&e.render().to_string());
+    finish(Err(failure), &mut ctx).into()
 }
 
 /// Flushes the main output, prints a failure once and chooses the exit code.

@@ -131,3 +131,39 @@ fn a_reader_that_goes_away_ends_the_output_quietly() {
     assert!(!err.contains("panicked"), "{err}");
     assert_eq!(status.code(), Some(0), "stderr: {err}");
 }
+
+/// A command line that does not parse is a usage error like any other: exit 2, the code of the
+/// family it names (`vouch::C004` when none), in the `--message-format` asked for, and the
+/// value it quotes escaped — an escape sequence typed or passed by a script never reaches the
+/// terminal raw.
+#[test]
+fn command_lines_that_do_not_parse_are_coded_and_escaped() {
+    let esc = "\u{1b}]0;retitled\u{7}";
+    let cases: [(&[&str], &str); 5] = [
+        (&["navfn", "bench", "--inflation", esc], "navfn::C004"),
+        (&["fpl", "compile", "--no-such-option", "x.xml"], "fpl::C004"),
+        (&["mav", "check"], "mav::C004"),
+        (&["frobnicate"], "vouch::C004"),
+        (&["--message-format", "short", "navfn", "plan", esc], "navfn::C004"),
+    ];
+    for (args, code) in cases {
+        for format in ["human", "short", "json"] {
+            let mut full = vec!["--message-format", format];
+            full.extend_from_slice(args);
+            let o = vouch().args(&full).output().expect("runs");
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{full:?}: {err}");
+            assert!(err.contains(code), "{full:?}: {err}");
+            assert!(!o.stderr.iter().any(|&b| b == 0x1b || b == 0x07), "raw control: {err:?}");
+            if format == "json" {
+                let line = err.lines().next().expect("a line");
+                let v: serde_json::Value = serde_json::from_str(line).expect("JSON");
+                assert_eq!(v["code"], code, "{line}");
+            }
+        }
+    }
+    // help and version still go to standard output with exit 0
+    let o = vouch().args(["navfn", "--help"]).output().expect("runs");
+    assert_eq!(o.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Usage: vouch navfn"));
+}

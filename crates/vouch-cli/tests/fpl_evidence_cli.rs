@@ -106,3 +106,25 @@ fn sim_replays_operator_jumps_and_rejects_a_bad_jumps_file() {
     assert_eq!(code(&o), 1);
     assert!(stderr(&o).contains("block 99 does not exist"), "{}", stderr(&o));
 }
+
+/// A walk cut by a budget establishes no "holds": `fpl check` on a plan whose calls have more
+/// paths than the walk follows reports the properties as holding on the explored part only and
+/// exits 3, as `validate` does on a cut walk; the same properties on a small plan exit 0.
+#[test]
+fn check_on_a_cut_state_space_is_not_a_pass() {
+    let plan =
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../vouch-fpl/tests/evidence_plans/explode_loops.xml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_vouch"))
+        .args(["fpl", "check", plan, "--no-blocked", "--deadlock-free"])
+        .output()
+        .expect("runs");
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(3), "{out}");
+    assert!(out.contains("not established"), "{out}");
+    let demo = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/fpl/demo.xml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_vouch"))
+        .args(["fpl", "check", demo, "--no-blocked", "--deadlock-free"])
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stdout));
+}

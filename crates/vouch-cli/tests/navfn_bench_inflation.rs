@@ -84,6 +84,12 @@ fn inflation_against_an_external_layer() {
         assert_eq!(code(&o), 2, "{body}: {}", text(&o.stderr));
         assert!(text(&o.stderr).contains("navfn::E092"), "{}", text(&o.stderr));
     }
+    // generated maps need a border ring and an interior; nothing measured is no answer
+    for (flag, side) in [("--inflation", "2"), ("--scale", "1"), ("--inflation", "40,x")] {
+        let o = vouch(&["navfn", "bench", flag, side]);
+        assert_eq!(code(&o), 2, "{flag} {side}: {}", text(&o.stdout));
+        assert!(text(&o.stderr).contains("a side from 3"), "{}", text(&o.stderr));
+    }
     // the external layer needs the workload
     let o = vouch(&["navfn", "bench", "examples/navfn/suite", "--inflation-oracle", &unchanged]);
     assert_eq!(code(&o), 2, "{}", text(&o.stderr));

@@ -191,9 +191,13 @@ fn inflation_search_finds_the_radius_and_a_real_counterexample() {
     assert_eq!(code(&o), 3, "{}", String::from_utf8_lossy(&o.stderr));
     assert!(json(&o)["smallest_safe_radius"].is_null());
 
-    let o = inflation(&["--footprint-padding", "0.08"]);
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let png = dir.path().join("counterexample.png");
+    let png_arg = png.to_str().expect("utf-8");
+    let o = inflation(&["--footprint-padding", "0.08", "--png", png_arg]);
     assert_eq!(code(&o), 0, "{}", String::from_utf8_lossy(&o.stderr));
     let r = json(&o);
+    counterexample_is_drawn(&png);
     let safe = r["smallest_safe_radius"].as_f64().expect("a radius");
     let cx = &r["counterexample"];
     let failing = cx["inflation_radius"].as_f64().expect("failing radius");
@@ -214,6 +218,20 @@ fn inflation_search_finds_the_radius_and_a_real_counterexample() {
         })
         .fold(f64::INFINITY, f64::min);
     assert!(closest <= 0.3 + 1e-6, "{closest}");
+}
+
+/// The counterexample's picture: a PNG of the map's size (times the picture's scale), with the
+/// contact marked in magenta and the plan in red.
+fn counterexample_is_drawn(png: &std::path::Path) {
+    let file = std::fs::File::open(png).expect("the picture was written");
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().expect("a PNG");
+    let mut pixels = vec![0; reader.output_buffer_size().expect("size")];
+    let info = reader.next_frame(&mut pixels).expect("one frame");
+    assert_eq!((info.width % 384, info.height % 384), (0, 0), "map_circular is 384×384");
+    let rgb = &pixels[..info.buffer_size()];
+    let count = |c: [u8; 3]| rgb.chunks_exact(3).filter(|p| *p == c).count();
+    assert!(count([255, 0, 255]) > 0, "a contact in magenta");
+    assert!(count([230, 20, 20]) > 0, "the path in red");
 }
 
 /// Shards split the goals; merged, they give the unsharded answer.

@@ -32,8 +32,8 @@ use crate::campaign::rng::SplitMix64;
 use crate::campaign::shard::Shard;
 use crate::core::{COST_OBS, Cell, NavFn, NoObserver, POT_HIGH};
 use crate::costmap::{
-    Body, BodyCheck, Clearance, CostmapError, Footprint, InflationLayer, InflationParams,
-    costmap_resolution,
+    Body, BodyCheck, BodyReport, Clearance, CostmapError, Footprint, InflationLayer,
+    InflationParams, costmap_resolution,
 };
 use crate::maps::RosMap;
 
@@ -247,6 +247,47 @@ fn run_radius(
         }
     }
     None
+}
+
+/// The counterexample's plan once more, to be shown: the costmap of its radius inflated as the
+/// search inflated it (`params` with the report's resolution and inscribed radius), the goal's
+/// potential field over the whole map and the descent from its start — the same calls as the
+/// search, so the same path. Returns the NavFn after the descent (costs, potential, path) and
+/// the body check of the plan's poses against the static layer; `None` without a
+/// counterexample.
+pub fn replay_counterexample(
+    map: &RosMap,
+    report: &SearchReport,
+    params: InflationParams,
+    body: &Body,
+) -> Result<Option<(NavFn, BodyReport)>, CostmapError> {
+    let Some(cx) = &report.counterexample else { return Ok(None) };
+    let (w, h, res) = (map.width, map.height, report.resolution);
+    let k = (cx.inflation_radius / res).round();
+    let radius = if k <= 0.0 { 0.0 } else { (k - 0.5) * res };
+    let params = InflationParams { inflation_radius: radius, ..params };
+    let layer = InflationLayer::new(params, res, report.inscribed_radius)?;
+    let mut costs = map.costmap.clone();
+    layer.inflate(&mut costs, w, h);
+    let size_error = || CostmapError::Parameter { name: "map size", value: (w * h) as f64 };
+    let mut nav = NavFn::new(w, h).map_err(|_| size_error())?;
+    nav.set_costs_ros(&costs, true).map_err(|_| size_error())?;
+    let cell = |c: [usize; 2]| Cell::new(c[0], c[1]);
+    nav.set_goal(cell(cx.goal)).map_err(|_| size_error())?;
+    nav.setup();
+    nav.propagate_dijkstra(w * h * 4, false, &mut NoObserver);
+    nav.set_start(cell(cx.start)).map_err(|_| size_error())?;
+    nav.calc_path(4 * w.max(h), &mut NoObserver);
+    let check = BodyCheck {
+        costs: &map.costmap,
+        width: w,
+        height: h,
+        world: map.world(),
+        body: body.clone(),
+        window: 0.0,
+    };
+    let body_report = check.check(&to_poses(map, nav.path()));
+    Ok(Some((nav, body_report)))
 }
 
 fn interior(i: usize, w: usize, h: usize) -> bool {

@@ -91,7 +91,7 @@ pub enum FplCmd {
             "vouch fpl check examples/fpl/demo.xml --property 'never block(HOME)'"
         ],
         "0 every property holds, 1 plan or property rejected, 2 usage or I/O error, \
-         3 a property fails"
+         3 a property fails or is not established (a budget cut the state space)"
     ))]
     Check(evidence::CheckArgs),
     /// Compare two versions of a plan by behaviour

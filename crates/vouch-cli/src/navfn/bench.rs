@@ -73,8 +73,8 @@ pub struct BenchArgs {
     /// scale: one process per map)
     #[arg(long)]
     no_process: bool,
-    /// Scale: random-cost maps of these sides (cells), e.g. 100,200,500,1000,2000,4000
-    #[arg(long, value_delimiter = ',', value_name = "N,N,…")]
+    /// Scale: random-cost maps of these sides (cells, at least 3), e.g. 100,200,500,1000,2000,4000
+    #[arg(long, value_delimiter = ',', value_parser = parse_side, value_name = "N,N,…")]
     scale: Vec<usize>,
     /// Scale: where the generated maps are written (default: a folder in the temporary
     /// directory, removed afterwards)
@@ -85,7 +85,7 @@ pub struct BenchArgs {
     seed: u64,
     /// Inflation: time nav2's inflation layer update on generated static layers of these
     /// sides (cells), e.g. 1000,4000
-    #[arg(long, value_delimiter = ',', value_name = "N,N,…")]
+    #[arg(long, value_delimiter = ',', value_parser = parse_side, value_name = "N,N,…")]
     inflation: Vec<usize>,
     /// Inflation: an external inflation layer to measure side by side (a command line taking
     /// `IN.bin W H RESOLUTION radius R INFLATION_RADIUS K 0|1 0|1 OUT.bin --time R`, see
@@ -119,6 +119,15 @@ pub struct BenchArgs {
     /// With --time-planning: propagation in navfn mode
     #[arg(long, hide = true, value_enum, default_value = "dijkstra")]
     algo: AlgoArg,
+}
+
+/// A generated map's side: at least 3 cells (a border ring and an interior), at most 2^15 (a
+/// map of 2^30 cells, 1 GiB per byte array).
+fn parse_side(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if (3..=1 << 15).contains(&n) => Ok(n),
+        _ => Err(format!("`{text}`: a side from 3 to 32768 cells")),
+    }
 }
 
 /// A harness error: a map or suite error as elsewhere, a refused planner request 1, and a

@@ -3,15 +3,17 @@
 //! merge of shard reports.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use vouch_navfn::campaign::shard::ShardBy;
-use vouch_navfn::guarantee::{SearchConfig, SearchReport, merge, search};
+use vouch_navfn::costmap::InflationParams;
+use vouch_navfn::guarantee::{SearchConfig, SearchReport, merge, replay_counterexample, search};
 use vouch_navfn::maps::load_ros_map;
+use vouch_navfn::picture::{PictureInput, save_png};
 
 use super::campaign::{ShardArg, parse_shard_arg, resolve_shard};
-use super::costmap::{BodyArgs, body_shape, costmap_failure};
+use super::costmap::{BodyArgs, body_marks, body_shape, costmap_failure};
 use super::{map_failure, write_file};
 use crate::contract::{CmdResult, Ctx, Exit, Failure};
 
@@ -21,7 +23,8 @@ use crate::contract::{CmdResult, Ctx, Exit, Failure};
     [
         "vouch navfn inflation map.yaml --robot-radius 0.3 --cost-scaling-factor 3 --goals 8",
         "vouch navfn inflation map.yaml --robot-radius 0.3 --shard auto -o part-$SLURM_ARRAY_TASK_ID.json  # Slurm",
-        "vouch navfn inflation --merge part-*.json"
+        "vouch navfn inflation --merge part-*.json",
+        "vouch navfn inflation map.yaml --robot-radius 0.3 --png counterexample.png"
     ],
     "0 a safe radius was found, 1 map or parameter rejected, 2 usage or I/O error, \
      3 no radius up to --max-radius is safe"
@@ -73,6 +76,10 @@ pub struct InflationArgs {
     /// Print the JSON report
     #[arg(long)]
     json: bool,
+    /// Draw the counterexample to this PNG file: the costmap of its radius, the potential, the
+    /// plan (start green, goal blue), the contacts (magenta) and the closest lethal cell (cyan)
+    #[arg(long, value_name = "FILE", conflicts_with = "merge")]
+    png: Option<PathBuf>,
 }
 
 /// Runs `vouch navfn inflation`.
@@ -82,12 +89,44 @@ pub fn run(a: InflationArgs, ctx: &mut Ctx) -> CmdResult {
     if let Some(path) = &a.output {
         write_file(path, text.as_bytes())?;
     }
+    if let Some(png) = &a.png {
+        picture(&a, &report, png, ctx)?;
+    }
     if a.json {
         ctx.out.json(&report)?;
     } else {
         ctx.out.write_all(summary(&report).as_bytes())?;
     }
     Ok(if report.smallest_safe_radius.is_some() { Exit::Ok } else { Exit::Findings })
+}
+
+/// The counterexample drawn: its plan replayed on the costmap of its radius.
+fn picture(a: &InflationArgs, report: &SearchReport, png: &Path, ctx: &mut Ctx) -> CmdResult {
+    let Some(map_path) = &a.map else { return Err(Failure::usage("no map")) };
+    let map = load_ros_map(map_path, true).map_err(map_failure)?;
+    let body = body_shape(&a.body)?.ok_or_else(|| Failure::usage("no body"))?;
+    let params = layer_params(a);
+    match replay_counterexample(&map, report, params, &body).map_err(costmap_failure)? {
+        Some((nav, body_report)) => {
+            let marks = body_marks(&body_report);
+            let mut pic = PictureInput::of(&nav, true);
+            pic.marks = &marks;
+            save_png(png, &pic).map_err(|e| Failure::io(png, &e))?;
+        }
+        None => ctx.note("no picture: no radius failed, so there is no counterexample"),
+    }
+    Ok(Exit::Ok)
+}
+
+/// The layer's parameters from the arguments (the radius is the search's to set).
+fn layer_params(a: &InflationArgs) -> InflationParams {
+    super::costmap::InflationArgs {
+        inflation_radius: 0.0,
+        cost_scaling_factor: a.cost_scaling_factor,
+        inflate_unknown: a.inflate_unknown,
+        inflate_around_unknown: a.inflate_around_unknown,
+    }
+    .params()
 }
 
 fn run_search(a: &InflationArgs) -> Result<SearchReport, Failure> {
@@ -101,13 +140,7 @@ fn run_search(a: &InflationArgs) -> Result<SearchReport, Failure> {
     if !radii_ok || a.min_radius > max_radius || a.goals == 0 {
         return Err(Failure::usage("need 0 ≤ --min-radius ≤ --max-radius and --goals ≥ 1"));
     }
-    let params = super::costmap::InflationArgs {
-        inflation_radius: 0.0,
-        cost_scaling_factor: a.cost_scaling_factor,
-        inflate_unknown: a.inflate_unknown,
-        inflate_around_unknown: a.inflate_around_unknown,
-    }
-    .params();
+    let params = layer_params(a);
     let cfg = SearchConfig {
         footprint,
         body,

@@ -83,6 +83,12 @@ impl CheckReport {
         self.outcomes.iter().all(|o| o.holds)
     }
 
+    /// Every property holds on the whole state space: none fails and none holds only on a part
+    /// a budget cut (a cut walk establishes failures, never that a property holds).
+    pub fn established(&self) -> bool {
+        self.outcomes.iter().all(|o| o.holds && o.complete)
+    }
+
     /// The text of `vouch fpl check`: a summary line for `name`, then every outcome.
     pub fn render(&self, name: &str) -> String {
         let reached = match &self.cut {
