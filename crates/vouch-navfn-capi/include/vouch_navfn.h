@@ -91,6 +91,56 @@ typedef struct VouchNavfnPose {
   double qw;
 } VouchNavfnPose;
 
+// nav2's costmap parameters for inflation: the `InflationLayer`'s and the costmap's
+// `footprint_padding`.
+typedef struct VouchNavfnInflationParams {
+  // `inflation_radius`, metres (nav2 default 0.55).
+  double inflation_radius;
+  // `cost_scaling_factor` (nav2 default 10.0).
+  double cost_scaling_factor;
+  // `inflate_unknown`: unknown cells take any non-zero inflation cost (default false).
+  bool inflate_unknown;
+  // `inflate_around_unknown`: unknown cells are obstacles for the inflation (default false).
+  bool inflate_around_unknown;
+  // `footprint_padding`, metres, added to the footprint before its inscribed radius is
+  // taken (nav2 default the float `0.01f` widened).
+  double footprint_padding;
+} VouchNavfnInflationParams;
+
+// Where a robot body comes closest to a lethal cell.
+typedef struct VouchNavfnClearance {
+  // Distance from the swept body to the lethal cell's square, metres (0: contact).
+  double clearance;
+  // Index of the pose the motion starts from (the segment to the next pose; the last index
+  // is the turn at the last pose).
+  size_t pose;
+  // The lethal cell's column.
+  size_t cell_x;
+  // The lethal cell's row (row 0 = bottom).
+  size_t cell_y;
+  // The cell's centre x, metres.
+  double x;
+  // The cell's centre y, metres.
+  double y;
+} VouchNavfnClearance;
+
+// The body check of one plan.
+typedef struct VouchNavfnBodyReport {
+  // No contact: the swept body stays off every lethal cell.
+  bool ok;
+  // Motions whose swept body touches a lethal cell (one contact per motion).
+  size_t contacts;
+  // Motions checked (one per pose).
+  size_t motions;
+  // A lethal cell lies within the window: `min` holds the smallest clearance.
+  bool has_min;
+  // The smallest clearance and where (all zero when `has_min` is false: the clearance is
+  // at least `window`).
+  struct VouchNavfnClearance min;
+  // How far beyond the body lethal cells were looked for, metres.
+  double window;
+} VouchNavfnBodyReport;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -225,6 +275,67 @@ enum VouchNavfnStatus vouch_navfn_get_potential(struct VouchNavfnPlanner *planne
 // # Safety
 // `planner` is a live planner; `violations` points to a writable `size_t`.
 enum VouchNavfnStatus vouch_navfn_check(struct VouchNavfnPlanner *planner, size_t *violations);
+
+// nav2's default inflation parameters: `inflation_radius` 0.55, `cost_scaling_factor` 10, both
+// unknown flags false, `footprint_padding` the float 0.01 widened.
+struct VouchNavfnInflationParams vouch_navfn_default_inflation_params(void);
+
+// The static layer `costs` (`len` = `width`·`height` Costmap2D values, row 0 = bottom) inflated
+// as nav2's `InflationLayer` does on its first full update, for the robot `footprint` (nav2's
+// `footprint` parameter string `"[[x, y], [x, y], [x, y], …]"`, metres, robot frame) or, when
+// `footprint` is NULL, the disc of `robot_radius` (nav2's 16-gon), with `params` (NULL: nav2's
+// defaults), into `out` (`capacity` ≥ `width`·`height` bytes; `out` may be `costs`).
+// `resolution` is the map's, read as the map message carries it (a float, widened: 0.05 and
+// `(double)0.05f` give the same bytes). The bytes are those of `vouch navfn costmap`.
+//
+// # Safety
+// `costs` points to `len` readable bytes; `footprint` is NULL or a NUL-terminated string;
+// `params` is NULL or points to a parameter struct; `out` points to `capacity` writable bytes.
+enum VouchNavfnStatus vouch_navfn_inflate(const uint8_t *costs,
+                                          size_t len,
+                                          size_t width,
+                                          size_t height,
+                                          double resolution,
+                                          double robot_radius,
+                                          const char *footprint,
+                                          const struct VouchNavfnInflationParams *params,
+                                          uint8_t *out,
+                                          size_t capacity);
+
+// The robot's body swept along `pose_count` poses (`x`, `y` metres, `yaw` radians; the robot
+// translates with a pose's heading to the next pose and turns there) checked against the
+// lethal cells (254) of the static layer `costs` (`len` = `width`·`height` Costmap2D values,
+// row 0 = bottom; world frame `origin_x`, `origin_y`, `resolution`), as `vouch navfn plan`
+// checks a plan. The body is the `footprint` polygon string as given or, when `footprint` is
+// NULL, the disc of `robot_radius` (no padding: the check is of the robot itself). Lethal cells
+// within `window` metres beyond the body (the command line's default is 2) give the minimum
+// clearance. `*report` receives the verdict, the contact count and the minimum clearance;
+// `contacts`, when not NULL, receives every contact (`capacity` of them at most: a smaller
+// buffer is `BUFFER_TOO_SMALL` with `report->contacts` saying how many are needed). With
+// contacts the status is `OK` and the message names the first.
+//
+// # Safety
+// `costs` points to `len` readable bytes; `footprint` is NULL or a NUL-terminated string; `x`,
+// `y`, `yaw` point to `pose_count` readable doubles each (any may be NULL when `pose_count` is
+// 0); `report` points to a writable report; `contacts` is NULL or points to `capacity`
+// writable clearances.
+enum VouchNavfnStatus vouch_navfn_check_body(const uint8_t *costs,
+                                             size_t len,
+                                             size_t width,
+                                             size_t height,
+                                             double origin_x,
+                                             double origin_y,
+                                             double resolution,
+                                             double robot_radius,
+                                             const char *footprint,
+                                             const double *x,
+                                             const double *y,
+                                             const double *yaw,
+                                             size_t pose_count,
+                                             double window,
+                                             struct VouchNavfnBodyReport *report,
+                                             struct VouchNavfnClearance *contacts,
+                                             size_t capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -25,7 +25,7 @@ fn set_error(msg: &str) {
 }
 
 /// Runs `body`, catching panics; records the message of a failure.
-fn guarded(body: impl FnOnce() -> Result<(), Failure>) -> VouchNavfnStatus {
+pub(crate) fn guarded(body: impl FnOnce() -> Result<(), Failure>) -> VouchNavfnStatus {
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(())) => {
             set_error("");
@@ -47,7 +47,7 @@ fn guarded(body: impl FnOnce() -> Result<(), Failure>) -> VouchNavfnStatus {
     }
 }
 
-fn null(what: &str) -> Failure {
+pub(crate) fn null(what: &str) -> Failure {
     (VouchNavfnStatus::NullArgument, format!("{what} is NULL"))
 }
 

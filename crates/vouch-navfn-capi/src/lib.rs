@@ -3,13 +3,16 @@
 //! A C or C++ program (a planner_server plugin, a test harness) creates a planner over a
 //! costmap — Costmap2D values (ROS) or NavFn costs, or a map_server YAML read exactly as
 //! map_server reads it — plans in cells or in world coordinates with nav2's parameters, reads
-//! the poses, the NavFn path and the potential, and runs the plan checks. Every function
+//! the poses, the NavFn path and the potential, and runs the plan checks. Without a handle it
+//! inflates a static layer as nav2's `InflationLayer` does for a robot radius or footprint, and
+//! checks a robot body swept along poses against a static layer's lethal cells. Every function
 //! returns a [`VouchNavfnStatus`]; on failure [`ffi::vouch_navfn_last_error`] gives the message
 //! (per thread). No panic crosses the boundary: each entry point runs under `catch_unwind` and
 //! reports a panic as [`VouchNavfnStatus::Panic`].
 //!
-//! `planner.rs` holds the safe logic; `ffi.rs` the `extern "C"` entry points, the only code
-//! with `unsafe` (pointer arguments), each block with its `SAFETY:` argument.
+//! `planner.rs` and `costmap.rs` hold the safe logic; `ffi.rs` (planner handles) and
+//! `ffi_costmap.rs` (inflation, body check) the `extern "C"` entry points, the only code with
+//! `unsafe` (pointer arguments), each block with its `SAFETY:` argument.
 
 // The library never prints, exits or panics on its own: callers get data and typed errors.
 // Tests (`cfg(test)`) may unwrap; an exception in library code is an `#[expect(..., reason)]`
@@ -29,10 +32,12 @@
     )
 )]
 // A C ABI takes raw pointers and exports unmangled symbols; both are `unsafe` in Rust. This
-// crate alone opts in, and only `ffi.rs` uses it.
+// crate alone opts in, and only `ffi.rs` and `ffi_costmap.rs` use it.
 #![allow(unsafe_code, reason = "the C ABI: raw pointer arguments and unmangled symbols")]
 
+mod costmap;
 pub mod ffi;
+pub mod ffi_costmap;
 mod planner;
 
 pub use planner::VouchNavfnPlanner;
@@ -126,4 +131,60 @@ pub struct VouchNavfnPose {
     pub qz: f64,
     /// Quaternion w.
     pub qw: f64,
+}
+
+/// nav2's costmap parameters for inflation: the `InflationLayer`'s and the costmap's
+/// `footprint_padding`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VouchNavfnInflationParams {
+    /// `inflation_radius`, metres (nav2 default 0.55).
+    pub inflation_radius: f64,
+    /// `cost_scaling_factor` (nav2 default 10.0).
+    pub cost_scaling_factor: f64,
+    /// `inflate_unknown`: unknown cells take any non-zero inflation cost (default false).
+    pub inflate_unknown: bool,
+    /// `inflate_around_unknown`: unknown cells are obstacles for the inflation (default false).
+    pub inflate_around_unknown: bool,
+    /// `footprint_padding`, metres, added to the footprint before its inscribed radius is
+    /// taken (nav2 default the float `0.01f` widened).
+    pub footprint_padding: f64,
+}
+
+/// Where a robot body comes closest to a lethal cell.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VouchNavfnClearance {
+    /// Distance from the swept body to the lethal cell's square, metres (0: contact).
+    pub clearance: f64,
+    /// Index of the pose the motion starts from (the segment to the next pose; the last index
+    /// is the turn at the last pose).
+    pub pose: usize,
+    /// The lethal cell's column.
+    pub cell_x: usize,
+    /// The lethal cell's row (row 0 = bottom).
+    pub cell_y: usize,
+    /// The cell's centre x, metres.
+    pub x: f64,
+    /// The cell's centre y, metres.
+    pub y: f64,
+}
+
+/// The body check of one plan.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VouchNavfnBodyReport {
+    /// No contact: the swept body stays off every lethal cell.
+    pub ok: bool,
+    /// Motions whose swept body touches a lethal cell (one contact per motion).
+    pub contacts: usize,
+    /// Motions checked (one per pose).
+    pub motions: usize,
+    /// A lethal cell lies within the window: `min` holds the smallest clearance.
+    pub has_min: bool,
+    /// The smallest clearance and where (all zero when `has_min` is false: the clearance is
+    /// at least `window`).
+    pub min: VouchNavfnClearance,
+    /// How far beyond the body lethal cells were looked for, metres.
+    pub window: f64,
 }

@@ -5,95 +5,15 @@
 //! maps (YAML) its poses and orientations equal the library's (what `vouch navfn plan` prints);
 //! every error comes back as a code and a message.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::{build_dir, lib_dir, run, serial};
 
 use vouch_navfn::maps::load_ros_map;
 use vouch_navfn::planner::{NavfnPlanner, PlannerParams, Pose};
-
-/// The tests compile and run programs; one at a time, so that no test forks while another's
-/// freshly linked program is being started (Linux answers that with "text file busy").
-fn serial() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    LOCK.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The folder holding the cdylib (`libvouch_navfn_c.so`) built with this test.
-fn lib_dir() -> PathBuf {
-    let exe = std::env::current_exe().expect("test path");
-    let deps = exe.parent().expect("deps folder").to_path_buf();
-    for dir in [deps.clone(), deps.parent().expect("profile folder").to_path_buf()] {
-        if dir.join("libvouch_navfn_c.so").exists() || dir.join("libvouch_navfn_c.dylib").exists() {
-            return dir;
-        }
-    }
-    panic!("libvouch_navfn_c not found next to {}", exe.display());
-}
-
-/// The test process's private build directory (`tempfile`: fresh, mode 0700), so that no
-/// program is run from a path another process could have planted or left behind.
-fn build_dir() -> &'static Path {
-    static DIR: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
-    DIR.get_or_init(|| {
-        tempfile::Builder::new()
-            .prefix("capi-")
-            .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
-            .expect("temporary directory")
-    })
-    .path()
-}
-
-/// Compiles the C program once per test process.
-fn program(cc: &str) -> PathBuf {
-    static BUILT: std::sync::Mutex<bool> = std::sync::Mutex::new(false);
-    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = build_dir().join("plan_maps");
-    let mut built = BUILT.lock().unwrap_or_else(|e| e.into_inner());
-    if *built {
-        return out;
-    }
-    let lib = lib_dir();
-    let o = Command::new(cc)
-        .args(["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic", "-I"])
-        .arg(crate_dir.join("include"))
-        .arg(crate_dir.join("tests/c/plan_maps.c"))
-        .arg("-L")
-        .arg(&lib)
-        .arg(format!("-Wl,-rpath,{}", lib.display()))
-        .args(["-lvouch_navfn_c", "-o"])
-        .arg(&out)
-        .output()
-        .expect("cc runs");
-    assert!(o.status.success(), "cc failed:\n{}", String::from_utf8_lossy(&o.stderr));
-    *built = true;
-    out
-}
-
-fn run(prog: &Path, args: &[&str], stdin: &str) -> String {
-    // a program just linked can be "busy" for a moment while another test's fork still holds
-    // the linker's descriptor: try again briefly
-    let mut tries = 0;
-    let mut child = loop {
-        let spawned = Command::new(prog)
-            .args(args)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn();
-        match spawned {
-            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && tries < 50 => {
-                tries += 1;
-                std::thread::sleep(std::time::Duration::from_millis(20));
-            }
-            other => break other.expect("program starts"),
-        }
-    };
-    child.stdin.take().expect("stdin").write_all(stdin.as_bytes()).expect("cases sent");
-    let o = child.wait_with_output().expect("program ends");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8(o.stdout).expect("utf-8")
-}
 
 /// Cases of a test_world.txt (after its 3-line header; a line whose first number is exactly
 /// −1 is a comment, as in the golden runs).
@@ -117,7 +37,7 @@ fn the_c_program_reproduces_the_cpp_planner_on_every_nav2_costmap() {
     let _one_at_a_time = serial();
     let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     let Some(cc) = vouch_testkit::c_compiler() else { return };
-    let prog = program(&cc);
+    let prog = common::program(&cc, "plan_maps");
     let mut compared = 0;
     for (name, w, h, origin, res) in [
         ("400x400_ros", 400, 400, "0.0", "1.0"),
@@ -162,7 +82,7 @@ fn cell_plans_on_navfn_costs_equal_the_cpp_navfn() {
     let _one_at_a_time = serial();
     let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     let Some(cc) = vouch_testkit::c_compiler() else { return };
-    let prog = program(&cc);
+    let prog = common::program(&cc, "plan_maps");
     let mut compared = 0;
     for dir in [
         "ROS/400x400_ros",
@@ -209,7 +129,7 @@ fn the_c_program_reads_map_server_maps_like_the_library() {
     let _one_at_a_time = serial();
     let Some(shared) = vouch_testkit::shared("navfn", "SEMANTICS.md") else { return };
     let Some(cc) = vouch_testkit::c_compiler() else { return };
-    let prog = program(&cc);
+    let prog = common::program(&cc, "plan_maps");
     for (yaml, folder) in [
         ("empty_room.yaml", "empty_room"),
         ("keepout_mask.yaml", "keepout_mask"),
@@ -271,7 +191,7 @@ fn the_c_program_reads_map_server_maps_like_the_library() {
 fn errors_come_back_as_codes_and_messages() {
     let _one_at_a_time = serial();
     let Some(cc) = vouch_testkit::c_compiler() else { return };
-    let out = run(&program(&cc), &["errors"], "");
+    let out = run(&common::program(&cc, "plan_maps"), &["errors"], "");
     let line = |key: &str| {
         out.lines()
             .find(|l| l.starts_with(key))

@@ -10,8 +10,8 @@ fn the_committed_header_is_what_cbindgen_generates() {
     let mut generated = Vec::new();
     cbindgen::Builder::new()
         .with_config(config)
-        // The crate root only: cbindgen follows its `mod` declarations to ffi.rs and
-        // planner.rs (naming them too would declare every function twice).
+        // The crate root only: cbindgen follows its `mod` declarations to ffi.rs,
+        // ffi_costmap.rs and the rest (naming them too would declare every function twice).
         .with_src(dir.join("src/lib.rs"))
         .generate()
         .expect("cbindgen reads the crate")
@@ -27,10 +27,26 @@ fn the_committed_header_is_what_cbindgen_generates() {
     );
 }
 
-/// The names of the `extern "C"` functions of `src/ffi.rs`, each with its body.
+/// The names of the `extern "C"` functions of every source file of the crate (`src/ffi.rs`,
+/// `src/ffi_costmap.rs`), each with its body.
 fn entry_points() -> Vec<(String, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let src = std::fs::read_to_string(dir.join("src/ffi.rs")).expect("src/ffi.rs");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("src/")
+        .map(|e| e.expect("a directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .collect();
+    files.sort();
+    let mut out = Vec::new();
+    for file in files {
+        let src = std::fs::read_to_string(&file).expect("a source file");
+        out.extend(entry_points_of(&src));
+    }
+    out
+}
+
+/// The names of the `extern "C"` functions of one file, each with its body.
+fn entry_points_of(src: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
     for (at, _) in src.match_indices("extern \"C\" fn ") {
         let rest = &src[at + "extern \"C\" fn ".len()..];
@@ -84,7 +100,7 @@ fn every_function_is_declared_once_with_size_t_for_sizes() {
     let mut exported: Vec<String> = entry_points().into_iter().map(|(n, _)| n).collect();
     exported.sort();
     assert_eq!(names, exported, "the header declares exactly the exported functions");
-    assert_eq!(exported.len(), 14);
+    assert_eq!(exported.len(), 17);
     assert!(!header.contains("uintptr_t"), "sizes are size_t");
     assert!(header.contains("size_t width"), "{header}");
 }

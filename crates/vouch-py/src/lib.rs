@@ -1,7 +1,7 @@
 //! The Python module `vouch` (PyO3, built by maturin): nav2 maps read as map_server reads
 //! them, vouch's bit-exact NavFn planner with nav2's parameters, the run-time plan checks,
-//! `check-bag` on rosbag2 recordings, suite runs in the golden line format and campaign
-//! shards. Arrays go in and out as numpy arrays (row 0 = the map's bottom row, as in ROS).
+//! nav2's costmap inflation and the robot body check (`costmap.rs`), `check-bag` on rosbag2
+//! recordings, suite runs in the golden line format and campaign shards. Arrays go in and out as numpy arrays (row 0 = the map's bottom row, as in ROS).
 //! Bad input raises `ValueError` with the library's located message; unreadable files raise
 //! `OSError`.
 
@@ -22,6 +22,8 @@
         clippy::unimplemented
     )
 )]
+
+mod costmap;
 
 use std::path::PathBuf;
 
@@ -310,6 +312,8 @@ fn vouch_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_map, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(costmap::inflate_costmap, m)?)?;
+    m.add_function(wrap_pyfunction!(costmap::check_body, m)?)?;
     m.add_function(wrap_pyfunction!(check_bag, m)?)?;
     m.add_function(wrap_pyfunction!(run_suite, m)?)?;
     m.add_function(wrap_pyfunction!(run_campaign_shard, m)?)?;
