@@ -60,7 +60,11 @@ static int plan_bin(VouchNavfnPlanner *pl, int k, VouchNavfnPose s, VouchNavfnPo
   vouch_navfn_plan_status(pl, &ps);
   vouch_navfn_size(pl, &w, &h);
   size_t npath = 0;
-  vouch_navfn_get_navfn_path(pl, NULL, 0, &npath);
+  /* a NULL buffer asks for the count */
+  st = vouch_navfn_get_navfn_path(pl, NULL, 0, &npath);
+  if (st != VOUCH_NAVFN_STATUS_OK) return fail("count of the path", st);
+  if (vouch_navfn_get_navfn_path(pl, NULL, 0, NULL) != VOUCH_NAVFN_STATUS_NULL_ARGUMENT && npath > 0)
+    return fail("no buffer and no count", st);
   float *path = malloc(2 * (npath ? npath : 1) * sizeof(float));
   vouch_navfn_get_navfn_path(pl, path, npath, &npath);
   uint64_t pot_fnv = 0xcbf29ce484222325ULL;
