@@ -48,24 +48,32 @@ fn rsqrt_fingerprint() -> u64 {
         .fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
 }
 
-/// The fingerprint on the machine that made the goldens (AMD EPYC, see the README there).
-/// nav2's bytes follow the CPU's reciprocal-square-root table, so on a CPU with another table
-/// the goldens are not nav2's answer there, and the comparison says nothing.
-const GOLDEN_CPU_RSQRT: u64 = 0x067b_7223_7cac_00e5;
+/// The goldens per CPU: nav2's layer built and run on that CPU (see the README there), keyed
+/// by its `rsqrtps` fingerprint. nav2's bytes follow the CPU's reciprocal-square-root table, so
+/// the goldens of one CPU are not nav2's answer on a CPU with another table.
+const GOLDENS: &[(&str, u64, &str)] = &[
+    ("AMD EPYC", 0x067b_7223_7cac_00e5, "goldens-amd-epyc.txt"),
+    ("Intel Xeon", 0x5b4d_0258_af9a_a36f, "goldens-intel-xeon.txt"),
+];
+
+fn golden_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/inflation")
+}
 
 #[test]
 fn inflation_is_bit_exact_on_nav2_maps() {
     let Some(shared) = common::shared_navfn() else { return };
     let fingerprint = rsqrt_fingerprint();
-    if fingerprint != GOLDEN_CPU_RSQRT {
+    let Some((cpu, _, file)) = GOLDENS.iter().find(|g| g.1 == fingerprint) else {
         eprintln!(
-            "skipped: this CPU's rsqrtps table (fingerprint {fingerprint:#x}) is not the one the \
-             goldens were made on ({GOLDEN_CPU_RSQRT:#x}); nav2's layer gives other bytes here"
+            "skipped: this CPU's rsqrtps table (fingerprint {fingerprint:#x}) is none of those \
+             the goldens were made on ({}); nav2's layer gives other bytes here",
+            GOLDENS.iter().map(|g| format!("{} {:#x}", g.0, g.1)).collect::<Vec<_>>().join(", ")
         );
         return;
-    }
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/inflation");
-    let goldens = std::fs::read_to_string(dir.join("goldens.txt")).unwrap();
+    };
+    eprintln!("comparing with the goldens of nav2's layer on {cpu} ({file})");
+    let goldens = std::fs::read_to_string(golden_dir().join(file)).unwrap();
     let sets = sets();
     let mut checked = 0;
     let mut failures = Vec::new();
@@ -91,6 +99,33 @@ fn inflation_is_bit_exact_on_nav2_maps() {
     }
     assert_eq!(checked, 30);
     assert!(failures.is_empty(), "inflation differs from nav2's layer: {failures:?}");
+}
+
+/// The goldens of the different CPUs come from the same inputs (maps, sets, inscribed and cell
+/// radii, static layers) and differ only in nav2's inflated bytes, and there on some cases: the
+/// CPU's square-root table is the only thing that moves nav2's answer. Needs no `../shared`.
+#[test]
+fn goldens_of_two_cpus_differ_only_where_the_square_root_does() {
+    let read = |file: &str| -> Vec<Vec<String>> {
+        let text = std::fs::read_to_string(golden_dir().join(file)).unwrap();
+        text.lines().map(|l| l.split(' ').map(str::to_string).collect()).collect()
+    };
+    let first = read(GOLDENS[0].2);
+    assert_eq!(first.len(), 30, "5 maps x 6 parameter sets");
+    for (cpu, _, file) in &GOLDENS[1..] {
+        let other = read(file);
+        assert_eq!(other.len(), first.len(), "{cpu}: same cases");
+        let mut differing = vec![];
+        for (a, b) in first.iter().zip(&other) {
+            assert_eq!(a.len(), 6, "{a:?}");
+            assert_eq!(a[..5], b[..5], "{cpu}: same map, set, radii and static layer");
+            if a[5] != b[5] {
+                differing.push(format!("{} {}", a[0], a[1]));
+            }
+        }
+        assert!(!differing.is_empty(), "{cpu}: nav2's bytes are expected to follow the CPU");
+        assert!(differing.len() < first.len(), "{cpu}: differs on every case: {differing:?}");
+    }
 }
 
 /// Independent reasoning, no oracle: a single lethal cell in a free 41×41 map at 0.05 m/cell,
