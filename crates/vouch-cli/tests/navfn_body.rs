@@ -22,7 +22,8 @@ fn costmap_command_writes_nav2_layer_bytes() {
     if !shared() {
         return;
     }
-    let out = std::env::temp_dir().join(format!("vouch-costmap-{}.bin", std::process::id()));
+    let scratch = tempfile::tempdir().expect("scratch directory");
+    let out = scratch.path().join("costmap.bin");
     let o = vouch(&[
         "navfn",
         "costmap",
@@ -43,7 +44,6 @@ fn costmap_command_writes_nav2_layer_bytes() {
     assert_eq!(json(&o)["sha256"], golden);
     let bytes = std::fs::read(&out).expect("written");
     assert_eq!(bytes.len(), 384 * 384);
-    let _ = std::fs::remove_file(out);
 }
 
 /// `vouch navfn plan` across map_circular, from (−8, −8) to (8, 8) on a costmap inflated with
@@ -85,7 +85,8 @@ fn body_touches_walls_when_inflation_is_smaller_than_the_robot() {
     }
     let o = plan("0.1");
     assert_eq!(code(&o), 3, "{}", String::from_utf8_lossy(&o.stdout));
-    let png = std::env::temp_dir().join(format!("vouch-body-{}.png", std::process::id()));
+    let scratch = tempfile::tempdir().expect("scratch directory");
+    let png = scratch.path().join("body.png");
     let text = disc_plan("0.1", &["--png", png.to_str().expect("utf-8")]);
     let stdout = String::from_utf8_lossy(&text.stdout);
     assert!(
@@ -93,7 +94,6 @@ fn body_touches_walls_when_inflation_is_smaller_than_the_robot() {
         "{stdout}"
     );
     assert!(std::fs::read(&png).expect("picture").starts_with(b"\x89PNG"));
-    let _ = std::fs::remove_file(png);
     let v = json(&o);
     let contacts = v["body"]["violations"].as_array().expect("violations");
     assert!(!contacts.is_empty());
@@ -241,10 +241,10 @@ fn inflation_search_shards_merge_to_the_whole() {
         return;
     }
     let whole = json(&inflation(&["--footprint-padding", "0.08"]));
-    let dir = std::env::temp_dir();
+    let scratch = tempfile::tempdir().expect("scratch directory");
     let mut files = Vec::new();
     for i in 0..2 {
-        let f = dir.join(format!("vouch-infl-{}-{i}.json", std::process::id()));
+        let f = scratch.path().join(format!("part-{i}.json"));
         let spec = format!("{i}/2");
         let o = inflation(&[
             "--footprint-padding",
@@ -266,9 +266,6 @@ fn inflation_search_shards_merge_to_the_whole() {
         whole["counterexample"]["inflation_radius"]
     );
     assert_eq!(merged["shards"], serde_json::json!(["0/2", "1/2"]));
-    for f in files {
-        let _ = std::fs::remove_file(f);
-    }
 }
 
 /// A polygon footprint: nav2's inscribed radius of the padded rectangle drives the costmap, the
