@@ -97,3 +97,37 @@ fn the_quick_tour_runs_as_written() {
     }
     assert!(failed.is_empty(), "{}", failed.join("\n\n"));
 }
+
+/// The set-up command: the README's first `sh` block builds and then runs each family's main job
+/// on a bundled example. The `vouch` parts of its `&&` chain are run here as written; each must
+/// succeed (exit 0) on the examples alone.
+#[test]
+fn the_set_up_command_runs_a_bundled_example_of_each_family() {
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
+    let from = readme.find("## Set up").expect("README has a set-up section");
+    let block = readme[from..].split("```sh\n").nth(1).expect("an sh block");
+    let line = block.split("```").next().expect("a closed block").trim();
+    assert!(line.starts_with("cargo build --release"), "the set-up command builds first: {line}");
+    let jobs: Vec<&str> =
+        line.split(" && ").map(str::trim).filter(|part| part.starts_with("vouch ")).collect();
+    for family in ["vouch fpl ", "vouch mav ", "vouch navfn "] {
+        assert!(
+            jobs.iter().any(|j| j.starts_with(family)),
+            "the set-up command runs a `{family}` job: {line}"
+        );
+    }
+    let bin = Path::new(env!("CARGO_BIN_EXE_vouch")).parent().expect("bin dir").to_path_buf();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let before = root_entries();
+    for job in jobs {
+        let o = Command::new("bash")
+            .args(["-c", job])
+            .current_dir(root())
+            .env("PATH", &path)
+            .output()
+            .expect("bash runs");
+        assert_eq!(code(&o), 0, "`{job}`: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(!o.stdout.is_empty(), "`{job}` prints what it found");
+    }
+    assert_eq!(root_entries(), before, "the set-up command wrote into the repository root");
+}
