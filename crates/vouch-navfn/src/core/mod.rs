@@ -2,8 +2,8 @@
 //! and path extraction, bit-exact with nav2's `navfn.cpp` (see `shared/navfn/SEMANTICS.md`).
 //!
 //! Memory layout: one flat array per quantity (`cost` bytes, `pot` floats, the gradient
-//! pairs `grad: Vec<[f32; 2]>` (x and y side by side: path extraction reads them together),
-//! `blocked` flags as bytes: upstream's `pending` merged with the obstacle test of its push)
+//! pairs in `grad` (x and y side by side: path extraction reads them together; in column
+//! bands, `grad.rs`), `blocked` flags as bytes: upstream's `pending` merged with the obstacle test of its push)
 //! and three priority buffers of fixed capacity. The three arrays the propagation sweeps live
 //! on huge pages when they are large (`cells.rs`). Nothing is allocated during a plan; a
 //! [`NavFn`] keeps its arrays between plans of the same map size.
@@ -16,12 +16,14 @@
 
 mod cells;
 mod costs;
+mod grad;
 pub mod numeric;
 pub mod observer;
 mod path;
 mod propagate;
 
 use cells::CellArray;
+use grad::GradCache;
 use propagate::PriorityBuf;
 
 pub use costs::{
@@ -112,14 +114,13 @@ pub struct NavFn {
     pub(crate) ns: usize,
     pub(crate) cost: CellArray<u8>,
     pub(crate) pot: CellArray<f32>,
-    /// Cached normalised gradient `(gx, gy)` of each cell (`gradx`/`grady` upstream).
-    pub(crate) grad: Vec<[f32; 2]>,
+    /// Cached normalised gradient `(gx, gy)` of each cell (`gradx`/`grady` upstream), with
+    /// the cells to clear at the next set-up.
+    pub(crate) grad: GradCache,
     /// 1 while a cell may not be queued: it is queued already (`pending` upstream) or it is an
     /// obstacle (cost ≥ 254, the other half of upstream's push test). Set up from the costs
     /// by `setup`; bytes so that they can be mapped.
     pub(crate) blocked: CellArray<u8>,
-    /// Cells whose gradient `calc_path` cached (reset at the next set-up instead of a full fill).
-    pub(crate) grad_touched: Vec<u32>,
     pub(crate) cur: PriorityBuf,
     pub(crate) next: PriorityBuf,
     pub(crate) over: PriorityBuf,
@@ -147,9 +148,8 @@ impl NavFn {
             ns,
             cost: CellArray::filled(ns, COST_NEUTRAL, false),
             pot: CellArray::filled(ns, POT_HIGH, false),
-            grad: vec![[0.0; 2]; ns],
+            grad: GradCache::new(nx, ny),
             blocked: CellArray::zeroed(ns, false),
-            grad_touched: Vec::new(),
             cur: PriorityBuf::new(),
             next: PriorityBuf::new(),
             over: PriorityBuf::new(),
@@ -203,10 +203,9 @@ impl NavFn {
     fn allocate(&mut self) {
         let (ns, huge) = (self.ns, self.huge_pages);
         self.pot = CellArray::filled(ns, POT_HIGH, huge);
-        self.grad = vec![[0.0; 2]; ns];
+        self.grad = GradCache::new(self.nx, self.ny);
         self.cost = CellArray::filled(ns, COST_NEUTRAL, huge);
         self.blocked = CellArray::zeroed(ns, huge);
-        self.grad_touched.clear();
         self.cur.clear();
         self.next.clear();
         self.over.clear();

@@ -17,12 +17,18 @@ fn pot_at(pot: &[f32], i: i64) -> f32 {
     pot.get(i as usize).copied().unwrap_or(POT_HIGH)
 }
 
-/// `gradCell(n)`: normalised gradient of the potential at `n`, cached in `grad`.
+/// `gradCell(n)`: normalised gradient of the potential at `n`, cached in `grad` at `slot`.
 #[inline(always)]
-fn grad_cell(pot: &[f32], grad: &mut [[f32; 2]], touched: &mut Vec<u32>, nx: i64, n: i64) {
+fn grad_cell(
+    pot: &[f32],
+    grad: &mut [[f32; 2]],
+    touched: &mut Vec<u32>,
+    nx: i64,
+    n: i64,
+    slot: usize,
+) {
     let ns = pot.len() as i64;
-    // (a negative index converts to one past the array)
-    let Some(&[gx_cached, gy_cached]) = grad.get(n as usize) else { return };
+    let Some(&[gx_cached, gy_cached]) = grad.get(slot) else { return };
     if gx_cached + gy_cached > 0.0 {
         return; // cached
     }
@@ -63,9 +69,9 @@ fn grad_cell(pot: &[f32], grad: &mut [[f32; 2]], touched: &mut Vec<u32>, nx: i64
     let norm = hypotf(gxv, gyv);
     if norm > 0.0 {
         let inv = (1.0 / norm as f64) as f32;
-        touched.push(n as u32);
-        if let Some(g) = grad.get_mut(n as usize) {
+        if let Some(g) = grad.get_mut(slot) {
             *g = [inv * gxv, inv * gyv];
+            touched.push(slot as u32);
         }
     }
 }
@@ -93,8 +99,9 @@ impl NavFn {
         let width = WidthDiv::new(self.nx);
         let goal = [self.goal.x as f32, self.goal.y as f32];
         let mut stc = self.start_index() as i64;
-        let NavFn { pot, grad, grad_touched, path, .. } = self;
-        let (pot, grad): (&[f32], &mut [[f32; 2]]) = (pot, grad);
+        let NavFn { pot, grad, path, .. } = self;
+        let pot: &[f32] = pot;
+        let (layout, grad, touched) = grad.parts();
         let ns = pot.len() as i64;
         let (mut dx, mut dy) = (0.0f32, 0.0f32);
         for iteration in 0..n {
@@ -124,11 +131,16 @@ impl NavFn {
                     return 0;
                 }
             } else {
-                // all nine cells are finite, hence inside the array
-                for c in [stc, stc + 1, stc + nx, stc + nx + 1] {
-                    grad_cell(pot, grad, grad_touched, nx, c);
-                }
-                match gradient_step(grad, stc, nx, dx, dy) {
+                // all nine cells are finite, hence inside the array and off the border ring
+                // (only the goal can be finite there, and then its two ring neighbours in
+                // the block are not): the 2×2 block is cells (col..col+1, row..row+1)
+                let slots = layout.block(stc as usize, col as usize, row as usize);
+                let [s00, s01, s10, s11] = slots;
+                grad_cell(pot, grad, touched, nx, stc, s00);
+                grad_cell(pot, grad, touched, nx, stc + 1, s01);
+                grad_cell(pot, grad, touched, nx, stc + nx, s10);
+                grad_cell(pot, grad, touched, nx, stc + nx + 1, s11);
+                match gradient_step(grad, slots, stc, nx, dx, dy) {
                     Some(next) => (stc, dx, dy) = next,
                     None => return 0,
                 }
@@ -187,13 +199,13 @@ fn lowest_neighbour(block: &[f32; 9], stc: i64, nx: i64) -> i64 {
 #[inline(always)]
 fn gradient_step(
     grad: &[[f32; 2]],
+    slots: [usize; 4],
     stc: i64,
     nx: i64,
     dx: f32,
     dy: f32,
 ) -> Option<(i64, f32, f32)> {
-    let g = |i: i64| grad.get(i as usize).copied().unwrap_or([0.0; 2]);
-    let (g00, g01, g10, g11) = (g(stc), g(stc + 1), g(stc + nx), g(stc + nx + 1));
+    let [g00, g01, g10, g11] = slots.map(|s| grad.get(s).copied().unwrap_or([0.0; 2]));
     let (dxd, dyd) = (dx as f64, dy as f64);
     // first product in double, second a float product widened (as in C++)
     let x1 = ((1.0 - dxd) * g00[0] as f64 + (dx * g01[0]) as f64) as f32;

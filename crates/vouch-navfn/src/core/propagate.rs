@@ -271,16 +271,10 @@ impl NavFn {
     pub fn setup(&mut self) {
         let (nx, ny, ns) = (self.nx, self.ny, self.ns);
         let goal = self.goal_index();
-        let NavFn { pot, cost, blocked, grad, grad_touched, cur, next, over, .. } = self;
+        let NavFn { pot, cost, blocked, grad, cur, next, over, .. } = self;
         let (pot, cost, blocked) = (&mut pot[..], &mut cost[..], &mut blocked[..]);
         pot.fill(POT_HIGH);
-        // gradients: only the cells the last path extraction cached are non-zero
-        for &n in grad_touched.iter() {
-            if let Some(g) = grad.get_mut(n as usize) {
-                *g = [0.0; 2];
-            }
-        }
-        grad_touched.clear();
+        grad.reset();
         cost[..nx].fill(COST_OBS);
         cost[(ny - 1) * nx..].fill(COST_OBS);
         for row in cost.chunks_exact_mut(nx) {
