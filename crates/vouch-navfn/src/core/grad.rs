@@ -27,11 +27,13 @@ impl GradLayout {
     /// The slot of cell (`col`, `row`).
     #[cfg(test)]
     fn slot(&self, col: usize, row: usize) -> usize {
-        if self.nx <= BAND {
-            row * self.nx + col
-        } else {
-            (col >> BAND_SHIFT) * self.band_stride + (row << BAND_SHIFT) + (col & (BAND - 1))
-        }
+        if self.nx <= BAND { row * self.nx + col } else { self.banded_slot(col, row) }
+    }
+
+    /// The slot of cell (`col`, `row`) of a map wider than a band.
+    #[inline(always)]
+    fn banded_slot(&self, col: usize, row: usize) -> usize {
+        (col >> BAND_SHIFT) * self.band_stride + (row << BAND_SHIFT) + (col & (BAND - 1))
     }
 
     /// The slots of the 2×2 block with cell `n` = (`col`, `row`) at its lower left: (col, row),
@@ -42,7 +44,7 @@ impl GradLayout {
             let nx = self.nx;
             return [n, n + 1, n + nx, n + nx + 1];
         }
-        let s00 = (col >> BAND_SHIFT) * self.band_stride + (row << BAND_SHIFT) + (col & (BAND - 1));
+        let s00 = self.banded_slot(col, row);
         // the next column is in the next band when this one is a band's last
         let s01 = if col & (BAND - 1) == BAND - 1 {
             s00 + self.band_stride - (BAND - 1)

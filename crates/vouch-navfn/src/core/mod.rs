@@ -3,8 +3,8 @@
 //!
 //! Memory layout: one flat array per quantity (`cost` bytes, `pot` floats, the gradient
 //! pairs in `grad` (x and y side by side: path extraction reads them together; in column
-//! bands, `grad.rs`), `blocked` flags as bytes: upstream's `pending` merged with the obstacle test of its push)
-//! and three priority buffers of fixed capacity. The three arrays the propagation sweeps live
+//! bands, `grad.rs`), `blocked` flags as bytes: upstream's `pending` merged with the obstacle
+//! test of its push) and three priority buffers of fixed capacity. The three arrays the propagation sweeps live
 //! on huge pages when they are large (`cells.rs`). Nothing is allocated during a plan; a
 //! [`NavFn`] keeps its arrays between plans of the same map size.
 //!
